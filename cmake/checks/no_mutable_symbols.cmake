@@ -1,0 +1,26 @@
+# Fails when any of OBJECTS defines data or bss symbols (writable storage): headers must only
+# produce code and read-only data. Usage: cmake -DNM=<nm> -DOBJECTS=<a;b;...> -P ...
+if(NOT NM OR NOT OBJECTS)
+  message(FATAL_ERROR "NM and OBJECTS must be set")
+endif()
+string(REPLACE "|" ";" OBJECTS "${OBJECTS}")
+set(bad "")
+foreach(obj IN LISTS OBJECTS)
+  execute_process(COMMAND "${NM}" --defined-only "${obj}" OUTPUT_VARIABLE out RESULT_VARIABLE rc)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "nm failed on ${obj}")
+  endif()
+  string(REPLACE "\n" ";" lines "${out}")
+  foreach(line IN LISTS lines)
+    # D/d: initialised data, B/b: bss, S/s small data/bss on some targets, V: weak object
+    # (inline variables), G/g small initialised data.
+    if(line MATCHES "^[0-9a-fA-F]* +[DdBbSsGgV] +(.*)$")
+      string(APPEND bad "${obj}: ${line}\n")
+    endif()
+  endforeach()
+endforeach()
+if(bad)
+  message(FATAL_ERROR "writable symbols defined by the headers:\n${bad}")
+endif()
+list(LENGTH OBJECTS n)
+message(STATUS "no writable symbols in ${n} object(s)")

@@ -1,0 +1,12 @@
+// motionbus — the shared core: configuration, views, errors, results, bit I/O, CRC engine.
+#ifndef MOTIONBUS_CORE_HPP
+#define MOTIONBUS_CORE_HPP
+
+#include "motionbus/core/bits.hpp"
+#include "motionbus/core/config.hpp"
+#include "motionbus/core/crc.hpp"
+#include "motionbus/core/errc.hpp"
+#include "motionbus/core/result.hpp"
+#include "motionbus/core/span.hpp"
+
+#endif  // MOTIONBUS_CORE_HPP

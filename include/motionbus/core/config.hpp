@@ -1,0 +1,38 @@
+// motionbus — compile-time configuration.
+//
+// Every macro here may be defined by the user before including any motionbus header
+// (or on the compiler command line). Defaults suit a hosted build and a Cortex-M4 alike.
+#ifndef MOTIONBUS_CORE_CONFIG_HPP
+#define MOTIONBUS_CORE_CONFIG_HPP
+
+#if __cplusplus < 201703L && !(defined(_MSVC_LANG) && _MSVC_LANG >= 201703L)
+#error "motionbus needs C++17 or later"
+#endif
+
+#if defined(__has_include)
+#if __has_include(<version>)
+#include <version>
+#endif
+#endif
+
+/// Size of the lookup tables used by the named CRCs when the caller does not choose one:
+/// 256 (fastest, 256 entries per CRC in flash), 16 (a nibble table, 16 entries) or 0 (bitwise,
+/// no table). Tables always live in constant (read-only) storage.
+#ifndef MOTIONBUS_CRC_DEFAULT_TABLE
+#define MOTIONBUS_CRC_DEFAULT_TABLE 256
+#endif
+
+#if MOTIONBUS_CRC_DEFAULT_TABLE != 256 && MOTIONBUS_CRC_DEFAULT_TABLE != 16 && \
+    MOTIONBUS_CRC_DEFAULT_TABLE != 0
+#error "MOTIONBUS_CRC_DEFAULT_TABLE must be 256, 16 or 0"
+#endif
+
+/// Byte views are std::span under C++20 (when the library provides it), and a minimal
+/// equivalent under C++17. Define MOTIONBUS_NO_STD_SPAN to force the minimal view.
+#if !defined(MOTIONBUS_NO_STD_SPAN) && defined(__cpp_lib_span) && __cpp_lib_span >= 202002L
+#define MOTIONBUS_HAS_STD_SPAN 1
+#else
+#define MOTIONBUS_HAS_STD_SPAN 0
+#endif
+
+#endif  // MOTIONBUS_CORE_CONFIG_HPP

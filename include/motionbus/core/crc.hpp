@@ -1,0 +1,287 @@
+// motionbus — the CRC engine shared by every protocol.
+//
+// A CRC is described by the Williams ("Rocksoft") model: width (1..32), polynomial without its
+// top term, initial register value, input/output reflection and final XOR. The engine works on
+// bytes and on any number of bits (BiSS frames are not byte multiples), one-shot or
+// incrementally, and is entirely constexpr. Lookup tables (256 or 16 entries) are built at
+// compile time into constexpr arrays, i.e. read-only storage; `crc_table_size::bitwise` uses
+// no table at all for the tightest flash budgets. One table serves every CRC sharing width,
+// polynomial and reflection.
+//
+// Bit order: `update_bits(v, n)` feeds the low n bits of v in the CRC's own order — the most
+// significant of them first for a non-reflected CRC (refin = false), the least significant
+// first for a reflected one — so `update(byte)` equals `update_bits(byte, 8)`.
+#ifndef MOTIONBUS_CORE_CRC_HPP
+#define MOTIONBUS_CORE_CRC_HPP
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <type_traits>
+
+#include "motionbus/core/bits.hpp"
+#include "motionbus/core/config.hpp"
+#include "motionbus/core/span.hpp"
+
+namespace motionbus {
+
+/// Table size used by a CRC engine: 256 entries (a byte at a time), 16 entries (a nibble at a
+/// time) or none (a bit at a time).
+enum class crc_table_size : std::uint16_t { bitwise = 0, nibble = 16, byte = 256 };
+
+/// The table size used when none is given (configurable with MOTIONBUS_CRC_DEFAULT_TABLE).
+inline constexpr crc_table_size default_crc_table =
+    static_cast<crc_table_size>(MOTIONBUS_CRC_DEFAULT_TABLE);
+
+namespace detail {
+
+template <unsigned Bits>
+using uint_least_bits_t =
+    std::conditional_t<(Bits <= 8U), std::uint8_t,
+                       std::conditional_t<(Bits <= 16U), std::uint16_t, std::uint32_t>>;
+
+constexpr std::uint32_t low_mask32(unsigned width) noexcept {
+  return width >= 32U ? 0xFFFFFFFFU : ((std::uint32_t{1} << width) - 1U);
+}
+
+constexpr std::uint32_t reflect32(std::uint32_t value, unsigned width) noexcept {
+  return static_cast<std::uint32_t>(reverse_bits(value, width));
+}
+
+/// The register arithmetic of one polynomial in one direction.
+///  Reflected: the register holds the CRC reflected, LSB-aligned; bits leave at bit 0.
+///  Normal:    the register is reg_bits = max(width, 8) wide with the CRC in its top `width`
+///             bits, so that byte and nibble steps work for widths below 8 as well.
+template <unsigned Width, std::uint32_t Poly, bool Reflected>
+struct crc_kernel {
+  static_assert(Width >= 1U && Width <= 32U, "CRC width must be 1..32");
+  static_assert((Poly & ~low_mask32(Width)) == 0U,
+                "CRC polynomial must be given without its x^width term and fit the width");
+
+  static constexpr unsigned reg_bits = Reflected ? Width : (Width < 8U ? 8U : Width);
+  static constexpr unsigned align = reg_bits - Width;  // 0 when reflected
+  static constexpr std::uint32_t reg_mask = low_mask32(reg_bits);
+  static constexpr std::uint32_t poly = Reflected ? reflect32(Poly, Width) : (Poly << align);
+
+  /// Feeds one bit (0/1).
+  static constexpr std::uint32_t step_bit(std::uint32_t reg, std::uint32_t bit) noexcept {
+    if constexpr (Reflected) {
+      const bool feedback = ((reg ^ bit) & 1U) != 0U;
+      reg >>= 1U;
+      return feedback ? (reg ^ poly) : reg;
+    } else {
+      const bool feedback = (((reg >> (reg_bits - 1U)) ^ bit) & 1U) != 0U;
+      reg = (reg << 1U) & reg_mask;
+      return feedback ? (reg ^ poly) : reg;
+    }
+  }
+
+  /// Table of the register change caused by each `ChunkBits`-bit chunk.
+  template <unsigned ChunkBits>
+  static constexpr std::array<uint_least_bits_t<reg_bits>, (1U << ChunkBits)>
+  make_table() noexcept {
+    std::array<uint_least_bits_t<reg_bits>, (1U << ChunkBits)> t{};
+    for (std::uint32_t i = 0; i < (1U << ChunkBits); ++i) {
+      std::uint32_t reg = Reflected ? i : (i << (reg_bits - ChunkBits));
+      for (unsigned b = 0; b < ChunkBits; ++b) {
+        reg = step_bit(reg, 0U);
+      }
+      t[i] = static_cast<uint_least_bits_t<reg_bits>>(reg);
+    }
+    return t;
+  }
+
+  template <unsigned ChunkBits>
+  struct table_holder {
+    static constexpr std::array<uint_least_bits_t<reg_bits>, (1U << ChunkBits)> table =
+        make_table<ChunkBits>();
+  };
+
+  /// Feeds a whole chunk of ChunkBits bits (8 or 4), given in the CRC's bit order.
+  template <unsigned ChunkBits>
+  static constexpr std::uint32_t step_chunk(std::uint32_t reg, std::uint32_t chunk) noexcept {
+    constexpr std::uint32_t chunk_mask = (1U << ChunkBits) - 1U;
+    const auto& table = table_holder<ChunkBits>::table;
+    if constexpr (Reflected) {
+      const std::uint32_t rest = reg_bits > ChunkBits ? (reg >> ChunkBits) : 0U;
+      return rest ^ table[(reg ^ chunk) & chunk_mask];
+    } else {
+      return ((reg << ChunkBits) & reg_mask) ^
+             table[((reg >> (reg_bits - ChunkBits)) ^ chunk) & chunk_mask];
+    }
+  }
+
+  /// Feeds `count` (<= 64) bits of `bits` in the CRC's order, using chunks of Chunk bits
+  /// (Chunk = 8, 4, or 1 for bitwise).
+  template <unsigned Chunk>
+  static constexpr std::uint32_t feed(std::uint32_t reg, std::uint64_t bits,
+                                      unsigned count) noexcept {
+    if constexpr (Chunk > 1U) {
+      while (count >= Chunk) {
+        std::uint32_t chunk = 0;
+        if constexpr (Reflected) {
+          chunk = static_cast<std::uint32_t>(bits & ((1U << Chunk) - 1U));
+          bits >>= Chunk;
+        } else {
+          chunk = static_cast<std::uint32_t>((bits >> (count - Chunk)) & ((1U << Chunk) - 1U));
+        }
+        reg = step_chunk<Chunk>(reg, chunk);
+        count -= Chunk;
+      }
+    }
+    for (unsigned i = 0; i < count; ++i) {
+      const std::uint32_t bit = Reflected
+                                    ? static_cast<std::uint32_t>((bits >> i) & 1U)
+                                    : static_cast<std::uint32_t>((bits >> (count - 1U - i)) & 1U);
+      reg = step_bit(reg, bit);
+    }
+    return reg;
+  }
+};
+
+}  // namespace detail
+
+/// A CRC in the Williams model. `Poly` excludes the x^Width term (x^6 + x + 1 is 0x03);
+/// `Init` and `XorOut` are given unreflected, as in the published catalogues.
+template <unsigned Width, std::uint32_t Poly, std::uint32_t Init, bool RefIn, bool RefOut,
+          std::uint32_t XorOut>
+struct crc_spec {
+  static_assert(Width >= 1U && Width <= 32U, "CRC width must be 1..32");
+  static_assert((Init & ~detail::low_mask32(Width)) == 0U, "CRC init must fit the width");
+  static_assert((XorOut & ~detail::low_mask32(Width)) == 0U, "CRC xorout must fit the width");
+  static constexpr unsigned width = Width;
+  static constexpr std::uint32_t poly = Poly;
+  static constexpr std::uint32_t init = Init;
+  static constexpr bool refin = RefIn;
+  static constexpr bool refout = RefOut;
+  static constexpr std::uint32_t xorout = XorOut;
+  /// Smallest unsigned type holding the CRC value.
+  using value_type = detail::uint_least_bits_t<Width>;
+};
+
+/// A CRC computation. Cheap to copy (one register); all members are constexpr.
+template <class Spec, crc_table_size Table = default_crc_table>
+class crc {
+  using kernel = detail::crc_kernel<Spec::width, Spec::poly, Spec::refin>;
+  static constexpr unsigned chunk_bits =
+      Table == crc_table_size::byte ? 8U : (Table == crc_table_size::nibble ? 4U : 1U);
+  static_assert(Table == crc_table_size::byte || Table == crc_table_size::nibble ||
+                    Table == crc_table_size::bitwise,
+                "unknown CRC table size");
+
+ public:
+  using spec = Spec;
+  using value_type = typename Spec::value_type;
+  static constexpr crc_table_size table_size = Table;
+  static constexpr unsigned width = Spec::width;
+
+  constexpr crc() noexcept = default;
+
+  /// Restarts from the initial value.
+  constexpr void reset() noexcept { reg_ = initial_register(); }
+
+  constexpr crc& update(std::uint8_t byte) noexcept {
+    reg_ = kernel::template feed<chunk_bits>(reg_, byte, 8U);
+    return *this;
+  }
+
+  constexpr crc& update(byte_view data) noexcept {
+    for (std::size_t i = 0; i < data.size(); ++i) {
+      reg_ = kernel::template feed<chunk_bits>(reg_, data[i], 8U);
+    }
+    return *this;
+  }
+
+  /// Feeds the low `count` bits of `bits` in the CRC's bit order (see the file comment).
+  /// A count above 64 is treated as 64.
+  constexpr crc& update_bits(std::uint64_t bits, unsigned count) noexcept {
+    const unsigned n = count > 64U ? 64U : count;
+    reg_ = kernel::template feed<chunk_bits>(reg_, bits & detail::low_mask64(n), n);
+    return *this;
+  }
+
+  /// Feeds `bit_count` bits of a bit stream stored in `words` (any length), starting at stream
+  /// bit `bit_offset`, in stream order: the first stream bit is fed first whatever the CRC's
+  /// reflection. errc::truncated (nothing fed) if the stream holds fewer bits.
+  template <class Word>
+  constexpr errc update_stream(span<const Word> words, bit_order order, std::size_t bit_offset,
+                               std::size_t bit_count) noexcept {
+    basic_bit_reader<Word> reader(words, order, bit_offset);
+    if (bit_offset > reader.size() || bit_count > reader.remaining()) {
+      return errc::truncated;
+    }
+    // The reader returns a chunk's first stream bit as its MSB (msb_first) or LSB (lsb_first);
+    // the kernel wants it where the CRC's order puts the first bit.
+    const bool flip = (order == bit_order::msb_first) == Spec::refin;
+    std::size_t left = bit_count;
+    std::uint32_t reg = reg_;
+    while (left > 0U) {
+      const unsigned n = left >= 64U ? 64U : static_cast<unsigned>(left);
+      const std::uint64_t chunk = reader.read(n).value();
+      reg = kernel::template feed<chunk_bits>(reg, flip ? reverse_bits(chunk, n) : chunk, n);
+      left -= n;
+    }
+    reg_ = reg;
+    return errc::ok;
+  }
+
+  /// The CRC of everything fed so far (reflection and final XOR applied). Feeding may go on.
+  constexpr value_type value() const noexcept {
+    std::uint32_t v = 0;
+    if constexpr (Spec::refin) {
+      v = Spec::refout ? reg_ : detail::reflect32(reg_, Spec::width);
+    } else {
+      const std::uint32_t r = reg_ >> kernel::align;
+      v = Spec::refout ? detail::reflect32(r, Spec::width) : r;
+    }
+    return static_cast<value_type>((v ^ Spec::xorout) & detail::low_mask32(Spec::width));
+  }
+
+  /// One-shot CRC of `data`.
+  static constexpr value_type compute(byte_view data) noexcept {
+    return crc().update(data).value();
+  }
+
+  /// One-shot CRC of the low `count` (<= 64) bits of `bits`, fed in the CRC's bit order.
+  static constexpr value_type compute_bits(std::uint64_t bits, unsigned count) noexcept {
+    return crc().update_bits(bits, count).value();
+  }
+
+  /// The table this engine uses (empty for bitwise). Exposed for size reports and tests.
+  static constexpr std::size_t table_entries() noexcept { return static_cast<std::size_t>(Table); }
+
+ private:
+  static constexpr std::uint32_t initial_register() noexcept {
+    return Spec::refin ? detail::reflect32(Spec::init, Spec::width) : (Spec::init << kernel::align);
+  }
+
+  std::uint32_t reg_ = initial_register();
+};
+
+// ---------------------------------------------------------------------------------------------
+// The protocols' CRCs.
+
+/// T-format CRC: G(X) = X^8 + 1 over every field byte before the CRC field, start and delimiter
+/// bits excluded (T-format spec §6.3.4). With this generator the CRC is the XOR of those bytes,
+/// whichever bit order is used; it is declared reflected because the wire sends bytes LSB first.
+using crc8_tformat_spec = crc_spec<8, 0x01, 0x00, true, true, 0x00>;
+/// CRC-16/MODBUS: poly 0x8005 reflected, init 0xFFFF, no final XOR (Modbus over Serial Line
+/// V1.02 §6.2.2). Sent low byte first.
+using crc16_modbus_spec = crc_spec<16, 0x8005, 0xFFFF, true, true, 0x0000>;
+/// BiSS CRC6: x^6 + x + 1 (written 0x43 in BiSS documents), start 0, MSB first, sent inverted.
+using crc6_biss_spec = crc_spec<6, 0x03, 0x00, false, false, 0x3F>;
+/// BiSS CRC4 (control communication): x^4 + x + 1 (0x13), start 0, MSB first, sent inverted.
+using crc4_biss_spec = crc_spec<4, 0x03, 0x00, false, false, 0x0F>;
+
+template <crc_table_size Table = default_crc_table>
+using crc8_tformat = crc<crc8_tformat_spec, Table>;
+template <crc_table_size Table = default_crc_table>
+using crc16_modbus = crc<crc16_modbus_spec, Table>;
+template <crc_table_size Table = default_crc_table>
+using crc6_biss = crc<crc6_biss_spec, Table>;
+template <crc_table_size Table = default_crc_table>
+using crc4_biss = crc<crc4_biss_spec, Table>;
+
+}  // namespace motionbus
+
+#endif  // MOTIONBUS_CORE_CRC_HPP

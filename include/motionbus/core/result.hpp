@@ -1,0 +1,129 @@
+// motionbus — result types, usable in C++17 without exceptions and in constant expressions.
+//
+//  * `result<T>`        a value or an error code (encoders, field readers, builders).
+//  * `decode_result<T>` the three outcomes of a decoder: complete (value plus units consumed),
+//                       incomplete (need more input, with a lower bound on how much), or failed
+//                       (an error code, the units the caller may drop, and evidence such as the
+//                       expected and received CRC). Units are bytes or bits, as the decoder says.
+//
+// Both are [[nodiscard]]. Accessing the value of a failed result yields a value-initialised T,
+// never undefined behaviour.
+#ifndef MOTIONBUS_CORE_RESULT_HPP
+#define MOTIONBUS_CORE_RESULT_HPP
+
+#include <cstddef>
+#include <cstdint>
+#include <type_traits>
+
+#include "motionbus/core/errc.hpp"
+
+namespace motionbus {
+
+/// A value of type T, or an error code.
+template <class T>
+class [[nodiscard]] result {
+  static_assert(!std::is_same<std::remove_cv_t<T>, errc>::value, "result<errc> is ambiguous");
+  static_assert(std::is_default_constructible<T>::value,
+                "result<T> needs a default-constructible T");
+
+ public:
+  using value_type = T;
+
+  constexpr result(const T& value) noexcept(std::is_nothrow_copy_constructible<T>::value)  // NOLINT
+      : value_(value) {}
+  /// Precondition: e != errc::ok (an ok code without a value is stored as invalid_argument).
+  constexpr result(errc e) noexcept  // NOLINT(google-explicit-constructor)
+      : error_(e == errc::ok ? errc::invalid_argument : e) {}
+
+  constexpr bool ok() const noexcept { return error_ == errc::ok; }
+  constexpr explicit operator bool() const noexcept { return ok(); }
+  constexpr errc error() const noexcept { return error_; }
+  /// The value; value-initialised when !ok().
+  constexpr const T& value() const noexcept { return value_; }
+  constexpr const T& operator*() const noexcept { return value_; }
+  constexpr const T* operator->() const noexcept { return &value_; }
+  constexpr T value_or(const T& fallback) const noexcept { return ok() ? value_ : fallback; }
+
+ private:
+  T value_{};
+  errc error_ = errc::ok;
+};
+
+/// The three outcomes of a decoder.
+enum class decode_status : std::uint8_t { complete = 0, incomplete = 1, failed = 2 };
+
+/// Returned (converted) by a decoder that needs more input: at least `at_least` more units.
+struct need_input {
+  std::size_t at_least = 1;
+};
+
+/// Returned (converted) by a decoder that rejects its input.
+struct decode_failure {
+  errc code = errc::invalid_argument;
+  /// Units of input the caller may drop before trying again (0: unknown / drop nothing).
+  std::size_t consumed = 0;
+  /// Evidence, where the error has any: e.g. the CRC computed (expected) and the CRC received.
+  std::uint32_t expected = 0;
+  std::uint32_t received = 0;
+};
+
+/// Outcome of decoding a T from bytes or bits.
+template <class T>
+class [[nodiscard]] decode_result {
+  static_assert(std::is_default_constructible<T>::value,
+                "decode_result<T> needs a default-constructible T");
+
+ public:
+  using value_type = T;
+
+  /// A complete value that used `consumed` units of input.
+  static constexpr decode_result complete(const T& value, std::size_t consumed) noexcept {
+    decode_result r;
+    r.status_ = decode_status::complete;
+    r.value_ = value;
+    r.consumed_ = consumed;
+    return r;
+  }
+  constexpr decode_result(need_input n) noexcept  // NOLINT(google-explicit-constructor)
+      : status_(decode_status::incomplete), needed_(n.at_least == 0 ? 1 : n.at_least) {}
+  constexpr decode_result(decode_failure f) noexcept  // NOLINT(google-explicit-constructor)
+      : status_(decode_status::failed),
+        error_(f.code == errc::ok ? errc::invalid_argument : f.code),
+        consumed_(f.consumed),
+        expected_(f.expected),
+        received_(f.received) {}
+
+  constexpr decode_status status() const noexcept { return status_; }
+  constexpr bool is_complete() const noexcept { return status_ == decode_status::complete; }
+  constexpr bool is_incomplete() const noexcept { return status_ == decode_status::incomplete; }
+  constexpr bool is_failed() const noexcept { return status_ == decode_status::failed; }
+  constexpr explicit operator bool() const noexcept { return is_complete(); }
+
+  /// The decoded value; value-initialised unless complete.
+  constexpr const T& value() const noexcept { return value_; }
+  constexpr const T& operator*() const noexcept { return value_; }
+  constexpr const T* operator->() const noexcept { return &value_; }
+  /// Complete: units used by the value. Failed: units the caller may drop. Else 0.
+  constexpr std::size_t consumed() const noexcept { return consumed_; }
+  /// Incomplete: lower bound on the further units needed. Else 0.
+  constexpr std::size_t needed() const noexcept { return needed_; }
+  /// Failed: the error. Else errc::ok.
+  constexpr errc error() const noexcept { return error_; }
+  constexpr std::uint32_t expected() const noexcept { return expected_; }
+  constexpr std::uint32_t received() const noexcept { return received_; }
+
+ private:
+  constexpr decode_result() noexcept = default;
+
+  decode_status status_ = decode_status::complete;
+  errc error_ = errc::ok;
+  T value_{};
+  std::size_t consumed_ = 0;
+  std::size_t needed_ = 0;
+  std::uint32_t expected_ = 0;
+  std::uint32_t received_ = 0;
+};
+
+}  // namespace motionbus
+
+#endif  // MOTIONBUS_CORE_RESULT_HPP

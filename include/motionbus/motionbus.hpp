@@ -1,0 +1,8 @@
+// motionbus — umbrella header: every public header of the library.
+#ifndef MOTIONBUS_MOTIONBUS_HPP
+#define MOTIONBUS_MOTIONBUS_HPP
+
+#include "motionbus/core.hpp"
+#include "motionbus/version.hpp"
+
+#endif  // MOTIONBUS_MOTIONBUS_HPP

@@ -1,0 +1,6 @@
+// A header that breaks every rule: the purity check must reject it (include.purity.self_test).
+#include <vector>
+static int counter = 0;
+inline void* grab() {
+  return new int(counter++);
+}

@@ -1,0 +1,128 @@
+// Results, error names and byte views.
+#include "motionbus/core/result.hpp"
+
+#include <doctest/doctest.h>
+
+#include <array>
+#include <cstdint>
+#include <cstring>
+
+#include "motionbus/core/errc.hpp"
+#include "motionbus/core/span.hpp"
+
+using namespace motionbus;
+
+namespace {
+
+struct frame {
+  std::uint8_t id = 0;
+  std::uint32_t position = 0;
+};
+
+// A toy decoder with the three outcomes: a 1-byte tag 0x55, then one payload byte.
+decode_result<frame> toy_decode(byte_view in) {
+  if (in.empty()) {
+    return need_input{2};
+  }
+  if (in[0] != 0x55) {
+    return decode_failure{errc::no_frame, 1};
+  }
+  if (in.size() < 2) {
+    return need_input{1};
+  }
+  return decode_result<frame>::complete(frame{in[1], 7}, 2);
+}
+
+}  // namespace
+
+TEST_CASE("decode_result: complete, incomplete and failed") {
+  constexpr std::uint8_t good[] = {0x55, 0x09, 0xEE};
+  const auto ok = toy_decode(good);
+  CHECK(ok.is_complete());
+  CHECK(static_cast<bool>(ok));
+  CHECK(ok.value().id == 9);
+  CHECK(ok->position == 7);
+  CHECK(ok.consumed() == 2);
+  CHECK(ok.error() == errc::ok);
+
+  const auto more = toy_decode(byte_view(good, 1));
+  CHECK(more.is_incomplete());
+  CHECK(!more);
+  CHECK(more.needed() == 1);
+  CHECK(more.value().id == 0);  // value-initialised
+
+  constexpr std::uint8_t bad[] = {0x00};
+  const auto fail = toy_decode(bad);
+  CHECK(fail.is_failed());
+  CHECK(fail.status() == decode_status::failed);
+  CHECK(fail.error() == errc::no_frame);
+  CHECK(fail.consumed() == 1);
+
+  const decode_result<int> crc = decode_failure{errc::crc_mismatch, 4, 0x4B37, 0x1234};
+  CHECK(crc.expected() == 0x4B37);
+  CHECK(crc.received() == 0x1234);
+  // an "ok" failure code is never reported as success
+  const decode_result<int> odd = decode_failure{errc::ok, 0, 0, 0};
+  CHECK(odd.is_failed());
+  CHECK(odd.error() != errc::ok);
+  const decode_result<int> zero = need_input{0};
+  CHECK(zero.needed() == 1);
+}
+
+TEST_CASE("result: value or error") {
+  const result<int> v = 42;
+  CHECK(v.ok());
+  CHECK(*v == 42);
+  CHECK(v.value_or(1) == 42);
+  const result<int> e = errc::truncated;
+  CHECK(!e.ok());
+  CHECK(e.error() == errc::truncated);
+  CHECK(e.value() == 0);
+  CHECK(e.value_or(1) == 1);
+  const result<int> not_ok = errc::ok;
+  CHECK(!not_ok.ok());
+}
+
+TEST_CASE("every error code has a distinct snake_case name") {
+  const errc all[] = {
+      errc::ok,           errc::truncated,    errc::buffer_too_small, errc::invalid_argument,
+      errc::crc_mismatch, errc::out_of_range, errc::length_mismatch,  errc::reserved_bits,
+      errc::no_frame};
+  for (std::size_t i = 0; i < sizeof(all) / sizeof(all[0]); ++i) {
+    const char* name = to_string(all[i]);
+    REQUIRE(std::strcmp(name, "unknown") != 0);
+    for (const char* c = name; *c != '\0'; ++c) {
+      CHECK(((*c >= 'a' && *c <= 'z') || *c == '_'));
+    }
+    for (std::size_t j = 0; j < i; ++j) {
+      CHECK(std::strcmp(name, to_string(all[j])) != 0);
+    }
+  }
+  CHECK(std::strcmp(to_string(static_cast<errc>(250)), "unknown") == 0);
+}
+
+TEST_CASE("byte views from arrays, std::array and pointer + size") {
+  std::array<std::uint8_t, 4> a{{1, 2, 3, 4}};
+  const byte_view v = a;
+  CHECK(v.size() == 4);
+  CHECK(v[3] == 4);
+  CHECK(v.first(2).size() == 2);
+  CHECK(v.last(1)[0] == 4);
+  CHECK(v.subspan(1)[0] == 2);
+  CHECK(v.subspan(1, 2).size() == 2);
+  mutable_byte_view m = a;
+  m[0] = 9;
+  CHECK(a[0] == 9);
+  const byte_view from_mutable = m;
+  CHECK(from_mutable.data() == a.data());
+  std::uint8_t raw[3] = {5, 6, 7};
+  const byte_view r = raw;
+  CHECK(r.size_bytes() == 3);
+  CHECK(!r.empty());
+  CHECK(byte_view{}.empty());
+  std::size_t sum = 0;
+  for (std::uint8_t b : r) {
+    sum += b;
+  }
+  CHECK(sum == 18);
+}
