@@ -51,11 +51,12 @@ constexpr void check_word_type() noexcept {
 template <class Word>
 constexpr Word reverse_bits(Word value) noexcept {
   detail::check_word_type<Word>();
-  Word out = 0;
+  using wide = decltype(Word{} + 0U);  // Word, promoted to at least unsigned int
+  wide out = 0;
   for (unsigned i = 0; i < detail::word_bits<Word>; ++i) {
-    out = static_cast<Word>((out << 1U) | ((value >> i) & 1U));
+    out = static_cast<wide>(out << 1U) | ((static_cast<wide>(value) >> i) & 1U);
   }
-  return out;
+  return static_cast<Word>(out);
 }
 
 /// Reverses the order of the low `width` bits of `value` (width 0..64); higher bits are dropped.

@@ -1,0 +1,72 @@
+#!/usr/bin/env bash
+# The whole motionbus test suite, from a fresh Debian machine: installs missing packages,
+# then configures, builds and runs (ctest) each configuration:
+#   gcc   C++17: doctest suite, static suite, headers alone (C++17/20, no exceptions/RTTI),
+#         include/ purity, no-heap run, CLI, cross probes (Cortex-M0+/M4, rv32imc),
+#         package consumers (install, build tree, add_subdirectory, FetchContent, -I),
+#         clang-format, fuzz corpus replay, bench smoke run
+#   clang C++20 with ASan + UBSan: the same suites, plus each libFuzzer target for
+#         MOTIONBUS_FUZZ_SECONDS (default 20) seconds
+#   s390x (big-endian) and armhf (32-bit ARM): doctest, static and replay suites under qemu-user
+# Environment: MOTIONBUS_BUILD_DIR (default ./build), MOTIONBUS_FUZZ_SECONDS.
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+cd "$root"
+build="${MOTIONBUS_BUILD_DIR:-$root/build}"
+fuzz_seconds="${MOTIONBUS_FUZZ_SECONDS:-20}"
+jobs="$(nproc 2>/dev/null || echo 2)"
+
+bash tools/scripts/ensure-packages.sh \
+  cmake ninja-build g++ git clang llvm libclang-rt-14-dev clang-format doctest-dev \
+  libbenchmark-dev gcc-arm-none-eabi libstdc++-arm-none-eabi-newlib \
+  g++-s390x-linux-gnu g++-arm-linux-gnueabihf qemu-user
+
+passed=0
+failed=0
+summary=""
+
+# run_config NAME [cmake args...]: configure, build, ctest; tallies the results.
+run_config() {
+  local name="$1"
+  shift
+  local dir="$build/$name"
+  echo "=== $name: configure and build"
+  cmake -S "$root" -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+    -DCMAKE_CXX_EXTENSIONS=OFF "$@" >"$dir.configure.log" 2>&1 ||
+    { cat "$dir.configure.log"; return 1; }
+  cmake --build "$dir" -j "$jobs"
+  echo "=== $name: test"
+  local log="$dir.ctest.log"
+  local rc=0
+  (cd "$dir" && ctest -j "$jobs" --output-on-failure --timeout 900) 2>&1 | tee "$log" || rc=$?
+  local line
+  line="$(grep -E 'tests passed, [0-9]+ tests failed out of [0-9]+' "$log" | tail -n 1 || true)"
+  if [ -z "$line" ]; then
+    echo "=== $name: no ctest summary" >&2
+    return 1
+  fi
+  local total bad
+  total="$(sed -E 's/.* out of ([0-9]+).*/\1/' <<<"$line")"
+  bad="$(sed -E 's/.* ([0-9]+) tests failed.*/\1/' <<<"$line")"
+  passed=$((passed + total - bad))
+  failed=$((failed + bad))
+  summary+="  $name: $((total - bad)) passed, $bad failed"$'\n'
+  return "$rc"
+}
+
+mkdir -p "$build"
+status=0
+run_config gcc -DCMAKE_CXX_COMPILER=g++ -DMOTIONBUS_REQUIRE_ALL_CHECKS=ON || status=1
+run_config clang -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_CXX_STANDARD=20 -DMOTIONBUS_SANITIZE=ON \
+  -DMOTIONBUS_BUILD_FUZZ=ON -DMOTIONBUS_FUZZ_SECONDS="$fuzz_seconds" \
+  -DMOTIONBUS_REQUIRE_ALL_CHECKS=ON || status=1
+for target in s390x-linux-gnu arm-linux-gnueabihf; do
+  run_config "$target" -DCMAKE_TOOLCHAIN_FILE="$root/cmake/toolchains/$target.cmake" \
+    -DMOTIONBUS_BUILD_TOOLS=OFF -DMOTIONBUS_BUILD_BENCH=OFF -DMOTIONBUS_BUILD_EXAMPLES=OFF \
+    -DMOTIONBUS_BUILD_FUZZ=OFF || status=1
+done
+
+echo "=== summary"
+printf '%s' "$summary"
+echo "motionbus: $passed passed, $failed failed"
+exit "$status"
