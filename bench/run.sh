@@ -1,0 +1,12 @@
+#!/usr/bin/env bash
+# Reproduces bench/RESULTS.md: builds the benchmarks in Release with the host compiler and runs
+# them (3 repetitions, median reported). Run on an otherwise idle machine.
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+build="${MOTIONBUS_BUILD_DIR:-$root/build}/bench-release"
+bash "$root/tools/scripts/ensure-packages.sh" cmake ninja-build g++ libbenchmark-dev
+cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DMOTIONBUS_BUILD_TESTS=OFF \
+  -DMOTIONBUS_BUILD_TOOLS=OFF -DMOTIONBUS_BUILD_EXAMPLES=OFF -DMOTIONBUS_BUILD_FUZZ=OFF >/dev/null
+cmake --build "$build" --target motionbus_bench >/dev/null
+"$build/bench/motionbus_bench" --benchmark_repetitions=3 --benchmark_report_aggregates_only=true \
+  --benchmark_filter="${1:-.}" "${@:2}"
