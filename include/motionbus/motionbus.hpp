@@ -3,6 +3,8 @@
 #define MOTIONBUS_MOTIONBUS_HPP
 
 #include "motionbus/core.hpp"
+#include "motionbus/devices/ts5700n8500.hpp"
+#include "motionbus/tformat.hpp"
 #include "motionbus/version.hpp"
 
 #endif  // MOTIONBUS_MOTIONBUS_HPP

@@ -91,6 +91,19 @@ struct crc_kernel {
     return t;
   }
 
+  /// True when every table entry equals its index (x^8 + 1 at width 8, the T-format CRC):
+  /// a chunk step is then a plain XOR and the table is never referenced.
+  template <unsigned ChunkBits>
+  static constexpr bool identity_table() noexcept {
+    const auto t = make_table<ChunkBits>();
+    for (std::uint32_t i = 0; i < t.size(); ++i) {
+      if (t[i] != i) {
+        return false;
+      }
+    }
+    return true;
+  }
+
   template <unsigned ChunkBits>
   struct table_holder {
     static constexpr std::array<uint_least_bits_t<reg_bits>, (1U << ChunkBits)> table =
@@ -101,13 +114,23 @@ struct crc_kernel {
   template <unsigned ChunkBits>
   static constexpr std::uint32_t step_chunk(std::uint32_t reg, std::uint32_t chunk) noexcept {
     constexpr std::uint32_t chunk_mask = (1U << ChunkBits) - 1U;
-    const auto& table = table_holder<ChunkBits>::table;
-    if constexpr (Reflected) {
-      const std::uint32_t rest = reg_bits > ChunkBits ? (reg >> ChunkBits) : 0U;
-      return rest ^ table[(reg ^ chunk) & chunk_mask];
+    if constexpr (identity_table<ChunkBits>()) {
+      if constexpr (Reflected) {
+        const std::uint32_t rest = reg_bits > ChunkBits ? (reg >> ChunkBits) : 0U;
+        return rest ^ ((reg ^ chunk) & chunk_mask);
+      } else {
+        return ((reg << ChunkBits) & reg_mask) ^
+               (((reg >> (reg_bits - ChunkBits)) ^ chunk) & chunk_mask);
+      }
     } else {
-      return ((reg << ChunkBits) & reg_mask) ^
-             table[((reg >> (reg_bits - ChunkBits)) ^ chunk) & chunk_mask];
+      const auto& table = table_holder<ChunkBits>::table;
+      if constexpr (Reflected) {
+        const std::uint32_t rest = reg_bits > ChunkBits ? (reg >> ChunkBits) : 0U;
+        return rest ^ table[(reg ^ chunk) & chunk_mask];
+      } else {
+        return ((reg << ChunkBits) & reg_mask) ^
+               table[((reg >> (reg_bits - ChunkBits)) ^ chunk) & chunk_mask];
+      }
     }
   }
 

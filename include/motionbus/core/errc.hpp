@@ -34,6 +34,28 @@ enum class [[nodiscard]] errc : std::uint8_t{
     reserved_bits = 7,
     /// No frame start was found within the searched input.
     no_frame = 8,
+
+    // T-format (32..63)
+    /// CF bits 0..2 are not the sync code 010.
+    tformat_sync_code = 32,
+    /// CF bit 7 (cc4) is not the XOR of the Data ID bits cc0..cc3.
+    tformat_parity = 33,
+    /// The Data ID is none of 0, 1, 2, 3, 6, 7, 8, C, D.
+    tformat_unknown_data_id = 34,
+    /// The frame is longer than its Data ID allows.
+    tformat_length = 35,
+    /// The response's CF differs from the request's.
+    tformat_cf_mismatch = 36,
+    /// The EEPROM response's address differs from the request's.
+    tformat_address_mismatch = 37,
+    /// The encoder answered an abnormal request (ca0/ca1 set): discard and send again.
+    tformat_communication_alarm = 38,
+    /// A field's start bit (raw bit stream) is not 0.
+    tformat_start_bit = 39,
+    /// A field's delimiter bit (raw bit stream) is not 1.
+    tformat_delimiter = 40,
+    /// The EEPROM write response does not echo the data written.
+    tformat_data_mismatch = 41,
 };
 
 /// snake_case name of an error code, as printed by the tools; "unknown" for a value outside
@@ -49,6 +71,16 @@ constexpr const char* to_string(errc e) noexcept {
     case errc::length_mismatch: return "length_mismatch";
     case errc::reserved_bits: return "reserved_bits";
     case errc::no_frame: return "no_frame";
+    case errc::tformat_sync_code: return "sync_code";
+    case errc::tformat_parity: return "parity";
+    case errc::tformat_unknown_data_id: return "unknown_data_id";
+    case errc::tformat_length: return "wrong_length";
+    case errc::tformat_cf_mismatch: return "cf_mismatch";
+    case errc::tformat_address_mismatch: return "address_mismatch";
+    case errc::tformat_communication_alarm: return "communication_alarm";
+    case errc::tformat_start_bit: return "start_bit";
+    case errc::tformat_delimiter: return "delimiter";
+    case errc::tformat_data_mismatch: return "data_mismatch";
   }
   return "unknown";
 }

@@ -1,0 +1,357 @@
+// motionbus — T-format byte codec, master side and encoder side, all constexpr.
+//
+// Master:  encode_request        → CF [ADF [EDF] CRC] into a caller buffer
+//          decode_response       → typed response, layout chosen by the response's CF
+//          decode_response_for   → the same, checked against the request that was sent
+// Encoder: decode_request        → typed request (what an encoder received)
+//          encode_response       → response bytes for given values
+//
+// Decoders return decode_result<T>: complete (value, bytes consumed), incomplete (need more
+// bytes), or failed (error, bytes the caller may drop to resynchronise, evidence). Inputs are
+// never trusted: every length is checked before use.
+// Sources: T-format spec §6.2–6.3, §8.4, §9.4, Table 5; PROTOCOL_NOTES §1.
+#ifndef MOTIONBUS_TFORMAT_CODEC_HPP
+#define MOTIONBUS_TFORMAT_CODEC_HPP
+
+#include <cstddef>
+#include <cstdint>
+
+#include "motionbus/core/crc.hpp"
+#include "motionbus/core/errc.hpp"
+#include "motionbus/core/result.hpp"
+#include "motionbus/core/span.hpp"
+#include "motionbus/tformat/frame.hpp"
+
+namespace motionbus {
+namespace tformat {
+
+/// The T-format CRC (G = X^8 + 1: the XOR of the bytes; no table is emitted).
+using crc_type = crc8_tformat<crc_table_size::byte>;
+
+constexpr std::uint8_t crc_of(byte_view fields) noexcept {
+  return crc_type::compute(fields);
+}
+
+struct decode_options {
+  /// Valid bits of ABS and ABM; bits above them must be 0 when check_unused_bits is set.
+  resolution res{};
+  bool check_unused_bits = true;
+  /// For ID3 responses, take the resolution from a known ENID (0x11, 0x17, 0x0B) instead of res.
+  bool resolution_from_enid = false;
+};
+
+namespace detail {
+
+constexpr std::uint32_t le24(byte_view in, std::size_t at) noexcept {
+  return static_cast<std::uint32_t>(in[at]) | (static_cast<std::uint32_t>(in[at + 1U]) << 8U) |
+         (static_cast<std::uint32_t>(in[at + 2U]) << 16U);
+}
+
+constexpr void put_le24(mutable_byte_view out, std::size_t at, std::uint32_t v) noexcept {
+  out[at] = static_cast<std::uint8_t>(v & 0xFFU);
+  out[at + 1U] = static_cast<std::uint8_t>((v >> 8U) & 0xFFU);
+  out[at + 2U] = static_cast<std::uint8_t>((v >> 16U) & 0xFFU);
+}
+
+constexpr bool fits(std::uint32_t value, unsigned bits) noexcept {
+  return bits >= 32U || (value >> bits) == 0U;
+}
+
+/// Checks a CF byte: sync code first (no reply is possible without it), then parity, then ID.
+constexpr errc check_cf(std::uint8_t cf) noexcept {
+  if (!sync_ok(cf)) {
+    return errc::tformat_sync_code;
+  }
+  if (!parity_ok(cf)) {
+    return errc::tformat_parity;
+  }
+  if (!is_known(static_cast<data_id>(data_id_code(cf)))) {
+    return errc::tformat_unknown_data_id;
+  }
+  return errc::ok;
+}
+
+}  // namespace detail
+
+// ---------------------------------------------------------------------------------------------
+// Master side
+
+/// Writes the request for `id` into `out`: CF for IDs 0,1,2,3,7,8,C; CF ADF CRC for IDD;
+/// CF ADF EDF CRC for ID6. Returns the bytes written. Errors: tformat_unknown_data_id,
+/// out_of_range (address above 127), buffer_too_small. Nothing is written on error.
+constexpr result<std::size_t> encode_request(data_id id, mutable_byte_view out,
+                                             std::uint8_t address = 0,
+                                             std::uint8_t data = 0) noexcept {
+  if (!is_known(id)) {
+    return errc::tformat_unknown_data_id;
+  }
+  if (address > adf_address_mask) {
+    return errc::out_of_range;
+  }
+  const std::size_t n = request_size(id);
+  if (out.size() < n) {
+    return errc::buffer_too_small;
+  }
+  out[0] = control_field(id);
+  if (n > 1U) {
+    out[1] = address;
+    if (id == data_id::eeprom_write) {
+      out[2] = data;
+    }
+    out[n - 1U] = crc_of(byte_view(out.data(), n - 1U));
+  }
+  return n;
+}
+
+/// Decodes one response from the start of `in`; the layout follows the response's CF.
+/// Complete: the response and its size in bytes (extra input is left unconsumed).
+/// Incomplete: fewer bytes than the CF's layout needs. Failed, with 1 byte to drop: CF sync
+/// code, parity or unknown Data ID; crc_mismatch (expected = computed, received = sent);
+/// reserved_bits (SF bits 0..3 set); out_of_range (ABS/ABM bits above the resolution set).
+/// A busy EEPROM is state (response::busy), not an error.
+constexpr decode_result<response> decode_response(byte_view in,
+                                                  const decode_options& opt = {}) noexcept {
+  if (in.empty()) {
+    return need_input{4};
+  }
+  const std::uint8_t cf = in[0];
+  const errc cf_error = detail::check_cf(cf);
+  if (cf_error != errc::ok) {
+    return decode_failure{cf_error, 1};
+  }
+  response r;
+  r.id = static_cast<data_id>(data_id_code(cf));
+  r.cf = cf;
+  const response_layout lay = layout_of(r.id);
+  if (in.size() < lay.size) {
+    return need_input{lay.size - in.size()};
+  }
+  r.crc = in[lay.size - 1U];
+  const std::uint8_t computed = crc_of(in.first(lay.size - 1U));
+  if (computed != r.crc) {
+    return decode_failure{errc::crc_mismatch, 1, computed, r.crc};
+  }
+  if (lay.eeprom) {
+    r.address = static_cast<std::uint8_t>(in[1] & adf_address_mask);
+    r.busy = (in[1] & adf_busy) != 0U;
+    r.edf = in[2];
+    return decode_result<response>::complete(r, lay.size);
+  }
+  r.sf = in[1];
+  if ((r.sf & sf::reserved_mask) != 0U) {
+    return decode_failure{errc::reserved_bits, 1};
+  }
+  std::size_t at = 2;
+  if (lay.abs) {
+    r.abs = detail::le24(in, at);
+    at += 3U;
+  }
+  if (lay.enid) {
+    r.enid = in[at];
+    at += 1U;
+  }
+  if (lay.abm) {
+    r.abm = detail::le24(in, at);
+    at += 3U;
+  }
+  if (lay.almc) {
+    r.almc = in[at];
+  }
+  if (opt.check_unused_bits) {
+    const resolution res = opt.resolution_from_enid && lay.enid && lay.abs
+                               ? resolution_for_enid(r.enid, opt.res)
+                               : opt.res;
+    if ((lay.abs && !detail::fits(r.abs, res.single_turn_bits)) ||
+        (lay.abm && !detail::fits(r.abm, res.multi_turn_bits))) {
+      return decode_failure{errc::out_of_range, 1};
+    }
+  }
+  return decode_result<response>::complete(r, lay.size);
+}
+
+/// decode_response on a buffer that must hold exactly one frame (e.g. bytes received up to
+/// the line's idle): fewer bytes are errc::truncated, more are errc::tformat_length.
+constexpr decode_result<response> decode_response_frame(byte_view in,
+                                                        const decode_options& opt = {}) noexcept {
+  const decode_result<response> r = decode_response(in, opt);
+  if (r.is_incomplete()) {
+    return decode_failure{errc::truncated, in.size()};
+  }
+  if (r.is_complete() && r.consumed() != in.size()) {
+    return decode_failure{errc::tformat_length, in.size()};
+  }
+  return r;
+}
+
+/// Checks a decoded response against the request frame that was sent: errc::ok, or
+/// tformat_communication_alarm when the encoder flags ca0/ca1 (the request arrived corrupted:
+/// send it again; spec §6.3.2), tformat_cf_mismatch, tformat_address_mismatch (EEPROM), or
+/// tformat_data_mismatch (ID6 not echoing the data while not busy). An empty or malformed
+/// `request_frame` is errc::invalid_argument. `expected`/`received` get the evidence.
+constexpr errc check_response(byte_view request_frame, const response& v,
+                              std::uint32_t* expected = nullptr,
+                              std::uint32_t* received = nullptr) noexcept {
+  if (request_frame.empty() || detail::check_cf(request_frame[0]) != errc::ok ||
+      request_frame.size() < request_size(static_cast<data_id>(data_id_code(request_frame[0])))) {
+    return errc::invalid_argument;
+  }
+  std::uint32_t want = 0;
+  std::uint32_t got = 0;
+  errc e = errc::ok;
+  if (!v.layout().eeprom && (v.ca0() || v.ca1())) {
+    e = errc::tformat_communication_alarm;
+  } else if (v.cf != request_frame[0]) {
+    e = errc::tformat_cf_mismatch;
+    want = request_frame[0];
+    got = v.cf;
+  } else if (v.layout().eeprom) {
+    const auto want_address = static_cast<std::uint8_t>(request_frame[1] & adf_address_mask);
+    if (v.address != want_address) {
+      e = errc::tformat_address_mismatch;
+      want = want_address;
+      got = v.address;
+    } else if (v.id == data_id::eeprom_write && !v.busy && v.edf != request_frame[2]) {
+      e = errc::tformat_data_mismatch;
+      want = request_frame[2];
+      got = v.edf;
+    }
+  }
+  if (expected != nullptr) {
+    *expected = want;
+  }
+  if (received != nullptr) {
+    *received = got;
+  }
+  return e;
+}
+
+/// decode_response, then check_response against the request frame that was sent. A failed
+/// check consumes the whole response.
+constexpr decode_result<response> decode_response_for(byte_view request_frame, byte_view in,
+                                                      const decode_options& opt = {}) noexcept {
+  if (check_response(request_frame, response{}) == errc::invalid_argument) {
+    return decode_failure{errc::invalid_argument, 0};
+  }
+  const decode_result<response> r = decode_response(in, opt);
+  if (!r.is_complete()) {
+    return r;
+  }
+  std::uint32_t want = 0;
+  std::uint32_t got = 0;
+  const errc e = check_response(request_frame, r.value(), &want, &got);
+  if (e != errc::ok) {
+    return decode_failure{e, r.consumed(), want, got};
+  }
+  return r;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Encoder side
+
+/// Decodes one request from the start of `in` (what an encoder receives). Complete: the
+/// request and its size. Incomplete: an EEPROM request lacks ADF/EDF/CRC. Failed, 1 byte to
+/// drop: tformat_sync_code (the encoder must not reply), tformat_parity, tformat_unknown_data_id
+/// (the encoder replies with ID3 data, ca0 set for parity). Failed, whole frame consumed:
+/// crc_mismatch and reserved_bits (busy bit set in a request ADF): ID3 data in reply.
+constexpr decode_result<request> decode_request(byte_view in) noexcept {
+  if (in.empty()) {
+    return need_input{1};
+  }
+  const std::uint8_t cf = in[0];
+  const errc cf_error = detail::check_cf(cf);
+  if (cf_error != errc::ok) {
+    return decode_failure{cf_error, 1};
+  }
+  request q;
+  q.id = static_cast<data_id>(data_id_code(cf));
+  q.cf = cf;
+  const std::size_t n = request_size(q.id);
+  if (in.size() < n) {
+    return need_input{n - in.size()};
+  }
+  if (n > 1U) {
+    q.crc = in[n - 1U];
+    const std::uint8_t computed = crc_of(in.first(n - 1U));
+    if (computed != q.crc) {
+      return decode_failure{errc::crc_mismatch, n, computed, q.crc};
+    }
+    if ((in[1] & adf_busy) != 0U) {
+      return decode_failure{errc::reserved_bits, n};
+    }
+    q.address = in[1];
+    if (q.id == data_id::eeprom_write) {
+      q.edf = in[2];
+    }
+  }
+  return decode_result<request>::complete(q, n);
+}
+
+/// Writes the response for `r.id` with r's field values into `out` (CF from the ID, CRC
+/// computed; r.cf and r.crc are ignored). Returns the bytes written. Errors:
+/// tformat_unknown_data_id, reserved_bits (SF bits 0..3 set), out_of_range (ABS/ABM above 24
+/// bits, address above 127), buffer_too_small. Nothing is written on error.
+constexpr result<std::size_t> encode_response(const response& r, mutable_byte_view out) noexcept {
+  if (!is_known(r.id)) {
+    return errc::tformat_unknown_data_id;
+  }
+  const response_layout lay = layout_of(r.id);
+  if (lay.eeprom ? r.address > adf_address_mask : (r.sf & sf::reserved_mask) != 0U) {
+    return lay.eeprom ? errc::out_of_range : errc::reserved_bits;
+  }
+  if ((lay.abs && !detail::fits(r.abs, 24)) || (lay.abm && !detail::fits(r.abm, 24))) {
+    return errc::out_of_range;
+  }
+  if (out.size() < lay.size) {
+    return errc::buffer_too_small;
+  }
+  out[0] = control_field(r.id);
+  std::size_t at = 1;
+  if (lay.eeprom) {
+    out[1] = static_cast<std::uint8_t>(r.address | (r.busy ? adf_busy : 0U));
+    out[2] = r.busy ? std::uint8_t{0} : r.edf;  // EDF is 00 while busy (spec Table 5)
+    at = 3;
+  } else {
+    out[at++] = r.sf;
+    if (lay.abs) {
+      detail::put_le24(out, at, r.abs);
+      at += 3U;
+    }
+    if (lay.enid) {
+      out[at++] = r.enid;
+    }
+    if (lay.abm) {
+      detail::put_le24(out, at, r.abm);
+      at += 3U;
+    }
+    if (lay.almc) {
+      out[at++] = r.almc;
+    }
+  }
+  out[at] = crc_of(byte_view(out.data(), at));
+  return at + 1U;
+}
+
+/// The status field an encoder reports for alarm bits `almc` and communication alarms:
+/// ea0 = CE, ea1 = OH | ME | BE | BA (spec §6.3.2).
+constexpr std::uint8_t status_field(std::uint8_t almc, bool ca0 = false,
+                                    bool ca1 = false) noexcept {
+  std::uint8_t s = 0;
+  if (has_alarm(almc, alarm::ce)) {
+    s = static_cast<std::uint8_t>(s | sf::ea0);
+  }
+  if ((almc & ea1_alarms) != 0U) {
+    s = static_cast<std::uint8_t>(s | sf::ea1);
+  }
+  if (ca0) {
+    s = static_cast<std::uint8_t>(s | sf::ca0);
+  }
+  if (ca1) {
+    s = static_cast<std::uint8_t>(s | sf::ca1);
+  }
+  return s;
+}
+
+}  // namespace tformat
+}  // namespace motionbus
+
+#endif  // MOTIONBUS_TFORMAT_CODEC_HPP

@@ -1,0 +1,300 @@
+// motionbus — a behavioural model of a T-format encoder, for emulators, FPGA test benches and
+// hardware-in-the-loop rigs. Give it each received request (the bytes up to the line's idle)
+// with the current time; it returns the reply the encoder would send.
+//
+// Modelled (T-format spec §6.1.1, §6.3, §6.5, §7–§10; PROTOCOL_NOTES §1.4):
+//  - position and turns, with single-turn resolution and ENID from the config;
+//  - ALMC flags: latched (OS, CE case II, OF, OH, ME, BE) until an ID7/IDC reset while their
+//    condition is gone, non-latched (FS, BA) following their condition;
+//  - abnormal requests: bad sync code → no reply; parity error → ID3 data with ca0; delimiter
+//    error (reported by the caller's UART or line decoder) → ID3 data with ca1; unknown Data ID,
+//    bad EEPROM CRC or a closed EEPROM address → ID3 data (spec Tables 5, 6);
+//  - EEPROM: pages 0..5 of 127 bytes (0..126), page select by writing address 127, page 7 with
+//    the over-heat threshold (address 4, read/write) and the substrate temperature (address 5,
+//    read only); busy for 18 ms after a write or a page change (reply busy, EDF 00);
+//  - resets 7, 8, C act on the 10th consecutive request of the same ID, each at least 40 µs after
+//    the previous one (spec §10); ID8 then writes EEPROM (busy 18 ms).
+// Choices where the spec is silent (documented and tested): the reply to an abnormal request
+// carries the ID3 control field 0x1A; reading address 127 returns the current page; a write to a
+// closed address or an invalid page number gets ID3 data; the over-heat flag is raised when
+// the temperature exceeds the threshold (threshold byte bit 7 set, °C = byte - 128).
+#ifndef MOTIONBUS_TFORMAT_ENCODER_MODEL_HPP
+#define MOTIONBUS_TFORMAT_ENCODER_MODEL_HPP
+
+#include <cstddef>
+#include <cstdint>
+
+#include "motionbus/core/result.hpp"
+#include "motionbus/core/span.hpp"
+#include "motionbus/tformat/codec.hpp"
+#include "motionbus/tformat/frame.hpp"
+
+namespace motionbus {
+namespace tformat {
+
+/// A reply frame (size 0: the encoder stays silent).
+struct reply {
+  std::uint8_t bytes[max_response_size] = {};
+  std::size_t size = 0;
+  constexpr byte_view view() const noexcept { return byte_view(bytes, size); }
+};
+
+/// Time constants of the model (spec §6.1.1, §9.1, §10).
+inline constexpr std::uint32_t eeprom_busy_us = 18000;
+inline constexpr std::uint32_t reset_min_interval_us = 40;
+inline constexpr unsigned reset_repeat = 10;
+
+/// ALMC bits that latch until reset (CE modelled as case II, latched during power-on).
+inline constexpr std::uint8_t latched_alarms = 0x01 | 0x04 | 0x08 | 0x10 | 0x20 | 0x40;
+
+class encoder_model {
+ public:
+  struct config {
+    resolution res{17, 16};
+    std::uint8_t enid = 0x11;
+    std::uint8_t overheat_threshold = 0xDA;  ///< factory setting: 90 °C (0xDA = 90 + 128)
+  };
+
+  constexpr encoder_model() noexcept : encoder_model(config{}) {}
+  constexpr explicit encoder_model(config cfg) noexcept
+      : cfg_(cfg), threshold_(cfg.overheat_threshold) {}
+
+  // --- the physical world ------------------------------------------------------------------
+  /// Sets the raw single-turn reading (before any ID8 zero offset) and the turn count.
+  constexpr void set_position(std::uint32_t raw_single_turn, std::uint32_t turns) noexcept {
+    raw_ = raw_single_turn & single_mask();
+    turns_ = turns & multi_mask();
+  }
+  /// Rotates by `counts` single-turn steps (negative: the other way); turns follow, and the
+  /// counter overflow flag OF latches when the turn count wraps.
+  constexpr void rotate(std::int64_t counts) noexcept {
+    const std::int64_t per_turn = std::int64_t{1} << cfg_.res.single_turn_bits;
+    const std::int64_t total = static_cast<std::int64_t>(raw_) + counts;
+    std::int64_t turns = total / per_turn;
+    std::int64_t raw = total % per_turn;
+    if (raw < 0) {
+      raw += per_turn;
+      turns -= 1;
+    }
+    const std::int64_t new_turns = static_cast<std::int64_t>(turns_) + turns;
+    const std::int64_t range = std::int64_t{1} << cfg_.res.multi_turn_bits;
+    if (new_turns < 0 || new_turns >= range) {
+      latched_ = static_cast<std::uint8_t>(latched_ | static_cast<std::uint8_t>(alarm::of));
+    }
+    raw_ = static_cast<std::uint32_t>(raw);
+    turns_ = static_cast<std::uint32_t>(((new_turns % range) + range) % range);
+  }
+  /// Sets whether the condition behind an alarm is present now. Latched alarms stay set after
+  /// the condition goes until a reset; non-latched ones follow it.
+  constexpr void set_condition(alarm a, bool present) noexcept {
+    const auto bit = static_cast<std::uint8_t>(a);
+    conditions_ = present ? static_cast<std::uint8_t>(conditions_ | bit)
+                          : static_cast<std::uint8_t>(conditions_ & ~bit);
+    if (present && (bit & latched_alarms) != 0U) {
+      latched_ = static_cast<std::uint8_t>(latched_ | bit);
+    }
+  }
+  /// Substrate temperature in °C (page 7 address 5); may raise over-heat.
+  constexpr void set_temperature(std::int8_t celsius) noexcept {
+    temperature_ = celsius;
+    update_overheat();
+  }
+
+  // --- what the encoder reports ------------------------------------------------------------
+  constexpr std::uint32_t abs() const noexcept { return (raw_ - offset_) & single_mask(); }
+  constexpr std::uint32_t abm() const noexcept { return turns_; }
+  constexpr std::uint8_t almc() const noexcept {
+    return static_cast<std::uint8_t>(latched_ |
+                                     (conditions_ & static_cast<std::uint8_t>(~latched_alarms)));
+  }
+  constexpr std::uint8_t page() const noexcept { return page_; }
+  constexpr std::uint8_t overheat_threshold() const noexcept { return threshold_; }
+  /// EEPROM byte of a user page (0..5, address 0..126); 0 outside.
+  constexpr std::uint8_t eeprom(std::uint8_t page, std::uint8_t address) const noexcept {
+    return page < user_pages && address < page_size ? eeprom_[cell(page, address)] : 0U;
+  }
+  constexpr bool busy(std::uint32_t now_us) const noexcept {
+    return busy_ && static_cast<std::int32_t>(now_us - busy_until_) < 0;
+  }
+
+  // --- the protocol --------------------------------------------------------------------------
+  /// The reply to a received request frame (`frame`: the bytes up to the line's idle) at time
+  /// `now_us` (a free-running microsecond clock; wrap-around is handled). `delimiter_error`:
+  /// the UART or line decoder saw a bad delimiter (stop) bit in the request.
+  constexpr reply respond(byte_view frame, std::uint32_t now_us,
+                          bool delimiter_error = false) noexcept {
+    if (frame.empty() || !sync_ok(frame[0])) {
+      return reply{};  // bad sync code: no reply (spec §8.4 No.1)
+    }
+    if (delimiter_error) {
+      return abnormal(false, true);
+    }
+    const decode_result<request> d = decode_request(frame);
+    if (d.is_failed()) {
+      return abnormal(d.error() == errc::tformat_parity, false);
+    }
+    if (d.is_incomplete()) {
+      return abnormal(false, false);  // EEPROM request cut short: its CRC is missing
+    }
+    const request& q = d.value();
+    count_reset(q.id, now_us);
+    switch (q.id) {
+      case data_id::eeprom_write: return eeprom_write(q, now_us);
+      case data_id::eeprom_read: return eeprom_read(q, now_us);
+      default: return data_reply(q.id, 0);
+    }
+  }
+
+ private:
+  static constexpr std::uint8_t user_pages = 6;
+  static constexpr std::uint8_t page_size = 127;
+
+  static constexpr std::size_t cell(std::uint8_t page, std::uint8_t address) noexcept {
+    return static_cast<std::size_t>(page) * page_size + address;
+  }
+
+  constexpr std::uint32_t single_mask() const noexcept {
+    return cfg_.res.single_turn_bits >= 32U
+               ? 0xFFFFFFFFU
+               : ((std::uint32_t{1} << cfg_.res.single_turn_bits) - 1U);
+  }
+  constexpr std::uint32_t multi_mask() const noexcept {
+    return cfg_.res.multi_turn_bits >= 32U ? 0xFFFFFFFFU
+                                           : ((std::uint32_t{1} << cfg_.res.multi_turn_bits) - 1U);
+  }
+
+  constexpr void update_overheat() noexcept {
+    const bool enabled = (threshold_ & 0x80U) != 0U;
+    const int limit = static_cast<int>(threshold_) - 128;
+    set_condition(alarm::oh, enabled && temperature_ > limit);
+  }
+
+  constexpr reply data_reply(data_id id, std::uint8_t extra_sf) const noexcept {
+    response r;
+    r.id = id;
+    r.sf = static_cast<std::uint8_t>(status_field(almc()) | extra_sf);
+    r.abs = abs();
+    r.abm = abm();
+    r.enid = cfg_.enid;
+    r.almc = almc();
+    reply out;
+    out.size = encode_response(r, mutable_byte_view(out.bytes, max_response_size)).value_or(0);
+    return out;
+  }
+
+  constexpr reply abnormal(bool ca0, bool ca1) noexcept {
+    reset_count_ = 0;
+    return data_reply(data_id::read_all,
+                      static_cast<std::uint8_t>((ca0 ? sf::ca0 : 0U) | (ca1 ? sf::ca1 : 0U)));
+  }
+
+  constexpr reply eeprom_reply(data_id id, std::uint8_t address, bool busy,
+                               std::uint8_t edf) const noexcept {
+    response r;
+    r.id = id;
+    r.address = address;
+    r.busy = busy;
+    r.edf = edf;
+    reply out;
+    out.size = encode_response(r, mutable_byte_view(out.bytes, max_response_size)).value_or(0);
+    return out;
+  }
+
+  constexpr void start_busy(std::uint32_t now_us) noexcept {
+    busy_ = true;
+    busy_until_ = now_us + eeprom_busy_us;
+  }
+
+  constexpr reply eeprom_write(const request& q, std::uint32_t now_us) noexcept {
+    if (busy(now_us)) {
+      return eeprom_reply(q.id, q.address, true, 0);
+    }
+    if (q.address == page_select_address) {
+      if (q.edf >= user_pages && q.edf != 7U) {
+        return abnormal(false, false);
+      }
+      page_ = q.edf;
+    } else if (page_ < user_pages) {
+      eeprom_[cell(page_, q.address)] = q.edf;
+    } else if (page_ == 7U && q.address == 4U) {
+      threshold_ = q.edf;
+      update_overheat();
+    } else {
+      return abnormal(false, false);  // closed address
+    }
+    start_busy(now_us);
+    return eeprom_reply(q.id, q.address, false, q.edf);
+  }
+
+  constexpr reply eeprom_read(const request& q, std::uint32_t now_us) noexcept {
+    if (busy(now_us)) {
+      return eeprom_reply(q.id, q.address, true, 0);
+    }
+    std::uint8_t value = 0;
+    if (q.address == page_select_address) {
+      value = page_;
+    } else if (page_ < user_pages) {
+      value = eeprom_[cell(page_, q.address)];
+    } else if (page_ == 7U && q.address == 4U) {
+      value = threshold_;
+    } else if (page_ == 7U && q.address == 5U) {
+      value = static_cast<std::uint8_t>(temperature_);
+    } else {
+      return abnormal(false, false);
+    }
+    return eeprom_reply(q.id, q.address, false, value);
+  }
+
+  constexpr void count_reset(data_id id, std::uint32_t now_us) noexcept {
+    const bool is_reset = id == data_id::reset_errors || id == data_id::reset_single_turn ||
+                          id == data_id::reset_multi_turn;
+    if (!is_reset) {
+      reset_count_ = 0;
+      return;
+    }
+    if (reset_count_ > 0U && id == reset_id_) {
+      if (now_us - last_reset_us_ < reset_min_interval_us) {
+        return;  // too soon: this request does not count
+      }
+      ++reset_count_;
+    } else {
+      reset_id_ = id;
+      reset_count_ = 1;
+    }
+    last_reset_us_ = now_us;
+    if (reset_count_ < reset_repeat) {
+      return;
+    }
+    reset_count_ = 0;
+    if (id == data_id::reset_single_turn) {
+      offset_ = raw_;
+      start_busy(now_us);  // the zero point is written to EEPROM (spec §10)
+      return;
+    }
+    if (id == data_id::reset_multi_turn) {
+      turns_ = 0;
+    }
+    latched_ = static_cast<std::uint8_t>(conditions_ & latched_alarms);  // reset what is gone
+  }
+
+  config cfg_;
+  std::uint32_t raw_ = 0;
+  std::uint32_t offset_ = 0;
+  std::uint32_t turns_ = 0;
+  std::uint8_t conditions_ = 0;
+  std::uint8_t latched_ = 0;
+  std::int8_t temperature_ = 25;
+  std::uint8_t threshold_;
+  std::uint8_t page_ = 0;
+  std::uint8_t eeprom_[user_pages * page_size] = {};
+  bool busy_ = false;
+  std::uint32_t busy_until_ = 0;
+  data_id reset_id_ = data_id::reset_errors;
+  unsigned reset_count_ = 0;
+  std::uint32_t last_reset_us_ = 0;
+};
+
+}  // namespace tformat
+}  // namespace motionbus
+
+#endif  // MOTIONBUS_TFORMAT_ENCODER_MODEL_HPP

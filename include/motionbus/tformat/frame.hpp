@@ -1,0 +1,216 @@
+// motionbus — T-format (Tamagawa Smart-Abs) frame vocabulary: Data IDs, the control field,
+// status and alarm bits, and the layout of every request and response.
+//
+// Bytes are the fields' 8 data bits as a UART delivers them (bit 0 first on the wire); the
+// start and delimiter bits of each 10-bit field are the line coding's business (line.hpp).
+// Sources: T-format spec (TS5700N8500) §6.2–6.3; PROTOCOL_NOTES §1.2–1.3.
+#ifndef MOTIONBUS_TFORMAT_FRAME_HPP
+#define MOTIONBUS_TFORMAT_FRAME_HPP
+
+#include <cstddef>
+#include <cstdint>
+
+namespace motionbus {
+namespace tformat {
+
+/// Data IDs (spec Table 1). The value is the 4-bit code cc3..cc0.
+enum class data_id : std::uint8_t {
+  read_abs = 0x0,           ///< ID0: single-turn position
+  read_abm = 0x1,           ///< ID1: multi-turn count
+  read_enid = 0x2,          ///< ID2: encoder ID
+  read_all = 0x3,           ///< ID3: ABS, ENID, ABM, ALMC
+  eeprom_write = 0x6,       ///< ID6: write one EEPROM byte
+  reset_errors = 0x7,       ///< ID7: reset all latched errors (send 10 times)
+  reset_single_turn = 0x8,  ///< ID8: zero the single-turn position (send 10 times)
+  reset_multi_turn = 0xC,   ///< IDC: reset multi-turn count and errors (send 10 times)
+  eeprom_read = 0xD,        ///< IDD: read one EEPROM byte
+};
+
+/// True for the nine Data IDs the spec defines.
+constexpr bool is_known(data_id id) noexcept {
+  switch (id) {
+    case data_id::read_abs:
+    case data_id::read_abm:
+    case data_id::read_enid:
+    case data_id::read_all:
+    case data_id::eeprom_write:
+    case data_id::reset_errors:
+    case data_id::reset_single_turn:
+    case data_id::reset_multi_turn:
+    case data_id::eeprom_read: return true;
+  }
+  return false;
+}
+
+/// CF bits 0..2: the sync code 010 as a UART byte (bit0 = 0, bit1 = 1, bit2 = 0).
+inline constexpr std::uint8_t sync_code = 0x02;
+inline constexpr std::uint8_t sync_mask = 0x07;
+
+/// The control field byte for a 4-bit Data ID code: sync code, cc0..cc3 in bits 3..6, and the
+/// parity cc4 = cc0 ^ cc1 ^ cc2 ^ cc3 in bit 7 (spec §6.3.1). ID0 0x02, ID3 0x1A, IDD 0xEA.
+constexpr std::uint8_t control_field(std::uint8_t code) noexcept {
+  const unsigned c = code & 0x0FU;
+  const unsigned parity = (c ^ (c >> 1U) ^ (c >> 2U) ^ (c >> 3U)) & 1U;
+  return static_cast<std::uint8_t>(sync_code | (c << 3U) | (parity << 7U));
+}
+constexpr std::uint8_t control_field(data_id id) noexcept {
+  return control_field(static_cast<std::uint8_t>(id));
+}
+
+/// The 4-bit Data ID code in a control field byte (no checks).
+constexpr std::uint8_t data_id_code(std::uint8_t cf) noexcept {
+  return static_cast<std::uint8_t>((cf >> 3U) & 0x0FU);
+}
+constexpr bool sync_ok(std::uint8_t cf) noexcept {
+  return (cf & sync_mask) == sync_code;
+}
+constexpr bool parity_ok(std::uint8_t cf) noexcept {
+  return ((cf ^ control_field(data_id_code(cf))) & 0x80U) == 0U;
+}
+
+/// Status field bits (spec §6.3.2). Bits 0..3 are always 0.
+namespace sf {
+inline constexpr std::uint8_t reserved_mask = 0x0F;
+inline constexpr std::uint8_t ea0 = 0x10;  ///< counting error
+inline constexpr std::uint8_t ea1 = 0x20;  ///< OR of over-heat, multi-turn, battery error/alarm
+inline constexpr std::uint8_t ca0 = 0x40;  ///< request parity error
+inline constexpr std::uint8_t ca1 = 0x80;  ///< request delimiter error
+}  // namespace sf
+
+/// ALMC bits (spec Table 3).
+enum class alarm : std::uint8_t {
+  os = 0x01,  ///< over-speed (latched)
+  fs = 0x02,  ///< full-absolute status (non-latched)
+  ce = 0x04,  ///< counting error
+  of = 0x08,  ///< counter overflow (latched)
+  oh = 0x10,  ///< over-heat (latched)
+  me = 0x20,  ///< multi-turn error (latched during power-on)
+  be = 0x40,  ///< battery error (latched)
+  ba = 0x80,  ///< battery alarm (non-latched)
+};
+
+/// Every alarm in ALMC bit order.
+inline constexpr alarm all_alarms[8] = {alarm::os, alarm::fs, alarm::ce, alarm::of,
+                                        alarm::oh, alarm::me, alarm::be, alarm::ba};
+
+/// The spec's two-letter symbol of an alarm ("OS", "FS", ...).
+constexpr const char* symbol(alarm a) noexcept {
+  switch (a) {
+    case alarm::os: return "OS";
+    case alarm::fs: return "FS";
+    case alarm::ce: return "CE";
+    case alarm::of: return "OF";
+    case alarm::oh: return "OH";
+    case alarm::me: return "ME";
+    case alarm::be: return "BE";
+    case alarm::ba: return "BA";
+  }
+  return "??";
+}
+
+constexpr bool has_alarm(std::uint8_t almc, alarm a) noexcept {
+  return (almc & static_cast<std::uint8_t>(a)) != 0U;
+}
+
+/// ea1 is the OR of OH, ME, BE and BA (spec §6.3.2); ea0 is CE.
+inline constexpr std::uint8_t ea1_alarms = 0x10 | 0x20 | 0x40 | 0x80;
+
+/// ADF: bits 0..6 EEPROM address, bit 7 busy (responses only).
+inline constexpr std::uint8_t adf_address_mask = 0x7F;
+inline constexpr std::uint8_t adf_busy = 0x80;
+/// EEPROM address that selects the page when written.
+inline constexpr std::uint8_t page_select_address = 127;
+
+/// Longest frames, in fields (bytes).
+inline constexpr std::size_t max_request_size = 4;
+inline constexpr std::size_t max_response_size = 11;
+
+/// Which fields a response carries, in wire order after CF (spec Table 2, Figures 1–3).
+struct response_layout {
+  std::uint8_t size;  ///< total fields including CF and CRC
+  bool sf;            ///< CF SF ...
+  bool abs;           ///< ABS0..2
+  bool enid;
+  bool abm;  ///< ABM0..2
+  bool almc;
+  bool eeprom;  ///< CF ADF EDF CRC (no SF)
+};
+
+/// The layout of the response to `id`. Unknown IDs are answered with ID3 data (spec §8.4).
+constexpr response_layout layout_of(data_id id) noexcept {
+  switch (id) {
+    case data_id::read_abs:
+    case data_id::reset_errors:
+    case data_id::reset_single_turn:
+    case data_id::reset_multi_turn: return {6, true, true, false, false, false, false};
+    case data_id::read_abm: return {6, true, false, false, true, false, false};
+    case data_id::read_enid: return {4, true, false, true, false, false, false};
+    case data_id::eeprom_write:
+    case data_id::eeprom_read: return {4, false, false, false, false, false, true};
+    case data_id::read_all: break;
+  }
+  return {11, true, true, true, true, true, false};
+}
+
+/// Size of a request frame: CF alone, CF ADF CRC (IDD), or CF ADF EDF CRC (ID6).
+constexpr std::size_t request_size(data_id id) noexcept {
+  return id == data_id::eeprom_write ? 4U : (id == data_id::eeprom_read ? 3U : 1U);
+}
+
+/// Single-turn resolution: valid bits of the 24-bit ABS field. The TS5700N8500 has 17 (ENID
+/// 0x11); 23-bit (ENID 0x17) and 11-bit (ENID 0x0B) encoders exist.
+struct resolution {
+  unsigned single_turn_bits = 17;  ///< 1..24
+  unsigned multi_turn_bits = 16;   ///< 1..24
+};
+
+/// The resolution an ENID announces, or `fallback` when the ENID is not a known code.
+constexpr resolution resolution_for_enid(std::uint8_t enid, resolution fallback = {}) noexcept {
+  switch (enid) {
+    case 0x11: return {17, 16};
+    case 0x17: return {23, 16};
+    case 0x0B: return {11, 16};
+    default: return fallback;
+  }
+}
+
+/// Combined absolute position: turns above the single-turn bits.
+constexpr std::uint64_t absolute_position(std::uint32_t abs, std::uint32_t abm,
+                                          unsigned single_turn_bits = 17) noexcept {
+  return (static_cast<std::uint64_t>(abm) << single_turn_bits) | abs;
+}
+
+/// A request as the encoder sees it.
+struct request {
+  data_id id = data_id::read_abs;
+  std::uint8_t cf = control_field(data_id::read_abs);
+  std::uint8_t address = 0;  ///< EEPROM address (ID6, IDD)
+  std::uint8_t edf = 0;      ///< data to write (ID6)
+  std::uint8_t crc = 0;      ///< received CRC (ID6, IDD)
+};
+
+/// A response as the master sees it; the fields present follow layout_of(id).
+struct response {
+  data_id id = data_id::read_abs;
+  std::uint8_t cf = control_field(data_id::read_abs);
+  std::uint8_t sf = 0;       ///< status field (absent for ID6/IDD)
+  std::uint32_t abs = 0;     ///< single-turn position
+  std::uint32_t abm = 0;     ///< multi-turn count
+  std::uint8_t enid = 0;     ///< encoder ID
+  std::uint8_t almc = 0;     ///< alarm bits
+  std::uint8_t address = 0;  ///< EEPROM address (ID6/IDD)
+  bool busy = false;         ///< EEPROM busy (ID6/IDD): EDF is then 0x00
+  std::uint8_t edf = 0;      ///< EEPROM data (ID6/IDD)
+  std::uint8_t crc = 0;
+
+  constexpr bool ea0() const noexcept { return (sf & sf::ea0) != 0U; }
+  constexpr bool ea1() const noexcept { return (sf & sf::ea1) != 0U; }
+  constexpr bool ca0() const noexcept { return (sf & sf::ca0) != 0U; }
+  constexpr bool ca1() const noexcept { return (sf & sf::ca1) != 0U; }
+  constexpr response_layout layout() const noexcept { return layout_of(id); }
+};
+
+}  // namespace tformat
+}  // namespace motionbus
+
+#endif  // MOTIONBUS_TFORMAT_FRAME_HPP

@@ -1,0 +1,381 @@
+// T-format byte codec: spec vectors, every error, every prefix, every single-bit flip, round
+// trips master encode -> encoder decode -> encoder reply -> master decode.
+// Expected bytes are written out from the spec's tables (Table 1 bit patterns, Table 2 layouts)
+// and CRCs computed here as the XOR of the fields (G = X^8 + 1), never by the codec under test.
+#include "motionbus/tformat/codec.hpp"
+
+#include <doctest/doctest.h>
+
+#include <cstdint>
+#include <vector>
+
+#include "motionbus/tformat/encoder_model.hpp"
+
+using namespace motionbus;
+using namespace motionbus::tformat;
+
+namespace {
+
+std::uint8_t xor_of(const std::vector<std::uint8_t>& v) {
+  std::uint8_t x = 0;
+  for (std::uint8_t b : v) {
+    x = static_cast<std::uint8_t>(x ^ b);
+  }
+  return x;
+}
+
+std::vector<std::uint8_t> with_crc(std::vector<std::uint8_t> v) {
+  v.push_back(xor_of(v));
+  return v;
+}
+
+byte_view view(const std::vector<std::uint8_t>& v) {
+  return byte_view(v.data(), v.size());
+}
+
+// Spec Table 1: cc0..cc4 for each Data ID.
+struct table1_row {
+  data_id id;
+  int cc[5];
+};
+constexpr table1_row table1[] = {
+    {data_id::read_abs, {0, 0, 0, 0, 0}},         {data_id::read_abm, {1, 0, 0, 0, 1}},
+    {data_id::read_enid, {0, 1, 0, 0, 1}},        {data_id::read_all, {1, 1, 0, 0, 0}},
+    {data_id::eeprom_write, {0, 1, 1, 0, 0}},     {data_id::eeprom_read, {1, 0, 1, 1, 1}},
+    {data_id::reset_errors, {1, 1, 1, 0, 1}},     {data_id::reset_single_turn, {0, 0, 0, 1, 1}},
+    {data_id::reset_multi_turn, {0, 0, 1, 1, 0}},
+};
+
+std::uint8_t cf_from_table(const table1_row& row) {
+  // sync 010 in bits 0..2, cc0..cc4 in bits 3..7 (PROTOCOL_NOTES §1.2)
+  unsigned v = 0x02;
+  for (unsigned i = 0; i < 5; ++i) {
+    v |= static_cast<unsigned>(row.cc[i]) << (3U + i);
+  }
+  return static_cast<std::uint8_t>(v);
+}
+
+std::vector<std::vector<std::uint8_t>> valid_responses() {
+  return {
+      with_crc({0x02, 0x00, 0x40, 0xE2, 0x01}),                                // ID0 abs 123456
+      with_crc({0x8A, 0x00, 0x34, 0x12, 0x00}),                                // ID1 abm 0x1234
+      with_crc({0x92, 0x00, 0x11}),                                            // ID2 enid 0x11
+      with_crc({0x1A, 0x20, 0xFF, 0xFF, 0x01, 0x11, 0xFF, 0xFF, 0x00, 0xC0}),  // ID3
+      with_crc({0x32, 0x05, 0x12}),                                            // ID6 echo
+      with_crc({0xEA, 0x05, 0x77}),                                            // IDD data
+      with_crc({0xEA, 0x85, 0x00}),                                            // IDD busy
+      with_crc({0xBA, 0x10, 0x00, 0x00, 0x00}),                                // ID7
+      with_crc({0xC2, 0x00, 0x01, 0x00, 0x00}),                                // ID8
+      with_crc({0x62, 0x00, 0x02, 0x00, 0x00}),                                // IDC
+  };
+}
+
+}  // namespace
+
+TEST_CASE("control field bytes follow spec Table 1 and PROTOCOL_NOTES") {
+  for (const auto& row : table1) {
+    CAPTURE(static_cast<int>(row.id));
+    CHECK(control_field(row.id) == cf_from_table(row));
+    CHECK(sync_ok(control_field(row.id)));
+    CHECK(parity_ok(control_field(row.id)));
+  }
+  CHECK(control_field(data_id::read_abs) == 0x02);
+  CHECK(control_field(data_id::read_abm) == 0x8A);
+  CHECK(control_field(data_id::read_enid) == 0x92);
+  CHECK(control_field(data_id::read_all) == 0x1A);
+  CHECK(control_field(data_id::eeprom_write) == 0x32);
+  CHECK(control_field(data_id::reset_errors) == 0xBA);
+  CHECK(control_field(data_id::reset_single_turn) == 0xC2);
+  CHECK(control_field(data_id::reset_multi_turn) == 0x62);
+  CHECK(control_field(data_id::eeprom_read) == 0xEA);
+  CHECK(!parity_ok(0x02 | 0x80));
+  CHECK(!sync_ok(0x03));
+}
+
+TEST_CASE("encode_request: every Data ID, EEPROM frames, errors") {
+  std::uint8_t out[4] = {};
+  for (const auto& row : table1) {
+    const auto n = encode_request(row.id, out, 5, 0x12);
+    REQUIRE(n.ok());
+    CHECK(out[0] == cf_from_table(row));
+    CHECK(n.value() == request_size(row.id));
+  }
+  REQUIRE(encode_request(data_id::eeprom_write, out, 5, 0x12).value() == 4);
+  CHECK(std::vector<std::uint8_t>(out, out + 4) == with_crc({0x32, 0x05, 0x12}));
+  REQUIRE(encode_request(data_id::eeprom_read, out, 127).value() == 3);
+  CHECK(std::vector<std::uint8_t>(out, out + 3) == with_crc({0xEA, 0x7F}));
+
+  CHECK(encode_request(static_cast<data_id>(4), out).error() == errc::tformat_unknown_data_id);
+  CHECK(encode_request(data_id::eeprom_read, out, 128).error() == errc::out_of_range);
+  std::uint8_t small[2] = {0xAA, 0xAA};
+  CHECK(encode_request(data_id::eeprom_read, small, 1).error() == errc::buffer_too_small);
+  CHECK(small[0] == 0xAA);  // nothing written
+  CHECK(encode_request(data_id::read_abs, mutable_byte_view{}).error() == errc::buffer_too_small);
+}
+
+TEST_CASE("decode_response: spec layouts and values") {
+  const auto id0 = with_crc({0x02, 0x00, 0x40, 0xE2, 0x01});
+  auto r = decode_response(view(id0));
+  REQUIRE(r.is_complete());
+  CHECK(r.consumed() == 6);
+  CHECK(r->id == data_id::read_abs);
+  CHECK(r->abs == 123456);
+  CHECK(r->crc == xor_of({0x02, 0x00, 0x40, 0xE2, 0x01}));
+
+  const auto id3 = with_crc({0x1A, 0xF0, 0xFF, 0xFF, 0x01, 0x11, 0xFF, 0xFF, 0x00, 0xD4});
+  r = decode_response(view(id3));
+  REQUIRE(r.is_complete());
+  CHECK(r->id == data_id::read_all);
+  CHECK(r->abs == 0x1FFFF);
+  CHECK(r->enid == 0x11);
+  CHECK(r->abm == 0xFFFF);
+  CHECK(r->almc == 0xD4);
+  CHECK(r->ea0());
+  CHECK(r->ea1());
+  CHECK(r->ca0());
+  CHECK(r->ca1());
+  CHECK(has_alarm(r->almc, alarm::ce));
+  CHECK(has_alarm(r->almc, alarm::oh));
+  CHECK(has_alarm(r->almc, alarm::be));
+  CHECK(has_alarm(r->almc, alarm::ba));
+  CHECK(!has_alarm(r->almc, alarm::os));
+
+  const auto enid = with_crc({0x92, 0x00, 0x11});
+  r = decode_response(view(enid));
+  REQUIRE(r.is_complete());
+  CHECK(r->enid == 0x11);
+  CHECK(r.consumed() == 4);
+
+  const auto busy = with_crc({0xEA, 0x85, 0x00});
+  r = decode_response(view(busy));
+  REQUIRE(r.is_complete());  // a busy EEPROM is state, not corruption
+  CHECK(r->busy);
+  CHECK(r->address == 5);
+  CHECK(r->edf == 0);
+}
+
+TEST_CASE("decode_response: every documented error") {
+  // truncated (exact-frame form) and wrong length
+  const auto id0 = with_crc({0x02, 0x00, 0x40, 0xE2, 0x01});
+  CHECK(decode_response_frame(view(id0).first(5)).error() == errc::truncated);
+  auto longer = id0;
+  longer.push_back(0x00);
+  CHECK(decode_response_frame(view(longer)).error() == errc::tformat_length);
+  CHECK(decode_response_frame(view(id0)).is_complete());
+  // sync code, parity, unknown Data ID
+  CHECK(decode_response(view(with_crc({0x03, 0x00, 0, 0, 0}))).error() == errc::tformat_sync_code);
+  CHECK(decode_response(view(with_crc({0x82, 0x00, 0, 0, 0}))).error() == errc::tformat_parity);
+  const std::uint8_t id4_cf = control_field(std::uint8_t{4});
+  CHECK(decode_response(view(with_crc({id4_cf, 0, 0, 0, 0}))).error() ==
+        errc::tformat_unknown_data_id);
+  // CRC mismatch, with evidence
+  auto bad_crc = id0;
+  bad_crc[5] ^= 0x01;
+  const auto c = decode_response(view(bad_crc));
+  CHECK(c.error() == errc::crc_mismatch);
+  CHECK(c.expected() == id0[5]);
+  CHECK(c.received() == bad_crc[5]);
+  CHECK(c.consumed() == 1);
+  // reserved SF bits
+  CHECK(decode_response(view(with_crc({0x02, 0x01, 0, 0, 0}))).error() == errc::reserved_bits);
+  // ABS above 17 bits / ABM above 16 bits
+  CHECK(decode_response(view(with_crc({0x02, 0x00, 0, 0, 0x02}))).error() == errc::out_of_range);
+  CHECK(decode_response(view(with_crc({0x8A, 0x00, 0, 0, 0x01}))).error() == errc::out_of_range);
+  decode_options lax;
+  lax.check_unused_bits = false;
+  CHECK(decode_response(view(with_crc({0x02, 0x00, 0, 0, 0x02})), lax).value().abs == 0x20000);
+}
+
+TEST_CASE("decode_response_for: CF, address, data, communication alarm") {
+  std::uint8_t req[4] = {};
+  REQUIRE(encode_request(data_id::read_abs, req).ok());
+  CHECK(decode_response_for(byte_view(req, 1), view(with_crc({0x02, 0, 1, 0, 0}))).is_complete());
+  const auto cf = decode_response_for(byte_view(req, 1), view(with_crc({0x8A, 0, 1, 0, 0})));
+  CHECK(cf.error() == errc::tformat_cf_mismatch);
+  CHECK(cf.expected() == 0x02);
+  CHECK(cf.received() == 0x8A);
+  CHECK(cf.consumed() == 6);
+  // The encoder saw a parity error: ID3 data with ca0, whatever was asked.
+  const auto alarm3 = with_crc({0x1A, 0x40, 0, 0, 0, 0x11, 0, 0, 0, 0});
+  CHECK(decode_response_for(byte_view(req, 1), view(alarm3)).error() ==
+        errc::tformat_communication_alarm);
+  const auto alarm3b = with_crc({0x1A, 0x80, 0, 0, 0, 0x11, 0, 0, 0, 0});
+  CHECK(decode_response_for(byte_view(req, 1), view(alarm3b)).error() ==
+        errc::tformat_communication_alarm);
+
+  REQUIRE(encode_request(data_id::eeprom_read, req, 9).ok());
+  CHECK(decode_response_for(byte_view(req, 3), view(with_crc({0xEA, 0x09, 0x42}))).value().edf ==
+        0x42);
+  CHECK(decode_response_for(byte_view(req, 3), view(with_crc({0xEA, 0x08, 0x42}))).error() ==
+        errc::tformat_address_mismatch);
+  CHECK(decode_response_for(byte_view(req, 3), view(with_crc({0xEA, 0x89, 0x00}))).value().busy);
+
+  REQUIRE(encode_request(data_id::eeprom_write, req, 9, 0x55).ok());
+  CHECK(decode_response_for(byte_view(req, 4), view(with_crc({0x32, 0x09, 0x55}))).is_complete());
+  CHECK(decode_response_for(byte_view(req, 4), view(with_crc({0x32, 0x09, 0x54}))).error() ==
+        errc::tformat_data_mismatch);
+  CHECK(decode_response_for(byte_view(req, 4), view(with_crc({0x32, 0x89, 0x00}))).is_complete());
+
+  // malformed request frames
+  CHECK(decode_response_for(byte_view{}, view(with_crc({0x02, 0, 1, 0, 0}))).error() ==
+        errc::invalid_argument);
+  CHECK(decode_response_for(byte_view(req, 2), view(with_crc({0x32, 0x09, 0x55}))).error() ==
+        errc::invalid_argument);
+}
+
+TEST_CASE("every prefix of every valid response needs more input; the whole frame decodes") {
+  for (const auto& frame : valid_responses()) {
+    for (std::size_t n = 0; n < frame.size(); ++n) {
+      const auto r = decode_response(view(frame).first(n));
+      CHECK(r.is_incomplete());
+      CHECK(r.needed() >= 1);
+      if (n > 0) {
+        CHECK(r.needed() == frame.size() - n);
+      }
+    }
+    const auto r = decode_response(view(frame));
+    REQUIRE(r.is_complete());
+    CHECK(r.consumed() == frame.size());
+  }
+}
+
+TEST_CASE("every single-bit flip of every valid response is detected") {
+  for (const auto& frame : valid_responses()) {
+    for (std::size_t byte = 0; byte < frame.size(); ++byte) {
+      for (unsigned bit = 0; bit < 8; ++bit) {
+        auto bad = frame;
+        bad[byte] = static_cast<std::uint8_t>(bad[byte] ^ (1U << bit));
+        const auto r = decode_response_frame(view(bad));
+        CAPTURE(byte);
+        CAPTURE(bit);
+        CHECK(r.is_failed());
+      }
+    }
+  }
+}
+
+TEST_CASE("decode_request (encoder side): every ID, EEPROM CRC and busy bit") {
+  for (const auto& row : table1) {
+    std::uint8_t out[4] = {};
+    const auto n = encode_request(row.id, out, 100, 0xA5).value();
+    const auto q = decode_request(byte_view(out, n));
+    REQUIRE(q.is_complete());
+    CHECK(q->id == row.id);
+    CHECK(q.consumed() == n);
+    if (row.id == data_id::eeprom_write) {
+      CHECK(q->address == 100);
+      CHECK(q->edf == 0xA5);
+    }
+    for (std::size_t k = 1; k < n; ++k) {
+      CHECK(decode_request(byte_view(out, k)).is_incomplete());
+    }
+  }
+  CHECK(decode_request(byte_view{}).is_incomplete());
+  const std::uint8_t bad_sync[] = {0x00};
+  CHECK(decode_request(bad_sync).error() == errc::tformat_sync_code);
+  const std::uint8_t bad_parity[] = {0x82};
+  CHECK(decode_request(bad_parity).error() == errc::tformat_parity);
+  const std::uint8_t unknown[] = {control_field(std::uint8_t{0xF})};
+  CHECK(decode_request(unknown).error() == errc::tformat_unknown_data_id);
+  auto bad_crc = with_crc({0xEA, 0x05});
+  bad_crc[2] ^= 0x10;
+  CHECK(decode_request(view(bad_crc)).error() == errc::crc_mismatch);
+  CHECK(decode_request(view(with_crc({0xEA, 0x85}))).error() == errc::reserved_bits);
+}
+
+TEST_CASE("encode_response (encoder side) matches spec layouts and refuses bad values") {
+  response r;
+  r.id = data_id::read_all;
+  r.sf = 0x20;
+  r.abs = 0x1FFFF;
+  r.enid = 0x11;
+  r.abm = 0xFFFF;
+  r.almc = 0xC0;
+  std::uint8_t out[11] = {};
+  REQUIRE(encode_response(r, out).value() == 11);
+  CHECK(std::vector<std::uint8_t>(out, out + 11) ==
+        with_crc({0x1A, 0x20, 0xFF, 0xFF, 0x01, 0x11, 0xFF, 0xFF, 0x00, 0xC0}));
+  r.sf = 0x01;
+  CHECK(encode_response(r, out).error() == errc::reserved_bits);
+  r.sf = 0;
+  r.abs = 1U << 24U;
+  CHECK(encode_response(r, out).error() == errc::out_of_range);
+  r.abs = 0;
+  std::uint8_t small[10] = {};
+  CHECK(encode_response(r, small).error() == errc::buffer_too_small);
+  r.id = static_cast<data_id>(9);
+  CHECK(encode_response(r, out).error() == errc::tformat_unknown_data_id);
+
+  response e;
+  e.id = data_id::eeprom_read;
+  e.address = 5;
+  e.busy = true;
+  e.edf = 0x77;  // ignored while busy: EDF is 00
+  REQUIRE(encode_response(e, out).value() == 4);
+  CHECK(std::vector<std::uint8_t>(out, out + 4) == with_crc({0xEA, 0x85, 0x00}));
+  e.address = 128;
+  CHECK(encode_response(e, out).error() == errc::out_of_range);
+
+  CHECK(status_field(0x04) == sf::ea0);
+  CHECK(status_field(0x10) == sf::ea1);
+  CHECK(status_field(0x0B) == 0);  // OS, FS, OF are not in ea0/ea1
+  CHECK(status_field(0, true, true) == (sf::ca0 | sf::ca1));
+}
+
+TEST_CASE("round trip: master request -> encoder model -> master decode, every Data ID") {
+  encoder_model enc;
+  enc.set_position(0x1ABCD, 0x4321);
+  enc.set_condition(alarm::ba, true);
+  std::uint32_t now = 1000;
+  for (const auto& row : table1) {
+    CAPTURE(static_cast<int>(row.id));
+    std::uint8_t req[4] = {};
+    const std::size_t n = encode_request(row.id, req, 3, 0x5A).value();
+    const reply rep = enc.respond(byte_view(req, n), now);
+    now += 100000;  // past any busy window
+    REQUIRE(rep.size == layout_of(row.id).size);
+    const auto r = decode_response_for(byte_view(req, n), rep.view());
+    REQUIRE(r.is_complete());
+    CHECK(r->id == row.id);
+    if (layout_of(row.id).abs) {
+      CHECK(r->abs == 0x1ABCD);
+    }
+    if (layout_of(row.id).abm) {
+      CHECK(r->abm == 0x4321);
+    }
+    if (layout_of(row.id).sf) {
+      CHECK(r->ea1());  // battery alarm
+    }
+    if (row.id == data_id::read_all) {
+      CHECK(r->almc == static_cast<std::uint8_t>(alarm::ba));
+      CHECK(r->enid == 0x11);
+    }
+    if (row.id == data_id::eeprom_read) {
+      CHECK(r->edf == 0x5A);  // written by the ID6 row before it
+    }
+  }
+}
+
+TEST_CASE("resolution: 17 bits by default, 23 and 11 selectable, ENID-driven for ID3") {
+  const auto abs23 = with_crc({0x02, 0x00, 0xFF, 0xFF, 0x7F});  // 0x7FFFFF: 23 bits
+  CHECK(decode_response(view(abs23)).error() == errc::out_of_range);
+  decode_options o23;
+  o23.res = {23, 16};
+  CHECK(decode_response(view(abs23), o23).value().abs == 0x7FFFFF);
+  decode_options o11;
+  o11.res = {11, 16};
+  CHECK(decode_response(view(with_crc({0x02, 0x00, 0x00, 0x08, 0x00})), o11).error() ==
+        errc::out_of_range);
+  CHECK(decode_response(view(with_crc({0x02, 0x00, 0xFF, 0x07, 0x00})), o11).value().abs == 0x7FF);
+
+  const auto id3_23 = with_crc({0x1A, 0x00, 0xFF, 0xFF, 0x7F, 0x17, 0x01, 0x00, 0x00, 0x00});
+  CHECK(decode_response(view(id3_23)).error() == errc::out_of_range);
+  decode_options by_enid;
+  by_enid.resolution_from_enid = true;
+  CHECK(decode_response(view(id3_23), by_enid).value().abs == 0x7FFFFF);
+  CHECK(resolution_for_enid(0x0B).single_turn_bits == 11);
+  CHECK(resolution_for_enid(0x99, {20, 16}).single_turn_bits == 20);
+
+  CHECK(absolute_position(0x1ABCD, 3) == (3ULL << 17U) + 0x1ABCD);
+  CHECK(absolute_position(5, 2, 23) == (2ULL << 23U) + 5);
+}
