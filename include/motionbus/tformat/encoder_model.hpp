@@ -13,7 +13,8 @@
 //    the over-heat threshold (address 4, read/write) and the substrate temperature (address 5,
 //    read only); busy for 18 ms after a write or a page change (reply busy, EDF 00);
 //  - resets 7, 8, C act on the 10th consecutive request of the same ID, each at least 40 µs after
-//    the previous one (spec §10); ID8 then writes EEPROM (busy 18 ms).
+//    the previous one (spec §10), after the reply to it (which carries the data as received);
+//    ID8 then writes EEPROM (busy 18 ms).
 // Choices where the spec is silent (documented and tested): the reply to an abnormal request
 // carries the ID3 control field 0x1A; reading address 127 returns the current page; a write to a
 // closed address or an invalid page number gets ID3 data; the over-heat flag is raised when
@@ -137,12 +138,16 @@ class encoder_model {
       return abnormal(false, false);  // EEPROM request cut short: its CRC is missing
     }
     const request& q = d.value();
-    count_reset(q.id, now_us);
     switch (q.id) {
-      case data_id::eeprom_write: return eeprom_write(q, now_us);
-      case data_id::eeprom_read: return eeprom_read(q, now_us);
-      default: return data_reply(q.id, 0);
+      case data_id::eeprom_write: reset_count_ = 0; return eeprom_write(q, now_us);
+      case data_id::eeprom_read: reset_count_ = 0; return eeprom_read(q, now_us);
+      default: break;
     }
+    // The reply carries the data of the moment the request arrived; a reset acts after it
+    // (spec §10, note *).
+    const reply out = data_reply(q.id, 0);
+    count_reset(q.id, now_us);
+    return out;
   }
 
  private:

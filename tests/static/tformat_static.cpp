@@ -1,0 +1,110 @@
+// Compile-time suite for T-format: spec vectors encoded and decoded by the compiler.
+#include <cstdint>
+
+#include "motionbus/devices/ts5700n8500.hpp"
+#include "motionbus/tformat.hpp"
+
+namespace mb = motionbus;
+namespace tf = motionbus::tformat;
+namespace ts = motionbus::devices::ts5700n8500;
+
+namespace {
+
+// Control fields (spec Table 1; PROTOCOL_NOTES §1.2).
+static_assert(tf::control_field(tf::data_id::read_abs) == 0x02, "ID0");
+static_assert(tf::control_field(tf::data_id::read_abm) == 0x8A, "ID1");
+static_assert(tf::control_field(tf::data_id::read_enid) == 0x92, "ID2");
+static_assert(tf::control_field(tf::data_id::read_all) == 0x1A, "ID3");
+static_assert(tf::control_field(tf::data_id::eeprom_write) == 0x32, "ID6");
+static_assert(tf::control_field(tf::data_id::reset_errors) == 0xBA, "ID7");
+static_assert(tf::control_field(tf::data_id::reset_single_turn) == 0xC2, "ID8");
+static_assert(tf::control_field(tf::data_id::reset_multi_turn) == 0x62, "IDC");
+static_assert(tf::control_field(tf::data_id::eeprom_read) == 0xEA, "IDD");
+
+// The T-format CRC needs no table: x^8 + 1 makes the byte table the identity.
+static_assert(mb::detail::crc_kernel<8, 0x01, true>::identity_table<8>(), "identity table");
+static_assert(!mb::detail::crc_kernel<16, 0x8005, true>::identity_table<8>(), "real table");
+
+// An ID3 response: 1A 00 | 45 23 01 | 11 | 34 12 00 | 80 | CRC = XOR of the ten bytes.
+constexpr std::uint8_t id3[] = {0x1A,
+                                0x00,
+                                0x45,
+                                0x23,
+                                0x01,
+                                0x11,
+                                0x34,
+                                0x12,
+                                0x00,
+                                0x80,
+                                0x1A ^ 0x45 ^ 0x23 ^ 0x01 ^ 0x11 ^ 0x34 ^ 0x12 ^ 0x80};
+constexpr auto id3_decoded = tf::decode_response(id3);
+static_assert(id3_decoded.is_complete() && id3_decoded.consumed() == 11, "ID3 decodes");
+static_assert(id3_decoded.value().abs == 0x012345 && id3_decoded.value().abm == 0x1234, "ID3 data");
+static_assert(id3_decoded.value().enid == 0x11 && id3_decoded.value().almc == 0x80,
+              "ID3 ENID/ALMC");
+static_assert(tf::decode_response(mb::byte_view(id3, 10)).is_incomplete(), "prefix");
+
+constexpr bool id3_reencodes() {
+  std::uint8_t out[11] = {};
+  const auto n = tf::encode_response(id3_decoded.value(), out);
+  if (!n.ok() || n.value() != 11) {
+    return false;
+  }
+  for (int i = 0; i < 11; ++i) {
+    if (out[i] != id3[i]) {
+      return false;
+    }
+  }
+  return true;
+}
+static_assert(id3_reencodes(), "decode -> encode gives the same bytes");
+
+constexpr std::uint8_t id3_bad_crc[] = {0x1A, 0x00, 0x45, 0x23, 0x01, 0x11,
+                                        0x34, 0x12, 0x00, 0x80, 0x00};
+static_assert(tf::decode_response(id3_bad_crc).error() == mb::errc::crc_mismatch, "CRC");
+
+// EEPROM request and its encoder-side decode.
+constexpr bool eeprom_round_trip() {
+  std::uint8_t req[4] = {};
+  const auto n = tf::encode_request(tf::data_id::eeprom_write, req, 5, 0x12);
+  const auto q = tf::decode_request(mb::byte_view(req, n.value()));
+  return n.value() == 4 && req[3] == (0x32 ^ 0x05 ^ 0x12) && q.is_complete() &&
+         q.value().address == 5 && q.value().edf == 0x12;
+}
+static_assert(eeprom_round_trip(), "ID6 request");
+
+// The encoder model answers a request inside a constant expression.
+constexpr bool model_answers() {
+  tf::encoder_model enc;
+  enc.set_position(42, 1);
+  const std::uint8_t req[] = {0x02};
+  const tf::reply r = enc.respond(req, 0);
+  const auto d = tf::decode_response(r.view());
+  return r.size == 6 && d.is_complete() && d.value().abs == 42;
+}
+static_assert(model_answers(), "encoder model");
+
+// Line coding: an ID0 request after 3 idle bits, decoded back by the encoder side.
+constexpr bool line_round_trip() {
+  std::uint8_t bits[4] = {};
+  const std::uint8_t req[] = {0x02};
+  const auto n = tf::encode_line(mb::byte_view(req), mb::span<std::uint8_t>(bits),
+                                 mb::bit_order::msb_first, 0, 3);
+  const auto q = tf::decode_request_line(mb::span<const std::uint8_t>(bits),
+                                         mb::bit_order::msb_first, n.value());
+  return n.value() == 13 && q.is_complete() && q.value().start_bit == 3 &&
+         q.value().frame.id == tf::data_id::read_abs;
+}
+static_assert(line_round_trip(), "line coding");
+
+// TS5700N8500 helpers.
+static_assert(ts::encode_overheat_threshold(90).value() == 0xDA, "90 °C");
+static_assert(ts::decode_temperature(0x3C) == 60 && ts::decode_temperature(0xFF) == -1, "temp");
+static_assert(ts::transaction_ns(tf::data_id::read_all) == 48000, "ID3 48 us");
+static_assert(ts::reset_plan(tf::data_id::reset_errors).value().size == 10, "10 requests");
+
+}  // namespace
+
+int main() {
+  return 0;
+}

@@ -1,0 +1,261 @@
+// The encoder model: abnormal requests (spec Tables 5 and 6), EEPROM pages, busy windows,
+// page 7 registers, resets after 10 requests, latched and non-latched alarms.
+#include "motionbus/tformat/encoder_model.hpp"
+
+#include <doctest/doctest.h>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "motionbus/devices/ts5700n8500.hpp"
+
+using namespace motionbus;
+using namespace motionbus::tformat;
+namespace ts = motionbus::devices::ts5700n8500;
+
+namespace {
+
+struct master {
+  encoder_model& enc;
+  std::uint32_t now = 0;
+
+  decode_result<response> ask(data_id id, std::uint8_t address = 0, std::uint8_t data = 0,
+                              std::uint32_t advance_us = 100) {
+    std::uint8_t req[4] = {};
+    const std::size_t n = encode_request(id, req, address, data).value();
+    now += advance_us;
+    const reply rep = enc.respond(byte_view(req, n), now);
+    return decode_response_for(byte_view(req, n), rep.view());
+  }
+};
+
+}  // namespace
+
+TEST_CASE("abnormal requests: no reply on a bad sync code, ID3 data otherwise") {
+  encoder_model enc;
+  enc.set_position(1000, 7);
+  const std::uint8_t bad_sync[] = {0x03};
+  CHECK(enc.respond(bad_sync, 0).size == 0);
+  CHECK(enc.respond(byte_view{}, 0).size == 0);
+
+  const std::uint8_t bad_parity[] = {0x82};  // ID0 with the parity bit flipped
+  reply r = enc.respond(bad_parity, 0);
+  REQUIRE(r.size == 11);
+  auto d = decode_response(r.view());
+  REQUIRE(d.is_complete());
+  CHECK(d->id == data_id::read_all);
+  CHECK(d->ca0());
+  CHECK(!d->ca1());
+  CHECK(d->abs == 1000);
+
+  const std::uint8_t id0[] = {0x02};
+  r = enc.respond(id0, 0, true);  // the UART saw a bad delimiter
+  d = decode_response(r.view());
+  CHECK(d->id == data_id::read_all);
+  CHECK(d->ca1());
+  CHECK(!d->ca0());
+
+  const std::uint8_t unknown[] = {control_field(std::uint8_t{0x4})};
+  d = decode_response(enc.respond(unknown, 0).view());
+  CHECK(d->id == data_id::read_all);
+  CHECK(!d->ca0());
+  CHECK(!d->ca1());
+
+  std::uint8_t eeprom[3] = {};
+  (void)encode_request(data_id::eeprom_read, eeprom, 3);
+  eeprom[2] ^= 0x01;  // bad CRC
+  CHECK(decode_response(enc.respond(eeprom, 0).view())->id == data_id::read_all);
+  CHECK(decode_response(enc.respond(byte_view(eeprom, 2), 0).view())->id == data_id::read_all);
+}
+
+TEST_CASE("EEPROM: pages, page select at 127, busy 18 ms, closed addresses, page 7") {
+  encoder_model enc;
+  master m{enc};
+  // write then read on page 0
+  auto w = m.ask(data_id::eeprom_write, 10, 0x42);
+  REQUIRE(w.is_complete());
+  CHECK(!w->busy);
+  // still busy 1 ms later: busy, EDF 00, and a write is not performed
+  auto b = m.ask(data_id::eeprom_write, 11, 0x43, 1000);
+  REQUIRE(b.is_complete());
+  CHECK(b->busy);
+  CHECK(b->edf == 0);
+  CHECK(enc.eeprom(0, 11) == 0);
+  auto rd = m.ask(data_id::eeprom_read, 10, 0, 1000);
+  CHECK(rd->busy);
+  rd = m.ask(data_id::eeprom_read, 10, 0, 18000);
+  REQUIRE(rd.is_complete());
+  CHECK(!rd->busy);
+  CHECK(rd->edf == 0x42);
+  // page change to 3, busy after it, data separate per page
+  CHECK(m.ask(data_id::eeprom_write, 127, 3, 18000).is_complete());
+  CHECK(enc.page() == 3);
+  CHECK(m.ask(data_id::eeprom_read, 10, 0, 100)->busy);
+  CHECK(m.ask(data_id::eeprom_read, 10, 0, 18000)->edf == 0);
+  CHECK(m.ask(data_id::eeprom_read, 127, 0, 100)->edf == 3);  // reading 127: current page
+  CHECK(m.ask(data_id::eeprom_write, 126, 0x99, 100).is_complete());
+  CHECK(enc.eeprom(3, 126) == 0x99);
+  CHECK(enc.eeprom(0, 10) == 0x42);
+  // invalid page number: ID3 data (the master sees a CF mismatch)
+  CHECK(m.ask(data_id::eeprom_write, 127, 6, 18000).error() == errc::tformat_cf_mismatch);
+  CHECK(enc.page() == 3);
+  // page 7: over-heat threshold (r/w), temperature (read only), others closed
+  CHECK(m.ask(data_id::eeprom_write, 127, 7, 18000).is_complete());
+  CHECK(m.ask(data_id::eeprom_read, 4, 0, 18000)->edf == 0xDA);
+  enc.set_temperature(-5);
+  CHECK(ts::decode_temperature(m.ask(data_id::eeprom_read, 5, 0, 100)->edf) == -5);
+  CHECK(m.ask(data_id::eeprom_write, 5, 1, 100).error() == errc::tformat_cf_mismatch);
+  CHECK(m.ask(data_id::eeprom_read, 6, 0, 100).error() == errc::tformat_cf_mismatch);
+  CHECK(m.ask(data_id::eeprom_write, 4, ts::encode_overheat_threshold(50).value(), 100)
+            .is_complete());
+  CHECK(enc.overheat_threshold() == 178);
+}
+
+TEST_CASE("over-heat latches above the threshold and clears only by reset once cool") {
+  encoder_model enc;
+  master m{enc};
+  enc.set_temperature(91);
+  CHECK(has_alarm(enc.almc(), alarm::oh));
+  enc.set_temperature(40);
+  CHECK(has_alarm(enc.almc(), alarm::oh));  // latched
+  auto r = m.ask(data_id::read_abs);
+  CHECK(r->ea1());
+  for (int i = 0; i < 10; ++i) {
+    (void)m.ask(data_id::reset_errors, 0, 0, 50);
+  }
+  CHECK(!has_alarm(enc.almc(), alarm::oh));
+  CHECK(!m.ask(data_id::read_abs)->ea1());
+}
+
+TEST_CASE("alarms: latched flags stay until reset, non-latched follow their condition") {
+  encoder_model enc;
+  master m{enc};
+  for (alarm a : all_alarms) {
+    enc.set_condition(a, true);
+  }
+  CHECK(enc.almc() == 0xFF);
+  for (alarm a : all_alarms) {
+    enc.set_condition(a, false);
+  }
+  CHECK(enc.almc() == latched_alarms);  // FS and BA cleared with their condition
+  auto all = m.ask(data_id::read_all);
+  REQUIRE(all.is_complete());
+  CHECK(all->almc == latched_alarms);
+  CHECK(all->ea0());
+  CHECK(all->ea1());
+  // a latched alarm whose condition persists survives the reset
+  enc.set_condition(alarm::be, true);
+  for (int i = 0; i < 10; ++i) {
+    (void)m.ask(data_id::reset_errors, 0, 0, 50);
+  }
+  CHECK(enc.almc() == static_cast<std::uint8_t>(alarm::be));
+}
+
+TEST_CASE("resets act on the 10th request of the same ID, at least 40 us apart") {
+  encoder_model enc;
+  master m{enc};
+  enc.set_position(5000, 9);
+  for (int i = 0; i < 9; ++i) {
+    CHECK(m.ask(data_id::reset_single_turn, 0, 0, 50)->abs == 5000);
+  }
+  // a request 10 us after the previous one does not count
+  CHECK(m.ask(data_id::reset_single_turn, 0, 0, 10)->abs == 5000);
+  CHECK(enc.abs() == 5000);
+  // the 10th counted request: replies with the data of the moment it was received; zero after
+  CHECK(m.ask(data_id::reset_single_turn, 0, 0, 50)->abs == 5000);
+  CHECK(enc.abs() == 0);
+  enc.set_position(5100, 9);
+  CHECK(m.ask(data_id::read_abs, 0, 0, 20000)->abs == 100);
+  // an interruption restarts the count
+  for (int i = 0; i < 5; ++i) {
+    (void)m.ask(data_id::reset_multi_turn, 0, 0, 50);
+  }
+  (void)m.ask(data_id::read_abm);
+  for (int i = 0; i < 9; ++i) {
+    (void)m.ask(data_id::reset_multi_turn, 0, 0, 50);
+  }
+  CHECK(enc.abm() == 9);
+  (void)m.ask(data_id::reset_multi_turn, 0, 0, 50);
+  CHECK(enc.abm() == 0);
+}
+
+TEST_CASE("rotation wraps turns and latches counter overflow") {
+  encoder_model enc;
+  enc.set_position(0x1FFFF, 0xFFFF);
+  enc.rotate(1);
+  CHECK(enc.abs() == 0);
+  CHECK(enc.abm() == 0);
+  CHECK(has_alarm(enc.almc(), alarm::of));
+  enc.rotate(-1);
+  CHECK(enc.abs() == 0x1FFFF);
+  CHECK(enc.abm() == 0xFFFF);
+  enc.rotate(3 * 131072 + 5);  // 0x1FFFF + 3 turns + 5 = 4 turns + 4 counts
+  CHECK(enc.abm() == 3);       // 0xFFFF + 4 wraps to 3
+  CHECK(enc.abs() == 4);
+}
+
+TEST_CASE("TS5700N8500: plans executed against the model") {
+  encoder_model enc;
+  std::uint32_t now = 0;
+  enc.set_position(777, 3);
+  auto run = [&](const auto& plan) {
+    std::vector<response> out;
+    for (const auto& step : plan) {
+      const reply rep = enc.respond(step.view(), now);
+      const auto d = decode_response_for(step.view(), rep.view());
+      REQUIRE(d.is_complete());
+      if (step.verify) {
+        CHECK(d->edf == step.expected_edf);
+      }
+      out.push_back(d.value());
+      now += step.wait_after_us;
+    }
+    return out;
+  };
+  const auto zero = ts::reset_plan(data_id::reset_single_turn);
+  REQUIRE(zero.ok());
+  CHECK(zero->size == 10);
+  CHECK(zero->steps[0].wait_after_us == 40);
+  CHECK(zero->steps[9].wait_after_us == 18000);
+  run(zero.value());
+  CHECK(enc.abs() == 0);
+  CHECK(ts::reset_plan(data_id::read_abs).error() == errc::invalid_argument);
+
+  const auto wv = ts::write_verify_plan(2, 100, 0xC3);
+  REQUIRE(wv.ok());
+  const auto responses = run(wv.value());
+  CHECK(responses.back().edf == 0xC3);
+  CHECK(enc.eeprom(2, 100) == 0xC3);
+  CHECK(ts::write_verify_plan(6, 1, 1).error() == errc::out_of_range);
+  CHECK(ts::write_verify_plan(0, 127, 1).error() == errc::out_of_range);
+  CHECK(ts::page_change_plan(7).value().steps[0].request[1] == 127);
+  CHECK(ts::page_change_plan(8).error() == errc::out_of_range);
+}
+
+TEST_CASE("TS5700N8500: over-heat threshold, temperature, alarms, timing") {
+  CHECK(ts::encode_overheat_threshold(90).value() == 0xDA);  // spec §7.2.1
+  CHECK(ts::encode_overheat_threshold(0).error() == errc::out_of_range);
+  CHECK(ts::encode_overheat_threshold(128).error() == errc::out_of_range);
+  CHECK(ts::decode_overheat_threshold(0xDA).enabled);
+  CHECK(ts::decode_overheat_threshold(0xDA).celsius == 90);
+  CHECK(!ts::decode_overheat_threshold(0x00).enabled);
+  CHECK(!ts::decode_overheat_threshold(0x5A).enabled);  // "X" bits, MSB clear: off
+  CHECK(ts::decode_temperature(0x3C) == 60);            // spec §7.3.1
+  CHECK(ts::decode_temperature(0x01) == 1);             // misprinted as -1 in the spec table
+  CHECK(ts::decode_temperature(0xFF) == -1);
+  CHECK(ts::decode_temperature(0x80) == -128);
+  CHECK(ts::decode_temperature(0x7F) == 127);
+  for (alarm a : all_alarms) {
+    CHECK(std::string(ts::info(a).symbol) == symbol(a));
+    CHECK(ts::info(a).latched == ((static_cast<std::uint8_t>(a) & latched_alarms) != 0));
+  }
+  // PROTOCOL_NOTES §1.5: ID0 28 us, ID3 48 us, IDD 28 us, ID6 32 us at 2.5 Mbps
+  CHECK(ts::transaction_ns(data_id::read_abs) == 28000);
+  CHECK(ts::transaction_ns(data_id::read_all) == 48000);
+  CHECK(ts::transaction_ns(data_id::eeprom_read) == 28000);
+  CHECK(ts::transaction_ns(data_id::eeprom_write) == 32000);
+  CHECK(ts::field_ns(ts::standard_bit_rate) == 4000);
+  CHECK(ts::field_ns(ts::fast_bit_rate) == 2000);
+  CHECK(ts::transaction_ns(data_id::read_all, ts::fast_bit_rate) == 24000);
+}
