@@ -250,6 +250,16 @@ options parse_options(const std::vector<std::string>& args, std::size_t first,
   return o;
 }
 
+std::string to_hex(const std::uint8_t* data, std::size_t size) {
+  static const char digits[] = "0123456789abcdef";
+  std::string out;
+  for (std::size_t i = 0; i < size; ++i) {
+    out += digits[data[i] >> 4U];
+    out += digits[data[i] & 0x0FU];
+  }
+  return out;
+}
+
 void print(const outcome& o) {
   if (o.ok) {
     json_object out;

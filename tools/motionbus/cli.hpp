@@ -49,6 +49,7 @@ std::optional<std::uint64_t> parse_uint(const std::string& text);
 
 /// `--name value` options and `--flag` switches after the positional arguments.
 struct options {
+  std::vector<std::string> positional;
   std::map<std::string, std::string> values;
   std::vector<std::string> flags;
   bool has(const std::string& name) const;
@@ -79,17 +80,41 @@ struct decoder {
   std::vector<std::string> switch_options;
 };
 
+/// An encoder: `positional` arguments after the kind arrive in opts.positional.
 struct encoder {
   const char* protocol;
   const char* kind;
   encode_handler handle;
   std::vector<std::string> value_options;
   std::vector<std::string> switch_options;
+  std::size_t positional = 0;
 };
 
-/// Registries filled by each protocol's file (protocol issues add their entries).
+/// `serve <name>` and `read <name>`: long-running or one-shot device I/O.
+using service_handler = int (*)(const options& opts);
+struct service {
+  const char* name;
+  service_handler run;
+  std::vector<std::string> value_options;
+  std::vector<std::string> switch_options;
+};
+
+/// Each protocol's file provides its entries; the registry gathers them.
+struct protocol_entries {
+  std::vector<decoder> decoders;
+  std::vector<encoder> encoders;
+  std::vector<service> emulators;  ///< serve <name>
+  std::vector<service> devices;    ///< read <name>
+};
+protocol_entries tformat_entries();
+
 const std::vector<decoder>& decoders();
 const std::vector<encoder>& encoders();
+const std::vector<service>& emulators();
+const std::vector<service>& devices();
+
+/// Lower-case contiguous hex of bytes.
+std::string to_hex(const std::uint8_t* data, std::size_t size);
 
 /// Runs `handle` on `input`, or on each non-empty line of standard input when input is "-".
 /// Prints one JSON object per input; returns 0 when all were valid, 1 otherwise.

@@ -1,5 +1,5 @@
-// The decode/encode registries and the commands that use them. Each protocol adds its entries
-// to the lists below.
+// The registries of decoders, encoders, emulators and devices, gathered from each protocol's
+// file, and the commands that use them.
 #include <string>
 #include <vector>
 
@@ -8,13 +8,38 @@
 
 namespace cli {
 
-const std::vector<decoder>& decoders() {
-  static const std::vector<decoder> list = {};
+namespace {
+
+const std::vector<protocol_entries>& all_protocols() {
+  static const std::vector<protocol_entries> list = {tformat_entries()};
   return list;
 }
 
+template <class T>
+std::vector<T> gather(std::vector<T> protocol_entries::*member) {
+  std::vector<T> out;
+  for (const auto& p : all_protocols()) {
+    out.insert(out.end(), (p.*member).begin(), (p.*member).end());
+  }
+  return out;
+}
+
+}  // namespace
+
+const std::vector<decoder>& decoders() {
+  static const std::vector<decoder> list = gather(&protocol_entries::decoders);
+  return list;
+}
 const std::vector<encoder>& encoders() {
-  static const std::vector<encoder> list = {};
+  static const std::vector<encoder> list = gather(&protocol_entries::encoders);
+  return list;
+}
+const std::vector<service>& emulators() {
+  static const std::vector<service> list = gather(&protocol_entries::emulators);
+  return list;
+}
+const std::vector<service>& devices() {
+  static const std::vector<service> list = gather(&protocol_entries::devices);
   return list;
 }
 
@@ -22,18 +47,37 @@ const std::vector<encoder>& encoders() {
 
 namespace {
 
-std::string known_kinds(bool decoding) {
+template <class List>
+std::string known_pairs(const List& list) {
   std::string out;
-  if (decoding) {
-    for (const auto& d : cli::decoders()) {
-      out += std::string(out.empty() ? "" : ", ") + d.protocol + " " + d.kind;
-    }
-  } else {
-    for (const auto& e : cli::encoders()) {
-      out += std::string(out.empty() ? "" : ", ") + e.protocol + " " + e.kind;
+  for (const auto& e : list) {
+    out += std::string(out.empty() ? "" : ", ") + e.protocol + " " + e.kind;
+  }
+  return out.empty() ? "none" : out;
+}
+
+std::string known_names(const std::vector<cli::service>& list) {
+  std::string out;
+  for (const auto& e : list) {
+    out += std::string(out.empty() ? "" : ", ") + e.name;
+  }
+  return out.empty() ? "none" : out;
+}
+
+int run_service(const std::vector<std::string>& args, const std::vector<cli::service>& list,
+                const char* what) {
+  if (args.size() < 3) {
+    throw cli::usage_error{std::string("usage: motionbus ") + args[1] + " <" + what +
+                           "> --device PATH [options]"};
+  }
+  for (const auto& s : list) {
+    if (args[2] == s.name) {
+      const cli::options opts = cli::parse_options(args, 3, s.value_options, s.switch_options);
+      return s.run(opts);
     }
   }
-  return out.empty() ? "none yet" : out;
+  throw cli::usage_error{"unknown " + std::string(what) + " '" + args[2] +
+                         "' (available: " + known_names(list) + ")"};
 }
 
 }  // namespace
@@ -50,7 +94,7 @@ int command_decode(const std::vector<std::string>& args) {
     }
   }
   throw cli::usage_error{"unknown decoder '" + args[2] + " " + args[3] +
-                         "' (available: " + known_kinds(true) + ")"};
+                         "' (available: " + known_pairs(cli::decoders()) + ")"};
 }
 
 int command_encode(const std::vector<std::string>& args) {
@@ -59,22 +103,26 @@ int command_encode(const std::vector<std::string>& args) {
   }
   for (const auto& e : cli::encoders()) {
     if (args[2] == e.protocol && args[3] == e.kind) {
-      const cli::options opts = cli::parse_options(args, 4, e.value_options, e.switch_options);
+      if (args.size() < 4 + e.positional) {
+        throw cli::usage_error{"encode " + args[2] + " " + args[3] + " needs " +
+                               std::to_string(e.positional) + " argument(s)"};
+      }
+      cli::options opts =
+          cli::parse_options(args, 4 + e.positional, e.value_options, e.switch_options);
+      opts.positional.assign(args.begin() + 4, args.begin() + static_cast<long>(4 + e.positional));
       const cli::outcome o = e.handle(opts);
       cli::print(o);
       return o.ok ? 0 : 1;
     }
   }
   throw cli::usage_error{"unknown encoder '" + args[2] + " " + args[3] +
-                         "' (available: " + known_kinds(false) + ")"};
+                         "' (available: " + known_pairs(cli::encoders()) + ")"};
 }
 
 int command_serve(const std::vector<std::string>& args) {
-  throw cli::usage_error{"unknown emulator '" + (args.size() > 2 ? args[2] : std::string()) +
-                         "' (none available yet)"};
+  return run_service(args, cli::emulators(), "emulator");
 }
 
 int command_read(const std::vector<std::string>& args) {
-  throw cli::usage_error{"unknown device '" + (args.size() > 2 ? args[2] : std::string()) +
-                         "' (none available yet)"};
+  return run_service(args, cli::devices(), "device");
 }

@@ -1,0 +1,237 @@
+// T-format through the CLI: decode/encode contract, and the master and the encoder emulator
+// talking over a pseudo-terminal pair (this test plays the other end with the library).
+#include <doctest/doctest.h>
+#include <fcntl.h>
+#include <poll.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <termios.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "motionbus/tformat.hpp"
+
+namespace mb = motionbus;
+namespace tf = motionbus::tformat;
+
+namespace {
+
+std::string run_cli(const std::string& args, int* status = nullptr) {
+  const std::string command = std::string("'") + MOTIONBUS_CLI_PATH + "' " + args + " 2>/dev/null";
+  FILE* pipe = popen(command.c_str(), "r");
+  REQUIRE(pipe != nullptr);
+  std::string out;
+  char buffer[512];
+  std::size_t n = 0;
+  while ((n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0) {
+    out.append(buffer, n);
+  }
+  const int s = pclose(pipe);
+  if (status != nullptr) {
+    *status = WIFEXITED(s) ? WEXITSTATUS(s) : -1;
+  }
+  return out;
+}
+
+std::string xor_hex(const std::vector<unsigned>& bytes) {
+  std::string out;
+  unsigned x = 0;
+  char b[4];
+  for (unsigned v : bytes) {
+    x ^= v;
+    std::snprintf(b, sizeof b, "%02x", v);
+    out += b;
+  }
+  std::snprintf(b, sizeof b, "%02x", x);
+  return out + b;
+}
+
+// A pseudo-terminal pair: the master fd stays here, the slave path goes to the CLI.
+struct pty_pair {
+  int master = -1;
+  std::string slave;
+  pty_pair() {
+    master = posix_openpt(O_RDWR | O_NOCTTY);
+    REQUIRE(master >= 0);
+    REQUIRE(grantpt(master) == 0);
+    REQUIRE(unlockpt(master) == 0);
+    slave = ptsname(master);
+    // Raw mode on the slave side from here too, so nothing is echoed before the CLI sets it.
+    // The slave stays open here: with no slave open, the master side reads as hung up.
+    keep_slave = open(slave.c_str(), O_RDWR | O_NOCTTY);
+    REQUIRE(keep_slave >= 0);
+    termios t{};
+    tcgetattr(keep_slave, &t);
+    cfmakeraw(&t);
+    tcsetattr(keep_slave, TCSANOW, &t);
+  }
+  ~pty_pair() {
+    close(keep_slave);
+    close(master);
+  }
+  int keep_slave = -1;
+  long read_for(std::uint8_t* buffer, std::size_t capacity, int timeout_ms) const {
+    pollfd p{master, POLLIN, 0};
+    if (poll(&p, 1, timeout_ms) <= 0) {
+      return 0;
+    }
+    return read(master, buffer, capacity);
+  }
+};
+
+}  // namespace
+
+TEST_CASE("decode/encode tformat: fields as JSON integers, errors as codes") {
+  int status = 0;
+  // ID3: abs 0x012345, enid 0x11, abm 0x1234, almc BE|BA, sf ea1
+  auto out = run_cli("decode tformat response " +
+                         xor_hex({0x1A, 0x20, 0x45, 0x23, 0x01, 0x11, 0x34, 0x12, 0x00, 0xC0}),
+                     &status);
+  CHECK(status == 0);
+  CHECK(out.find("\"data_id\":3,\"cf\":26,\"sf\":32,\"ea0\":0,\"ea1\":1,\"ca0\":0,\"ca1\":0,") !=
+        std::string::npos);
+  CHECK(
+      out.find("\"abs\":74565,\"abm\":4660,\"enid\":17,\"almc\":192,\"alarms\":[\"BE\",\"BA\"]") !=
+      std::string::npos);
+  // 23-bit position: refused at the default 17 bits, accepted with --resolution 23 or ENID 0x17
+  const std::string abs23 = xor_hex({0x02, 0x00, 0xFF, 0xFF, 0x7F});
+  CHECK(run_cli("decode tformat response " + abs23, &status) ==
+        "{\"ok\":false,\"error\":\"out_of_range\"}\n");
+  CHECK(status == 1);
+  CHECK(run_cli("decode tformat response " + abs23 + " --resolution 23").find("\"abs\":8388607") !=
+        std::string::npos);
+  CHECK(run_cli("decode tformat response " +
+                xor_hex({0x1A, 0x00, 0xFF, 0xFF, 0x7F, 0x17, 0x00, 0x00, 0x00, 0x00}))
+            .find("\"abs\":8388607") != std::string::npos);
+  // EEPROM responses
+  CHECK(run_cli("decode tformat response " + xor_hex({0xEA, 0x85, 0x00})) ==
+        "{\"ok\":true,\"data_id\":13,\"cf\":234,\"address\":5,\"busy\":1,\"edf\":0,\"crc\":111}\n");
+  // errors
+  CHECK(run_cli("decode tformat response 020000000001") ==
+        "{\"ok\":false,\"error\":\"crc_mismatch\"}\n");
+  CHECK(run_cli("decode tformat response 0200000000") ==
+        "{\"ok\":false,\"error\":\"truncated\"}\n");
+  CHECK(run_cli("decode tformat response 02000000000200") ==
+        "{\"ok\":false,\"error\":\"wrong_length\"}\n");
+  CHECK(run_cli("decode tformat response 03") == "{\"ok\":false,\"error\":\"sync_code\"}\n");
+  CHECK(run_cli("decode tformat response 82") == "{\"ok\":false,\"error\":\"parity\"}\n");
+  // requests
+  CHECK(run_cli("decode tformat request 1a") == "{\"ok\":true,\"data_id\":3,\"cf\":26}\n");
+  CHECK(run_cli("decode tformat request ea0564") ==  // 0xEA ^ 0x05 = 0xEF: CRC wrong
+        "{\"ok\":false,\"error\":\"crc_mismatch\"}\n");
+  CHECK(run_cli("decode tformat request ea05ef") ==
+        "{\"ok\":true,\"data_id\":13,\"cf\":234,\"address\":5,\"crc\":239}\n");
+  CHECK(run_cli("encode tformat request 3", &status) == "{\"ok\":true,\"hex\":\"1a\"}\n");
+  CHECK(status == 0);
+  CHECK(run_cli("encode tformat request 6 --address 5 --data 18") ==
+        "{\"ok\":true,\"hex\":\"32051225\"}\n");
+  CHECK(run_cli("encode tformat request D --address 127") == "{\"ok\":true,\"hex\":\"ea7f95\"}\n");
+  CHECK(run_cli("encode tformat request 4", &status) ==
+        "{\"ok\":false,\"error\":\"unknown_data_id\"}\n");
+  CHECK(status == 1);
+  CHECK(run_cli("encode tformat request D --address 128") ==
+        "{\"ok\":false,\"error\":\"out_of_range\"}\n");
+  run_cli("encode tformat request", &status);
+  CHECK(status == 2);
+  run_cli("encode tformat request 3 --bogus 1", &status);
+  CHECK(status == 2);
+}
+
+TEST_CASE("serve tformat-encoder: a master talks to the emulator over a pseudo-terminal") {
+  pty_pair pty;
+  const pid_t pid = fork();
+  REQUIRE(pid >= 0);
+  if (pid == 0) {
+    execl(MOTIONBUS_CLI_PATH, "motionbus", "serve", "tformat-encoder", "--device",
+          pty.slave.c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  struct reaper {  // stops the emulator even when an assertion ends the test case early
+    pid_t pid;
+    ~reaper() {
+      if (pid > 0) {
+        kill(pid, SIGKILL);
+        waitpid(pid, nullptr, 0);
+      }
+    }
+  } guard{pid};
+  auto transact = [&](tf::data_id id, std::uint8_t address, std::uint8_t data) {
+    std::uint8_t req[4] = {};
+    const std::size_t n = tf::encode_request(id, req, address, data).value();
+    for (int attempt = 0; attempt < 50; ++attempt) {  // until the emulator is up
+      REQUIRE(write(pty.master, req, n) == static_cast<ssize_t>(n));
+      tf::receiver rx;
+      rx.sent(mb::byte_view(req, n));
+      std::uint8_t buffer[32];
+      for (int reads = 0; reads < 20; ++reads) {
+        const long got = pty.read_for(buffer, sizeof buffer, 20);
+        if (got <= 0) {
+          break;
+        }
+        const auto r = rx.feed(mb::byte_view(buffer, static_cast<std::size_t>(got)));
+        if (!r.is_incomplete()) {
+          return r;
+        }
+      }
+    }
+    FAIL("no response from the emulator");
+    return tf::receiver().feed(mb::byte_view{});
+  };
+  const auto all = transact(tf::data_id::read_all, 0, 0);
+  REQUIRE(all.is_complete());
+  CHECK(all->enid == 0x11);
+  const auto w = transact(tf::data_id::eeprom_write, 9, 0x77);
+  REQUIRE(w.is_complete());
+  CHECK(w->edf == 0x77);
+  usleep(20000);  // the EEPROM write takes 18 ms
+  const auto rd = transact(tf::data_id::eeprom_read, 9, 0);
+  REQUIRE(rd.is_complete());
+  CHECK(rd->edf == 0x77);
+  kill(pid, SIGTERM);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  guard.pid = -1;
+  CHECK(WIFEXITED(status));
+  CHECK(WEXITSTATUS(status) == 0);
+}
+
+TEST_CASE("read tformat: one transaction with an encoder on a pseudo-terminal") {
+  pty_pair pty;
+  std::atomic<bool> done{false};
+  std::thread encoder([&] {
+    tf::encoder_model enc;
+    enc.set_position(0x1ABCD, 42);
+    enc.set_condition(tf::alarm::ba, true);
+    std::uint8_t frame[8] = {};
+    std::size_t size = 0;
+    while (!done) {
+      std::uint8_t byte = 0;
+      if (pty.read_for(&byte, 1, 10) != 1) {
+        continue;
+      }
+      frame[size++] = byte;
+      if (tf::decode_request(mb::byte_view(frame, size)).is_incomplete() && size < 4) {
+        continue;
+      }
+      const tf::reply r = enc.respond(mb::byte_view(frame, size), 0);
+      size = 0;
+      if (write(pty.master, r.bytes, r.size) != static_cast<ssize_t>(r.size)) {
+        break;
+      }
+    }
+  });
+  int status = 0;
+  const std::string out = run_cli("read tformat --device " + pty.slave + " --id 3", &status);
+  done = true;
+  encoder.join();
+  CHECK(status == 0);
+  CHECK(out.find("\"ok\":true,\"data_id\":3") != std::string::npos);
+  CHECK(out.find("\"abs\":109517,\"abm\":42,\"enid\":17,\"almc\":128,\"alarms\":[\"BA\"]") !=
+        std::string::npos);
+}

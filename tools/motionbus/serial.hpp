@@ -1,0 +1,50 @@
+// Serial ports for the CLI (Linux): raw mode at any baud rate (termios2/BOTHER, e.g. 2.5 Mbaud
+// for T-format on a USB-RS485 adapter), reads with a timeout, a microsecond clock.
+#ifndef MOTIONBUS_TOOLS_SERIAL_HPP
+#define MOTIONBUS_TOOLS_SERIAL_HPP
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+
+namespace serial {
+
+struct settings {
+  unsigned baud = 115200;
+  char parity = 'N';  ///< 'N', 'E' or 'O'
+  unsigned stop_bits = 1;
+};
+
+/// An open port. Closed on destruction.
+class port {
+ public:
+  port() = default;
+  port(const port&) = delete;
+  port& operator=(const port&) = delete;
+  ~port();
+
+  /// Opens `path` in raw 8-bit mode with `s`. When the device refuses the line settings (a
+  /// pseudo-terminal may), it is used as it is and `warning` says so. False on failure to open
+  /// (`error` says why).
+  bool open(const std::string& path, const settings& s, std::string& warning, std::string& error);
+  bool write_all(const std::uint8_t* data, std::size_t size);
+  /// Reads what is available within `timeout_ms`: bytes read, 0 on timeout, -1 on error.
+  long read_some(std::uint8_t* buffer, std::size_t capacity, int timeout_ms);
+  /// Discards unread input.
+  void flush_input();
+  int fd() const { return fd_; }
+
+ private:
+  int fd_ = -1;
+};
+
+/// Monotonic microseconds (wraps at 2^32).
+std::uint32_t now_us();
+
+/// Set by SIGINT/SIGTERM once install_stop_handler() ran.
+bool stop_requested();
+void install_stop_handler();
+
+}  // namespace serial
+
+#endif

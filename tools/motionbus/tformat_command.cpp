@@ -1,0 +1,317 @@
+// T-format in the CLI:
+//   decode tformat request <hex>                      encoder side: what an encoder received
+//   decode tformat response <hex> [--resolution N]    master side (ID3's ENID may select N)
+//   encode tformat request <id hex digit> [--address N] [--data N]
+//   serve tformat-encoder --device PATH [--baud N]    the encoder model on a serial line
+//   read tformat --device PATH --id N [--address N] [--data N] [--baud N] [--echo]
+#include <motionbus/core/errc.hpp>
+#include <motionbus/tformat.hpp>
+
+#include <cstdint>
+#include <iostream>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "cli.hpp"
+#include "serial.hpp"
+
+namespace mb = motionbus;
+namespace tf = motionbus::tformat;
+
+namespace {
+
+constexpr unsigned default_baud = 2500000;
+
+std::int64_t bit(bool b) {
+  return b ? 1 : 0;
+}
+
+unsigned option_uint(const cli::options& opts, const std::string& name, unsigned fallback,
+                     unsigned max) {
+  const auto v = opts.get(name);
+  if (!v) {
+    return fallback;
+  }
+  const auto n = cli::parse_uint(*v);
+  if (!n || *n > max) {
+    throw cli::usage_error{"--" + name + " needs a number up to " + std::to_string(max)};
+  }
+  return static_cast<unsigned>(*n);
+}
+
+cli::json_object response_json(const tf::response& r) {
+  cli::json_object f;
+  const tf::response_layout lay = r.layout();
+  f.add("data_id", static_cast<std::int64_t>(static_cast<std::uint8_t>(r.id)));
+  f.add("cf", static_cast<std::int64_t>(r.cf));
+  if (lay.sf) {
+    f.add("sf", static_cast<std::int64_t>(r.sf));
+    f.add("ea0", bit(r.ea0()))
+        .add("ea1", bit(r.ea1()))
+        .add("ca0", bit(r.ca0()))
+        .add("ca1", bit(r.ca1()));
+  }
+  if (lay.abs) {
+    f.add("abs", static_cast<std::int64_t>(r.abs));
+  }
+  if (lay.abm) {
+    f.add("abm", static_cast<std::int64_t>(r.abm));
+  }
+  if (lay.enid) {
+    f.add("enid", static_cast<std::int64_t>(r.enid));
+  }
+  if (lay.almc) {
+    f.add("almc", static_cast<std::int64_t>(r.almc));
+    std::vector<std::string> names;
+    for (tf::alarm a : tf::all_alarms) {
+      if (tf::has_alarm(r.almc, a)) {
+        names.emplace_back(tf::symbol(a));
+      }
+    }
+    f.add("alarms", names);
+  }
+  if (lay.eeprom) {
+    f.add("address", static_cast<std::int64_t>(r.address));
+    f.add("busy", bit(r.busy));
+    f.add("edf", static_cast<std::int64_t>(r.edf));
+  }
+  f.add("crc", static_cast<std::int64_t>(r.crc));
+  return f;
+}
+
+tf::decode_options options_for(const cli::options& opts) {
+  tf::decode_options o;
+  if (opts.get("resolution")) {
+    o.res.single_turn_bits = option_uint(opts, "resolution", 17, 24);
+    if (o.res.single_turn_bits == 0) {
+      throw cli::usage_error{"--resolution must be 1..24"};
+    }
+  } else {
+    o.resolution_from_enid = true;  // an ID3 response's ENID selects the resolution
+  }
+  return o;
+}
+
+cli::outcome decode_response_line(const std::string& input, const cli::options& opts) {
+  std::string error;
+  const auto bytes = cli::parse_hex(input, error);
+  if (!bytes) {
+    return cli::outcome::failure(error);
+  }
+  const auto r =
+      tf::decode_response_frame(mb::byte_view(bytes->data(), bytes->size()), options_for(opts));
+  if (!r.is_complete()) {
+    return cli::outcome::failure(mb::to_string(r.error()));
+  }
+  return cli::outcome::success(response_json(r.value()));
+}
+
+cli::outcome decode_request_line(const std::string& input, const cli::options&) {
+  std::string error;
+  const auto bytes = cli::parse_hex(input, error);
+  if (!bytes) {
+    return cli::outcome::failure(error);
+  }
+  const mb::byte_view in(bytes->data(), bytes->size());
+  const auto q = tf::decode_request(in);
+  if (q.is_incomplete()) {
+    return cli::outcome::failure("truncated");
+  }
+  if (q.is_failed()) {
+    return cli::outcome::failure(mb::to_string(q.error()));
+  }
+  if (q.consumed() != in.size()) {
+    return cli::outcome::failure(mb::to_string(mb::errc::tformat_length));
+  }
+  cli::json_object f;
+  f.add("data_id", static_cast<std::int64_t>(static_cast<std::uint8_t>(q->id)));
+  f.add("cf", static_cast<std::int64_t>(q->cf));
+  if (q->id == tf::data_id::eeprom_write || q->id == tf::data_id::eeprom_read) {
+    f.add("address", static_cast<std::int64_t>(q->address));
+    if (q->id == tf::data_id::eeprom_write) {
+      f.add("edf", static_cast<std::int64_t>(q->edf));
+    }
+    f.add("crc", static_cast<std::int64_t>(q->crc));
+  }
+  return cli::outcome::success(f);
+}
+
+// Parses a Data ID given as one hex digit ("3", "D", "0xD").
+std::optional<std::uint8_t> parse_data_id(const std::string& text) {
+  std::string t = text;
+  if (t.size() > 2 && t[0] == '0' && (t[1] == 'x' || t[1] == 'X')) {
+    t = t.substr(2);
+  }
+  if (t.size() != 1) {
+    return std::nullopt;
+  }
+  const auto v = cli::parse_uint("0x" + t);
+  if (!v) {
+    return std::nullopt;
+  }
+  return static_cast<std::uint8_t>(*v);
+}
+
+cli::outcome encode_request(const cli::options& opts) {
+  const auto id = parse_data_id(opts.positional.at(0));
+  if (!id) {
+    throw cli::usage_error{"the Data ID is one hex digit (0..F)"};
+  }
+  const unsigned address = option_uint(opts, "address", 0, 0xFFFF);
+  const unsigned data = option_uint(opts, "data", 0, 0xFF);
+  if (address > 0xFF) {
+    return cli::outcome::failure(mb::to_string(mb::errc::out_of_range));
+  }
+  std::uint8_t out[tf::max_request_size] = {};
+  const auto n =
+      tf::encode_request(static_cast<tf::data_id>(*id), out, static_cast<std::uint8_t>(address),
+                         static_cast<std::uint8_t>(data));
+  if (!n) {
+    return cli::outcome::failure(mb::to_string(n.error()));
+  }
+  cli::json_object f;
+  f.add("hex", cli::to_hex(out, n.value()));
+  return cli::outcome::success(f);
+}
+
+serial::settings line_settings(const cli::options& opts) {
+  serial::settings s;
+  s.baud = option_uint(opts, "baud", default_baud, 100000000);
+  return s;
+}
+
+bool open_device(serial::port& port, const cli::options& opts) {
+  const auto device = opts.get("device");
+  if (!device) {
+    throw cli::usage_error{"--device PATH is required"};
+  }
+  std::string warning;
+  std::string error;
+  if (!port.open(*device, line_settings(opts), warning, error)) {
+    std::cerr << "motionbus: " << error << '\n';
+    return false;
+  }
+  if (!warning.empty()) {
+    std::cerr << "motionbus: " << *device << ": " << warning << '\n';
+  }
+  return true;
+}
+
+// serve tformat-encoder: answers each request as the encoder model does. A frame ends when
+// its length (from the CF) is reached, or when the line is idle for 1 ms.
+int serve_encoder(const cli::options& opts) {
+  serial::port port;
+  if (!open_device(port, opts)) {
+    return 1;
+  }
+  serial::install_stop_handler();
+  tf::encoder_model enc;
+  const std::uint32_t start = serial::now_us();
+  std::uint8_t frame[tf::max_request_size] = {};
+  std::size_t size = 0;
+  std::cerr << "motionbus: T-format encoder emulator on " << *opts.get("device") << '\n';
+  while (!serial::stop_requested()) {
+    std::uint8_t byte = 0;
+    const long n = port.read_some(&byte, 1, size == 0 ? 100 : 1);
+    if (n < 0) {
+      std::cerr << "motionbus: read error\n";
+      return 1;
+    }
+    // The shaft turns slowly so that successive reads differ.
+    const std::uint32_t now = serial::now_us();
+    const std::uint32_t elapsed_ms = (now - start) / 1000U;
+    enc.set_position((elapsed_ms * 13U) % (1U << 17U), (elapsed_ms / 10000U) % 65536U);
+    bool complete = false;
+    if (n == 1) {
+      frame[size++] = byte;
+      const auto q = tf::decode_request(mb::byte_view(frame, size));
+      complete = !q.is_incomplete() || size == tf::max_request_size;
+    } else if (size > 0) {
+      complete = true;  // idle: end of frame
+    }
+    if (complete) {
+      const tf::reply r = enc.respond(mb::byte_view(frame, size), now);
+      size = 0;
+      if (r.size > 0 && !port.write_all(r.bytes, r.size)) {
+        std::cerr << "motionbus: write error\n";
+        return 1;
+      }
+    }
+  }
+  return 0;
+}
+
+// read tformat: one transaction, printed like `decode tformat response`.
+int read_encoder(const cli::options& opts) {
+  const auto id = opts.get("id") ? parse_data_id(*opts.get("id")) : std::nullopt;
+  if (!id) {
+    throw cli::usage_error{"--id <hex digit> is required"};
+  }
+  std::uint8_t request[tf::max_request_size] = {};
+  const auto n = tf::encode_request(static_cast<tf::data_id>(*id), request,
+                                    static_cast<std::uint8_t>(option_uint(opts, "address", 0, 127)),
+                                    static_cast<std::uint8_t>(option_uint(opts, "data", 0, 255)));
+  if (!n) {
+    cli::print(cli::outcome::failure(mb::to_string(n.error())));
+    return 1;
+  }
+  const int timeout_ms = static_cast<int>(option_uint(opts, "timeout-ms", 200, 60000));
+  serial::port port;
+  if (!open_device(port, opts)) {
+    return 1;
+  }
+  port.flush_input();
+  tf::receiver_options ro;
+  ro.echo_mode = opts.has("echo") ? tf::echo::expected : tf::echo::none;
+  ro.decode = options_for(opts);
+  tf::receiver rx(ro);
+  if (!port.write_all(request, n.value())) {
+    std::cerr << "motionbus: write error\n";
+    return 1;
+  }
+  rx.sent(mb::byte_view(request, n.value()));
+  const std::uint32_t deadline = serial::now_us() + static_cast<std::uint32_t>(timeout_ms) * 1000U;
+  std::uint8_t buffer[64];
+  while (static_cast<std::int32_t>(deadline - serial::now_us()) > 0) {
+    const long got = port.read_some(buffer, sizeof buffer, 5);
+    if (got < 0) {
+      break;
+    }
+    mb::byte_view in(buffer, static_cast<std::size_t>(got));
+    for (;;) {
+      const auto r = rx.feed(in);
+      if (r.is_incomplete()) {
+        break;
+      }
+      in = in.subspan(r.consumed());
+      if (r.is_complete()) {
+        cli::print(cli::outcome::success(response_json(r.value())));
+        return 0;
+      }
+      cli::print(cli::outcome::failure(mb::to_string(r.error())));
+      return 1;
+    }
+  }
+  cli::print(cli::outcome::failure("timeout"));
+  return 1;
+}
+
+}  // namespace
+
+namespace cli {
+
+protocol_entries tformat_entries() {
+  protocol_entries e;
+  e.decoders.push_back({"tformat", "request", &decode_request_line, {}, {}});
+  e.decoders.push_back({"tformat", "response", &decode_response_line, {"resolution"}, {}});
+  e.encoders.push_back({"tformat", "request", &encode_request, {"address", "data"}, {}, 1});
+  e.emulators.push_back({"tformat-encoder", &serve_encoder, {"device", "baud"}, {}});
+  e.devices.push_back({"tformat",
+                       &read_encoder,
+                       {"device", "baud", "id", "address", "data", "resolution", "timeout-ms"},
+                       {"echo"}});
+  return e;
+}
+
+}  // namespace cli
