@@ -209,8 +209,30 @@ class crc {
   }
 
   constexpr crc& update(byte_view data) noexcept {
-    for (std::size_t i = 0; i < data.size(); ++i) {
-      reg_ = kernel::template feed<chunk_bits>(reg_, data[i], 8U);
+    if constexpr (chunk_bits == 8U && kernel::reg_bits == 8U &&
+                  kernel::template identity_table<8>()) {
+      // x^8 + 1 at width 8: each byte step is reg ^= byte, so the CRC is the XOR of the bytes:
+      // fold 8 bytes at a time (the shifts compile to one unaligned load), then the tail.
+      std::uint64_t acc = 0;
+      std::size_t i = 0;
+      for (; i + 8U <= data.size(); i += 8U) {
+        std::uint64_t w = 0;
+        for (unsigned k = 0; k < 8U; ++k) {
+          w |= static_cast<std::uint64_t>(data[i + k]) << (8U * k);
+        }
+        acc ^= w;
+      }
+      for (; i < data.size(); ++i) {
+        acc ^= data[i];
+      }
+      acc ^= acc >> 32U;
+      acc ^= acc >> 16U;
+      acc ^= acc >> 8U;
+      reg_ ^= static_cast<std::uint32_t>(acc & 0xFFU);
+    } else {
+      for (std::size_t i = 0; i < data.size(); ++i) {
+        reg_ = kernel::template feed<chunk_bits>(reg_, data[i], 8U);
+      }
     }
     return *this;
   }

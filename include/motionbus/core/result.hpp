@@ -78,11 +78,7 @@ class [[nodiscard]] decode_result {
 
   /// A complete value that used `consumed` units of input.
   static constexpr decode_result complete(const T& value, std::size_t consumed) noexcept {
-    decode_result r;
-    r.status_ = decode_status::complete;
-    r.value_ = value;
-    r.consumed_ = consumed;
-    return r;
+    return decode_result(value, consumed);
   }
   constexpr decode_result(need_input n) noexcept  // NOLINT(google-explicit-constructor)
       : status_(decode_status::incomplete), needed_(n.at_least == 0 ? 1 : n.at_least) {}
@@ -114,6 +110,8 @@ class [[nodiscard]] decode_result {
 
  private:
   constexpr decode_result() noexcept = default;
+  constexpr decode_result(const T& value, std::size_t consumed) noexcept
+      : value_(value), consumed_(consumed) {}
 
   decode_status status_ = decode_status::complete;
   errc error_ = errc::ok;

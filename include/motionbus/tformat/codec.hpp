@@ -16,6 +16,7 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "motionbus/core/config.hpp"
 #include "motionbus/core/crc.hpp"
 #include "motionbus/core/errc.hpp"
 #include "motionbus/core/result.hpp"
@@ -103,6 +104,69 @@ constexpr result<std::size_t> encode_request(data_id id, mutable_byte_view out,
   return n;
 }
 
+namespace detail {
+
+// Decodes a response of compile-time layout L (fields after CF and SF), `in` holding at least
+// L.size bytes and a valid CF: straight-line code, the CRC an unrolled XOR.
+template <std::size_t Size, bool Abs, bool Enid, bool Abm, bool Almc>
+constexpr decode_result<response> decode_status_frame(byte_view in, data_id id,
+                                                      const decode_options& opt) noexcept {
+  response r;
+  r.id = id;
+  r.cf = in[0];
+  r.crc = in[Size - 1U];
+  const std::uint8_t computed = crc_of(in.first(Size - 1U));
+  if (computed != r.crc) {
+    return decode_failure{errc::crc_mismatch, 1, computed, r.crc};
+  }
+  r.sf = in[1];
+  if ((r.sf & sf::reserved_mask) != 0U) {
+    return decode_failure{errc::reserved_bits, 1};
+  }
+  constexpr std::size_t abs_at = 2;
+  constexpr std::size_t enid_at = abs_at + (Abs ? 3U : 0U);
+  constexpr std::size_t abm_at = enid_at + (Enid ? 1U : 0U);
+  constexpr std::size_t almc_at = abm_at + (Abm ? 3U : 0U);
+  resolution res = opt.res;
+  if constexpr (Abs) {
+    r.abs = le24(in, abs_at);
+  }
+  if constexpr (Enid) {
+    r.enid = in[enid_at];
+    if (Abs && opt.resolution_from_enid) {
+      res = resolution_for_enid(r.enid, opt.res);
+    }
+  }
+  if constexpr (Abm) {
+    r.abm = le24(in, abm_at);
+  }
+  if constexpr (Almc) {
+    r.almc = in[almc_at];
+  }
+  if (opt.check_unused_bits &&
+      ((Abs && !fits(r.abs, res.single_turn_bits)) || (Abm && !fits(r.abm, res.multi_turn_bits)))) {
+    return decode_failure{errc::out_of_range, 1};
+  }
+  return decode_result<response>::complete(r, Size);
+}
+
+constexpr decode_result<response> decode_eeprom_frame(byte_view in, data_id id) noexcept {
+  response r;
+  r.id = id;
+  r.cf = in[0];
+  r.crc = in[3];
+  const std::uint8_t computed = crc_of(in.first(3));
+  if (computed != r.crc) {
+    return decode_failure{errc::crc_mismatch, 1, computed, r.crc};
+  }
+  r.address = static_cast<std::uint8_t>(in[1] & adf_address_mask);
+  r.busy = (in[1] & adf_busy) != 0U;
+  r.edf = in[2];
+  return decode_result<response>::complete(r, 4);
+}
+
+}  // namespace detail
+
 /// Decodes one response from the start of `in`; the layout follows the response's CF.
 /// Complete: the response and its size in bytes (extra input is left unconsumed).
 /// Incomplete: fewer bytes than the CF's layout needs. Failed, with 1 byte to drop: CF sync
@@ -115,58 +179,31 @@ constexpr decode_result<response> decode_response(byte_view in,
     return need_input{4};
   }
   const std::uint8_t cf = in[0];
-  const errc cf_error = detail::check_cf(cf);
-  if (cf_error != errc::ok) {
-    return decode_failure{cf_error, 1};
+  const std::uint8_t code = data_id_code(cf);
+  const auto id = static_cast<data_id>(code);
+  // One comparison covers sync code and parity; the slow path tells which failed.
+  if (cf != control_fields[code] || ((known_ids_mask >> code) & 1U) == 0U) {
+    return decode_failure{detail::check_cf(cf), 1};
   }
-  response r;
-  r.id = static_cast<data_id>(data_id_code(cf));
-  r.cf = cf;
-  const response_layout lay = layout_of(r.id);
-  if (in.size() < lay.size) {
-    return need_input{lay.size - in.size()};
+  const std::size_t size = layout_of(id).size;
+  if (in.size() < size) {
+    return need_input{size - in.size()};
   }
-  r.crc = in[lay.size - 1U];
-  const std::uint8_t computed = crc_of(in.first(lay.size - 1U));
-  if (computed != r.crc) {
-    return decode_failure{errc::crc_mismatch, 1, computed, r.crc};
+  switch (id) {
+    case data_id::read_all:
+      return detail::decode_status_frame<11, true, true, true, true>(in, id, opt);
+    case data_id::read_abm:
+      return detail::decode_status_frame<6, false, false, true, false>(in, id, opt);
+    case data_id::read_enid:
+      return detail::decode_status_frame<4, false, true, false, false>(in, id, opt);
+    case data_id::eeprom_write:
+    case data_id::eeprom_read: return detail::decode_eeprom_frame(in, id);
+    case data_id::read_abs:
+    case data_id::reset_errors:
+    case data_id::reset_single_turn:
+    case data_id::reset_multi_turn: break;
   }
-  if (lay.eeprom) {
-    r.address = static_cast<std::uint8_t>(in[1] & adf_address_mask);
-    r.busy = (in[1] & adf_busy) != 0U;
-    r.edf = in[2];
-    return decode_result<response>::complete(r, lay.size);
-  }
-  r.sf = in[1];
-  if ((r.sf & sf::reserved_mask) != 0U) {
-    return decode_failure{errc::reserved_bits, 1};
-  }
-  std::size_t at = 2;
-  if (lay.abs) {
-    r.abs = detail::le24(in, at);
-    at += 3U;
-  }
-  if (lay.enid) {
-    r.enid = in[at];
-    at += 1U;
-  }
-  if (lay.abm) {
-    r.abm = detail::le24(in, at);
-    at += 3U;
-  }
-  if (lay.almc) {
-    r.almc = in[at];
-  }
-  if (opt.check_unused_bits) {
-    const resolution res = opt.resolution_from_enid && lay.enid && lay.abs
-                               ? resolution_for_enid(r.enid, opt.res)
-                               : opt.res;
-    if ((lay.abs && !detail::fits(r.abs, res.single_turn_bits)) ||
-        (lay.abm && !detail::fits(r.abm, res.multi_turn_bits))) {
-      return decode_failure{errc::out_of_range, 1};
-    }
-  }
-  return decode_result<response>::complete(r, lay.size);
+  return detail::decode_status_frame<6, true, false, false, false>(in, id, opt);
 }
 
 /// decode_response on a buffer that must hold exactly one frame (e.g. bytes received up to

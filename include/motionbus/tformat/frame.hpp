@@ -57,6 +57,20 @@ constexpr std::uint8_t control_field(data_id id) noexcept {
   return control_field(static_cast<std::uint8_t>(id));
 }
 
+/// The control field of each 4-bit code, as a table (16 bytes of read-only data).
+inline constexpr std::uint8_t control_fields[16] = {
+    control_field(std::uint8_t{0x0}), control_field(std::uint8_t{0x1}),
+    control_field(std::uint8_t{0x2}), control_field(std::uint8_t{0x3}),
+    control_field(std::uint8_t{0x4}), control_field(std::uint8_t{0x5}),
+    control_field(std::uint8_t{0x6}), control_field(std::uint8_t{0x7}),
+    control_field(std::uint8_t{0x8}), control_field(std::uint8_t{0x9}),
+    control_field(std::uint8_t{0xA}), control_field(std::uint8_t{0xB}),
+    control_field(std::uint8_t{0xC}), control_field(std::uint8_t{0xD}),
+    control_field(std::uint8_t{0xE}), control_field(std::uint8_t{0xF})};
+
+/// Bit i set when code i is a defined Data ID (0, 1, 2, 3, 6, 7, 8, C, D).
+inline constexpr std::uint16_t known_ids_mask = 0x31CF;
+
 /// The 4-bit Data ID code in a control field byte (no checks).
 constexpr std::uint8_t data_id_code(std::uint8_t cf) noexcept {
   return static_cast<std::uint8_t>((cf >> 3U) & 0x0FU);

@@ -49,6 +49,7 @@ class receiver {
   /// Records the request just sent (up to 4 bytes): its echo is skipped when echo::expected,
   /// and responses are checked against it. Drops any partial frame.
   constexpr void sent(byte_view request_frame) noexcept {
+    want_ = 1;
     request_size_ =
         request_frame.size() < max_request_size ? request_frame.size() : max_request_size;
     for (std::size_t i = 0; i < request_size_; ++i) {
@@ -63,22 +64,29 @@ class receiver {
   /// rejected (CRC, reserved bits, check against the request); consumed() = bytes of `in`
   /// taken; the receiver rescans from the frame's second byte on the next call (call again,
   /// even with an empty `in`, until it reports incomplete). Incomplete: all of `in` was taken.
+  /// Each byte is copied once; a frame is decoded only when its last byte has arrived.
   constexpr decode_result<response> feed(byte_view in) noexcept {
     std::size_t used = 0;
     for (;;) {
-      // Work on what is buffered first.
-      const decode_result<response> r = scan(used);
-      if (!r.is_incomplete()) {
-        return r;
+      if (size_ >= want_) {  // enough buffered to decide something
+        const decode_result<response> r = scan(used);
+        if (!r.is_incomplete()) {
+          return r;
+        }
+        continue;  // scan() raised want_
       }
       if (used >= in.size()) {
-        return need_input{r.needed()};
+        return need_input{want_ - size_};
       }
-      if (size_ == max_response_size) {  // cannot happen: scan() decides on 11 bytes
-        drop_front(1);
-        ++dropped_;
+      std::size_t take = want_ - size_;
+      if (take > in.size() - used) {
+        take = in.size() - used;
       }
-      buffer_[size_++] = in[used++];
+      for (std::size_t i = 0; i < take; ++i) {
+        buffer_[size_ + i] = in[used + i];
+      }
+      size_ += take;
+      used += take;
     }
   }
 
@@ -88,6 +96,7 @@ class receiver {
     const bool partial = size_ > 0U;
     dropped_ += size_;
     size_ = 0;
+    want_ = 1;
     echo_pending_ = false;
     return partial ? errc::truncated : errc::ok;
   }
@@ -107,9 +116,11 @@ class receiver {
     size_ -= n;
   }
 
-  // Tries to make progress on the buffer. Incomplete means "needs another byte".
+  // Decides on the buffer (size_ >= want_): skips an echo, drops garbage, decodes a complete
+  // frame. Incomplete: want_ was raised to the bytes needed before the next decision.
   constexpr decode_result<response> scan(std::size_t used) noexcept {
     for (;;) {
+      want_ = 1;
       if (size_ == 0U) {
         return need_input{1};
       }
@@ -125,22 +136,26 @@ class receiver {
           continue;
         }
         if (match == size_) {
+          want_ = request_size_;
           return need_input{request_size_ - match};
         }
         echo_pending_ = false;  // not an echo after all: parse as a response
       }
-      const decode_result<response> r = decode_response(byte_view(buffer_, size_), opt_.decode);
-      if (r.is_incomplete()) {
-        return r;
+      const std::uint8_t code = data_id_code(buffer_[0]);
+      if (buffer_[0] != control_fields[code] || ((known_ids_mask >> code) & 1U) == 0U) {
+        drop_front(1);  // garbage: no valid CF here
+        ++dropped_;
+        continue;
       }
+      const std::size_t frame_size = layout_of(static_cast<data_id>(code)).size;
+      if (size_ < frame_size) {
+        want_ = frame_size;
+        return need_input{frame_size - size_};
+      }
+      const decode_result<response> r =
+          decode_response(byte_view(buffer_, frame_size), opt_.decode);
       if (r.is_failed()) {
         const errc e = r.error();
-        if (e == errc::tformat_sync_code || e == errc::tformat_parity ||
-            e == errc::tformat_unknown_data_id) {
-          drop_front(1);  // garbage: no valid CF here
-          ++dropped_;
-          continue;
-        }
         drop_front(1);  // rescan from the next byte: a valid frame may start inside
         ++dropped_;
         return decode_failure{e, used, r.expected(), r.received()};
@@ -163,6 +178,7 @@ class receiver {
   receiver_options opt_;
   std::uint8_t buffer_[max_response_size] = {};
   std::size_t size_ = 0;
+  std::size_t want_ = 1;  // bytes to hold before the next decision (1..11)
   std::uint8_t request_[max_request_size] = {};
   std::size_t request_size_ = 0;
   bool echo_pending_ = false;

@@ -1,0 +1,92 @@
+// T-format stream receiver. Oracles: bounded work and buffer; every frame it reports
+// re-encodes to bytes that occur in the input; after idle(), a valid frame fed in random
+// chunks is reported exactly once and unchanged.
+#include <motionbus/tformat/codec.hpp>
+#include <motionbus/tformat/receiver.hpp>
+
+#include <cstring>
+
+#include "../fuzz_check.hpp"
+
+namespace mb = motionbus;
+namespace tf = motionbus::tformat;
+
+namespace {
+
+bool occurs_in(const std::uint8_t* hay, std::size_t hay_size, const std::uint8_t* needle,
+               std::size_t n) {
+  for (std::size_t i = 0; i + n <= hay_size; ++i) {
+    if (std::memcmp(hay + i, needle, n) == 0) {
+      return true;
+    }
+  }
+  return false;
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  if (size < 2) {
+    return 0;
+  }
+  tf::receiver_options opt;
+  opt.echo_mode = (data[0] & 1U) != 0 ? tf::echo::expected : tf::echo::none;
+  opt.check_against_request = (data[0] & 2U) != 0;
+  tf::receiver rx(opt);
+  const std::size_t chunk = 1U + data[1] % 16U;
+  const std::uint8_t* stream = data + 2;
+  const std::size_t stream_size = size - 2;
+  if ((data[0] & 4U) != 0 && stream_size > 0) {
+    rx.sent(mb::byte_view(stream, stream_size < 4 ? stream_size : 4));
+  }
+  std::size_t events = 0;
+  for (std::size_t at = 0; at < stream_size; at += chunk) {
+    mb::byte_view in(stream + at, chunk < stream_size - at ? chunk : stream_size - at);
+    for (;;) {
+      const auto r = rx.feed(in);
+      MOTIONBUS_FUZZ_CHECK(rx.pending() <= tf::max_response_size);
+      if (r.is_incomplete()) {
+        break;
+      }
+      MOTIONBUS_FUZZ_CHECK(r.consumed() <= in.size());
+      in = in.subspan(r.consumed());
+      MOTIONBUS_FUZZ_CHECK(++events <= 2 * stream_size + 2);  // no endless events
+      if (r.is_complete()) {
+        std::uint8_t out[tf::max_response_size] = {};
+        const auto n = tf::encode_response(r.value(), out);
+        MOTIONBUS_FUZZ_CHECK(n.ok());
+        if (!(r.value().layout().eeprom && r.value().busy)) {
+          MOTIONBUS_FUZZ_CHECK(occurs_in(stream, stream_size, out, n.value()));
+        }
+      }
+    }
+  }
+  // After the line goes idle, the same receiver finds the next transaction whatever came
+  // before: the request is sent (and echoed when the line echoes), then the response arrives
+  // in chunks and is reported exactly once, unchanged.
+  (void)rx.idle();
+  const std::uint8_t request[1] = {tf::control_field(tf::data_id::read_all)};
+  rx.sent(mb::byte_view(request, 1));
+  std::uint8_t wire[1 + tf::max_response_size] = {request[0]};
+  tf::response v;
+  v.id = tf::data_id::read_all;
+  v.abs = static_cast<std::uint32_t>(size) & 0x1FFFFU;
+  v.enid = 0x11;
+  const std::size_t n = tf::encode_response(v, mb::mutable_byte_view(wire + 1, tf::max_response_size)).value();
+  const std::size_t skip = opt.echo_mode == tf::echo::expected ? 0U : 1U;
+  std::size_t found = 0;
+  for (std::size_t at = skip; at < n + 1; at += chunk) {
+    mb::byte_view in(wire + at, chunk < n + 1 - at ? chunk : n + 1 - at);
+    for (;;) {
+      const auto e = rx.feed(in);
+      if (e.is_incomplete()) {
+        break;
+      }
+      in = in.subspan(e.consumed());
+      MOTIONBUS_FUZZ_CHECK(e.is_complete() && e.value().abs == v.abs);
+      ++found;
+    }
+  }
+  MOTIONBUS_FUZZ_CHECK(found == 1);
+  return 0;
+}
