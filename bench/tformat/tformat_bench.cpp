@@ -81,8 +81,8 @@ int sample(const std::uint32_t* words, std::size_t i) {
 
 naive_response naive_decode_line(const std::uint32_t* words, std::size_t bits) {
   for (std::size_t i = 0; i + 4 <= bits; ++i) {
-    if (sample(words, i) == 0 && (i == 0 || sample(words, i - 1) == 1) && sample(words, i + 1) == 0 &&
-        sample(words, i + 2) == 1 && sample(words, i + 3) == 0) {
+    if (sample(words, i) == 0 && (i == 0 || sample(words, i - 1) == 1) &&
+        sample(words, i + 1) == 0 && sample(words, i + 2) == 1 && sample(words, i + 3) == 0) {
       std::uint8_t bytes[11] = {};
       std::size_t fields = 1;
       for (std::size_t k = 0; k < fields; ++k) {

@@ -29,8 +29,8 @@ template <class Word>
 void run(const std::uint8_t* data, std::size_t size, mb::bit_order order) {
   std::vector<Word> words((size + sizeof(Word) - 1) / sizeof(Word), 0);
   for (std::size_t i = 0; i < size; ++i) {
-    words[i / sizeof(Word)] =
-        static_cast<Word>(words[i / sizeof(Word)] | (static_cast<Word>(data[i]) << (8U * (i % sizeof(Word)))));
+    words[i / sizeof(Word)] = static_cast<Word>(
+        words[i / sizeof(Word)] | (static_cast<Word>(data[i]) << (8U * (i % sizeof(Word)))));
   }
   const mb::span<const Word> view(words.data(), words.size());
   const std::size_t total = words.size() * sizeof(Word) * 8U;
@@ -69,7 +69,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   if (size < 1) {
     return 0;
   }
-  const mb::bit_order order = (data[0] & 1U) != 0 ? mb::bit_order::lsb_first : mb::bit_order::msb_first;
+  const mb::bit_order order =
+      (data[0] & 1U) != 0 ? mb::bit_order::lsb_first : mb::bit_order::msb_first;
   switch ((data[0] >> 1U) % 3U) {
     case 0: run<std::uint8_t>(data + 1, size - 1, order); break;
     case 1: run<std::uint16_t>(data + 1, size - 1, order); break;

@@ -72,7 +72,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   v.id = tf::data_id::read_all;
   v.abs = static_cast<std::uint32_t>(size) & 0x1FFFFU;
   v.enid = 0x11;
-  const std::size_t n = tf::encode_response(v, mb::mutable_byte_view(wire + 1, tf::max_response_size)).value();
+  const std::size_t n =
+      tf::encode_response(v, mb::mutable_byte_view(wire + 1, tf::max_response_size)).value();
   const std::size_t skip = opt.echo_mode == tf::echo::expected ? 0U : 1U;
   std::size_t found = 0;
   for (std::size_t at = skip; at < n + 1; at += chunk) {

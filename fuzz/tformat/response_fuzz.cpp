@@ -1,7 +1,7 @@
 // T-format response decoder (master side). Oracles: never reads out of bounds (ASan); a
 // complete response re-encodes to exactly the bytes consumed (a busy EEPROM response with a
-// non-zero EDF excepted: the encoder always sends 00 then); consumed counts stay within the input; the exact-frame form
-// agrees with the prefix form.
+// non-zero EDF excepted: the encoder always sends 00 then); consumed counts stay within the input;
+// the exact-frame form agrees with the prefix form.
 #include <motionbus/tformat/codec.hpp>
 
 #include "../fuzz_check.hpp"
