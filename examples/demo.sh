@@ -1,17 +1,49 @@
 #!/usr/bin/env bash
-# The motionbus demo: installs what it needs, builds the CLI and the examples, and shows the
-# shared core at work: the protocols' CRCs on real frames and a BiSS-style bit capture.
-# (The protocol demos — T-format, Modbus and BiSS-C against their emulators — join as each
-# protocol lands.)
+# The motionbus demo: installs what it needs, builds the CLI and the examples, and runs
+#  - T-format: the CLI master reading the encoder emulator over a pseudo-terminal pair that
+#    the demo creates (socat), as a servo drive reads a Tamagawa encoder over RS-485;
+#  - the shared core: the protocols' CRCs on real frames and a BiSS-style bit capture.
+# (Modbus-RTU and BiSS-C join as they land.)
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$root"
 build="${MOTIONBUS_BUILD_DIR:-$root/build}/demo"
-bash tools/scripts/ensure-packages.sh cmake ninja-build g++
+bash tools/scripts/ensure-packages.sh cmake ninja-build g++ socat
 cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DMOTIONBUS_BUILD_TESTS=OFF \
   -DMOTIONBUS_BUILD_BENCH=OFF -DMOTIONBUS_BUILD_FUZZ=OFF >/dev/null
 cmake --build "$build" --target motionbus_cli motionbus_example_core_tour >/dev/null
 cli="$build/tools/motionbus"
+
+echo "== T-format: master <-> encoder emulator over a pseudo-terminal pair"
+pty_dir="$(mktemp -d)"
+socat pty,raw,echo=0,link="$pty_dir/drive" pty,raw,echo=0,link="$pty_dir/encoder" &
+socat_pid=$!
+serve_pid=""
+cleanup() {
+  [ -n "$serve_pid" ] && kill "$serve_pid" 2>/dev/null || true
+  kill "$socat_pid" 2>/dev/null || true
+  rm -rf "$pty_dir"
+}
+trap cleanup EXIT
+for _ in $(seq 50); do [ -e "$pty_dir/encoder" ] && break; sleep 0.1; done
+"$cli" serve tformat-encoder --device "$pty_dir/encoder" 2>/dev/null &
+serve_pid=$!
+sleep 0.3
+pretty_tformat() {
+  sed -E 's/.*"abs":([0-9]+).*"abm":([0-9]+).*"enid":([0-9]+).*"alarms":\[([^]]*)\].*/position \1 of 131072, turn \2, ENID \3, alarms [\4]/'
+}
+for i in 1 2 3; do
+  out="$("$cli" read tformat --device "$pty_dir/drive" --id 3 2>/dev/null || true)"
+  echo "  ID3 read $i: $(printf '%s' "$out" | pretty_tformat)"
+  sleep 0.2
+done
+echo "  EEPROM write page 0 address 10 <- 0x5A: $("$cli" read tformat --device "$pty_dir/drive" --id 6 --address 10 --data 90 2>/dev/null)"
+sleep 0.05
+echo "  EEPROM read  page 0 address 10:         $("$cli" read tformat --device "$pty_dir/drive" --id D --address 10 2>/dev/null)"
+echo "  decode a captured ID3 response:"
+echo "    \$ motionbus decode tformat response 1a2045230111341200c0aa"
+echo "    $("$cli" decode tformat response 1a2045230111341200c0aa)"
+echo
 
 echo "== The shared core (examples/core_tour.cpp)"
 "$build/examples/motionbus_example_core_tour"

@@ -34,7 +34,7 @@ run_config() {
   cmake -S "$root" -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
     -DCMAKE_CXX_EXTENSIONS=OFF "$@" >"$dir.configure.log" 2>&1 ||
     { cat "$dir.configure.log"; return 1; }
-  cmake --build "$dir" -j "$jobs"
+  cmake --build "$dir" -j "$jobs" || { echo "=== $name: build failed" >&2; failed=$((failed + 1)); summary+="  $name: build failed"$'\n'; return 1; }
   echo "=== $name: test"
   local log="$dir.ctest.log"
   local rc=0

@@ -207,7 +207,7 @@ TEST_CASE("read tformat: one transaction with an encoder on a pseudo-terminal") 
   std::thread encoder([&] {
     tf::encoder_model enc;
     enc.set_position(0x1ABCD, 42);
-    enc.set_condition(tf::alarm::ba, true);
+    enc.set_condition(tf::almc_bit::ba, true);
     std::uint8_t frame[8] = {};
     std::size_t size = 0;
     while (!done) {

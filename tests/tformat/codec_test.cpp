@@ -134,11 +134,11 @@ TEST_CASE("decode_response: spec layouts and values") {
   CHECK(r->ea1());
   CHECK(r->ca0());
   CHECK(r->ca1());
-  CHECK(has_alarm(r->almc, alarm::ce));
-  CHECK(has_alarm(r->almc, alarm::oh));
-  CHECK(has_alarm(r->almc, alarm::be));
-  CHECK(has_alarm(r->almc, alarm::ba));
-  CHECK(!has_alarm(r->almc, alarm::os));
+  CHECK(has_alarm(r->almc, almc_bit::ce));
+  CHECK(has_alarm(r->almc, almc_bit::oh));
+  CHECK(has_alarm(r->almc, almc_bit::be));
+  CHECK(has_alarm(r->almc, almc_bit::ba));
+  CHECK(!has_alarm(r->almc, almc_bit::os));
 
   const auto enid = with_crc({0x92, 0x00, 0x11});
   r = decode_response(view(enid));
@@ -325,7 +325,7 @@ TEST_CASE("encode_response (encoder side) matches spec layouts and refuses bad v
 TEST_CASE("round trip: master request -> encoder model -> master decode, every Data ID") {
   encoder_model enc;
   enc.set_position(0x1ABCD, 0x4321);
-  enc.set_condition(alarm::ba, true);
+  enc.set_condition(almc_bit::ba, true);
   std::uint32_t now = 1000;
   for (const auto& row : table1) {
     CAPTURE(static_cast<int>(row.id));
@@ -347,7 +347,7 @@ TEST_CASE("round trip: master request -> encoder model -> master decode, every D
       CHECK(r->ea1());  // battery alarm
     }
     if (row.id == data_id::read_all) {
-      CHECK(r->almc == static_cast<std::uint8_t>(alarm::ba));
+      CHECK(r->almc == static_cast<std::uint8_t>(almc_bit::ba));
       CHECK(r->enid == 0x11);
     }
     if (row.id == data_id::eeprom_read) {

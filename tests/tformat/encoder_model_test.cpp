@@ -6,6 +6,11 @@
 
 #include <cstdint>
 #include <string>
+#if defined(__has_include)
+#if __has_include(<unistd.h>)
+#include <unistd.h>  // POSIX declares alarm(): the names below must not collide with it
+#endif
+#endif
 #include <vector>
 
 #include "motionbus/devices/ts5700n8500.hpp"
@@ -116,26 +121,26 @@ TEST_CASE("over-heat latches above the threshold and clears only by reset once c
   encoder_model enc;
   master m{enc};
   enc.set_temperature(91);
-  CHECK(has_alarm(enc.almc(), alarm::oh));
+  CHECK(has_alarm(enc.almc(), almc_bit::oh));
   enc.set_temperature(40);
-  CHECK(has_alarm(enc.almc(), alarm::oh));  // latched
+  CHECK(has_alarm(enc.almc(), almc_bit::oh));  // latched
   auto r = m.ask(data_id::read_abs);
   CHECK(r->ea1());
   for (int i = 0; i < 10; ++i) {
     (void)m.ask(data_id::reset_errors, 0, 0, 50);
   }
-  CHECK(!has_alarm(enc.almc(), alarm::oh));
+  CHECK(!has_alarm(enc.almc(), almc_bit::oh));
   CHECK(!m.ask(data_id::read_abs)->ea1());
 }
 
 TEST_CASE("alarms: latched flags stay until reset, non-latched follow their condition") {
   encoder_model enc;
   master m{enc};
-  for (alarm a : all_alarms) {
+  for (almc_bit a : all_alarms) {
     enc.set_condition(a, true);
   }
   CHECK(enc.almc() == 0xFF);
-  for (alarm a : all_alarms) {
+  for (almc_bit a : all_alarms) {
     enc.set_condition(a, false);
   }
   CHECK(enc.almc() == latched_alarms);  // FS and BA cleared with their condition
@@ -145,11 +150,11 @@ TEST_CASE("alarms: latched flags stay until reset, non-latched follow their cond
   CHECK(all->ea0());
   CHECK(all->ea1());
   // a latched alarm whose condition persists survives the reset
-  enc.set_condition(alarm::be, true);
+  enc.set_condition(almc_bit::be, true);
   for (int i = 0; i < 10; ++i) {
     (void)m.ask(data_id::reset_errors, 0, 0, 50);
   }
-  CHECK(enc.almc() == static_cast<std::uint8_t>(alarm::be));
+  CHECK(enc.almc() == static_cast<std::uint8_t>(almc_bit::be));
 }
 
 TEST_CASE("resets act on the 10th request of the same ID, at least 40 us apart") {
@@ -186,7 +191,7 @@ TEST_CASE("rotation wraps turns and latches counter overflow") {
   enc.rotate(1);
   CHECK(enc.abs() == 0);
   CHECK(enc.abm() == 0);
-  CHECK(has_alarm(enc.almc(), alarm::of));
+  CHECK(has_alarm(enc.almc(), almc_bit::of));
   enc.rotate(-1);
   CHECK(enc.abs() == 0x1FFFF);
   CHECK(enc.abm() == 0xFFFF);
@@ -246,7 +251,7 @@ TEST_CASE("TS5700N8500: over-heat threshold, temperature, alarms, timing") {
   CHECK(ts::decode_temperature(0xFF) == -1);
   CHECK(ts::decode_temperature(0x80) == -128);
   CHECK(ts::decode_temperature(0x7F) == 127);
-  for (alarm a : all_alarms) {
+  for (almc_bit a : all_alarms) {
     CHECK(std::string(ts::info(a).symbol) == symbol(a));
     CHECK(ts::info(a).latched == ((static_cast<std::uint8_t>(a) & latched_alarms) != 0));
   }

@@ -276,8 +276,8 @@ TEST_CASE("receiver: responses checked against the request") {
   const auto other = with_crc({0x8A, 0x00, 0x01, 0x00, 0x00});
   auto r = rx.feed(byte_view(other.data(), other.size()));
   CHECK(r.error() == errc::tformat_cf_mismatch);
-  const auto alarm = with_crc({0x1A, 0x40, 0, 0, 0, 0x11, 0, 0, 0, 0});
-  r = rx.feed(byte_view(alarm.data(), alarm.size()));
+  const auto comm_alarm = with_crc({0x1A, 0x40, 0, 0, 0, 0x11, 0, 0, 0, 0});
+  r = rx.feed(byte_view(comm_alarm.data(), comm_alarm.size()));
   CHECK(r.error() == errc::tformat_communication_alarm);
 }
 

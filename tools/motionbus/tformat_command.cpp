@@ -64,7 +64,7 @@ cli::json_object response_json(const tf::response& r) {
   if (lay.almc) {
     f.add("almc", static_cast<std::int64_t>(r.almc));
     std::vector<std::string> names;
-    for (tf::alarm a : tf::all_alarms) {
+    for (tf::almc_bit a : tf::all_alarms) {
       if (tf::has_alarm(r.almc, a)) {
         names.emplace_back(tf::symbol(a));
       }

@@ -171,7 +171,7 @@ constexpr int decode_temperature(std::uint8_t value) noexcept {
 
 // --- alarms (spec §6.5) ---------------------------------------------------------------------
 struct alarm_info {
-  tformat::alarm flag;
+  tformat::almc_bit flag;
   const char* symbol;
   const char* name;
   bool latched;
@@ -179,24 +179,24 @@ struct alarm_info {
 };
 
 inline constexpr alarm_info alarm_table[8] = {
-    {tformat::alarm::os, "OS", "over-speed", true,
+    {tformat::almc_bit::os, "OS", "over-speed", true,
      "reset errors (ID7 or IDC); the multi-turn data may be wrong"},
-    {tformat::alarm::fs, "FS", "full absolute status", false,
+    {tformat::almc_bit::fs, "FS", "full absolute status", false,
      "slow below 100 rpm and wait: the single-turn data has only 5 bits of accuracy meanwhile"},
-    {tformat::alarm::ce, "CE", "counting error", true,
+    {tformat::almc_bit::ce, "CE", "counting error", true,
      "stop the servo; reset errors or cycle power"},
-    {tformat::alarm::of, "OF", "counter overflow", true, "reset errors (ID7 or IDC)"},
-    {tformat::alarm::oh, "OH", "over-heat", true,
+    {tformat::almc_bit::of, "OF", "counter overflow", true, "reset errors (ID7 or IDC)"},
+    {tformat::almc_bit::oh, "OH", "over-heat", true,
      "let the encoder cool, then reset errors (ID7 or IDC)"},
-    {tformat::alarm::me, "ME", "multi-turn error", true,
+    {tformat::almc_bit::me, "ME", "multi-turn error", true,
      "return to the origin and reset errors (ID7 or IDC)"},
-    {tformat::alarm::be, "BE", "battery error", true,
+    {tformat::almc_bit::be, "BE", "battery error", true,
      "check or replace the battery, then reset errors and multi-turn data (IDC)"},
-    {tformat::alarm::ba, "BA", "battery alarm", false,
+    {tformat::almc_bit::ba, "BA", "battery alarm", false,
      "check or replace the battery; clears itself when the voltage recovers"},
 };
 
-constexpr const alarm_info& info(tformat::alarm a) noexcept {
+constexpr const alarm_info& info(tformat::almc_bit a) noexcept {
   for (const alarm_info& i : alarm_table) {
     if (i.flag == a) {
       return i;

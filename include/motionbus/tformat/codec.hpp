@@ -373,7 +373,7 @@ constexpr result<std::size_t> encode_response(const response& r, mutable_byte_vi
 constexpr std::uint8_t status_field(std::uint8_t almc, bool ca0 = false,
                                     bool ca1 = false) noexcept {
   std::uint8_t s = 0;
-  if (has_alarm(almc, alarm::ce)) {
+  if (has_alarm(almc, almc_bit::ce)) {
     s = static_cast<std::uint8_t>(s | sf::ea0);
   }
   if ((almc & ea1_alarms) != 0U) {

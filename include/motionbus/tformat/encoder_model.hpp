@@ -80,14 +80,14 @@ class encoder_model {
     const std::int64_t new_turns = static_cast<std::int64_t>(turns_) + turns;
     const std::int64_t range = std::int64_t{1} << cfg_.res.multi_turn_bits;
     if (new_turns < 0 || new_turns >= range) {
-      latched_ = static_cast<std::uint8_t>(latched_ | static_cast<std::uint8_t>(alarm::of));
+      latched_ = static_cast<std::uint8_t>(latched_ | static_cast<std::uint8_t>(almc_bit::of));
     }
     raw_ = static_cast<std::uint32_t>(raw);
     turns_ = static_cast<std::uint32_t>(((new_turns % range) + range) % range);
   }
   /// Sets whether the condition behind an alarm is present now. Latched alarms stay set after
   /// the condition goes until a reset; non-latched ones follow it.
-  constexpr void set_condition(alarm a, bool present) noexcept {
+  constexpr void set_condition(almc_bit a, bool present) noexcept {
     const auto bit = static_cast<std::uint8_t>(a);
     conditions_ = present ? static_cast<std::uint8_t>(conditions_ | bit)
                           : static_cast<std::uint8_t>(conditions_ & ~bit);
@@ -171,7 +171,7 @@ class encoder_model {
   constexpr void update_overheat() noexcept {
     const bool enabled = (threshold_ & 0x80U) != 0U;
     const int limit = static_cast<int>(threshold_) - 128;
-    set_condition(alarm::oh, enabled && temperature_ > limit);
+    set_condition(almc_bit::oh, enabled && temperature_ > limit);
   }
 
   constexpr reply data_reply(data_id id, std::uint8_t extra_sf) const noexcept {

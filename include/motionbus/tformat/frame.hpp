@@ -92,7 +92,7 @@ inline constexpr std::uint8_t ca1 = 0x80;  ///< request delimiter error
 }  // namespace sf
 
 /// ALMC bits (spec Table 3).
-enum class alarm : std::uint8_t {
+enum class almc_bit : std::uint8_t {
   os = 0x01,  ///< over-speed (latched)
   fs = 0x02,  ///< full-absolute status (non-latched)
   ce = 0x04,  ///< counting error
@@ -104,25 +104,25 @@ enum class alarm : std::uint8_t {
 };
 
 /// Every alarm in ALMC bit order.
-inline constexpr alarm all_alarms[8] = {alarm::os, alarm::fs, alarm::ce, alarm::of,
-                                        alarm::oh, alarm::me, alarm::be, alarm::ba};
+inline constexpr almc_bit all_alarms[8] = {almc_bit::os, almc_bit::fs, almc_bit::ce, almc_bit::of,
+                                           almc_bit::oh, almc_bit::me, almc_bit::be, almc_bit::ba};
 
 /// The spec's two-letter symbol of an alarm ("OS", "FS", ...).
-constexpr const char* symbol(alarm a) noexcept {
+constexpr const char* symbol(almc_bit a) noexcept {
   switch (a) {
-    case alarm::os: return "OS";
-    case alarm::fs: return "FS";
-    case alarm::ce: return "CE";
-    case alarm::of: return "OF";
-    case alarm::oh: return "OH";
-    case alarm::me: return "ME";
-    case alarm::be: return "BE";
-    case alarm::ba: return "BA";
+    case almc_bit::os: return "OS";
+    case almc_bit::fs: return "FS";
+    case almc_bit::ce: return "CE";
+    case almc_bit::of: return "OF";
+    case almc_bit::oh: return "OH";
+    case almc_bit::me: return "ME";
+    case almc_bit::be: return "BE";
+    case almc_bit::ba: return "BA";
   }
   return "??";
 }
 
-constexpr bool has_alarm(std::uint8_t almc, alarm a) noexcept {
+constexpr bool has_alarm(std::uint8_t almc, almc_bit a) noexcept {
   return (almc & static_cast<std::uint8_t>(a)) != 0U;
 }
 
