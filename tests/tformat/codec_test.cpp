@@ -379,3 +379,21 @@ TEST_CASE("resolution: 17 bits by default, 23 and 11 selectable, ENID-driven for
   CHECK(absolute_position(0x1ABCD, 3) == (3ULL << 17U) + 0x1ABCD);
   CHECK(absolute_position(5, 2, 23) == (2ULL << 23U) + 5);
 }
+
+TEST_CASE("every single-bit flip of every valid request is detected by the encoder side") {
+  for (const auto& row : table1) {
+    std::uint8_t req[4] = {};
+    const std::size_t n = encode_request(row.id, req, 0x2C, 0x96).value();
+    for (std::size_t byte = 0; byte < n; ++byte) {
+      for (unsigned bit = 0; bit < 8; ++bit) {
+        std::uint8_t bad[4] = {req[0], req[1], req[2], req[3]};
+        bad[byte] = static_cast<std::uint8_t>(bad[byte] ^ (1U << bit));
+        CAPTURE(static_cast<int>(row.id));
+        CAPTURE(byte);
+        CAPTURE(bit);
+        // the parity bit makes every CF flip visible; the CRC every other flip
+        CHECK(decode_request(byte_view(bad, n)).is_failed());
+      }
+    }
+  }
+}

@@ -185,7 +185,7 @@ constexpr decode_result<response> decode_response(byte_view in,
   if (cf != control_fields[code] || ((known_ids_mask >> code) & 1U) == 0U) {
     return decode_failure{detail::check_cf(cf), 1};
   }
-  const std::size_t size = layout_of(id).size;
+  const std::size_t size = response_sizes[code];
   if (in.size() < size) {
     return need_input{size - in.size()};
   }

@@ -166,6 +166,15 @@ constexpr response_layout layout_of(data_id id) noexcept {
   return {11, true, true, true, true, true, false};
 }
 
+/// Response size in fields for each 4-bit code (unknown codes: the ID3 layout), as a table.
+inline constexpr std::uint8_t response_sizes[16] = {
+    layout_of(data_id{0x0}).size, layout_of(data_id{0x1}).size, layout_of(data_id{0x2}).size,
+    layout_of(data_id{0x3}).size, layout_of(data_id{0x4}).size, layout_of(data_id{0x5}).size,
+    layout_of(data_id{0x6}).size, layout_of(data_id{0x7}).size, layout_of(data_id{0x8}).size,
+    layout_of(data_id{0x9}).size, layout_of(data_id{0xA}).size, layout_of(data_id{0xB}).size,
+    layout_of(data_id{0xC}).size, layout_of(data_id{0xD}).size, layout_of(data_id{0xE}).size,
+    layout_of(data_id{0xF}).size};
+
 /// Size of a request frame: CF alone, CF ADF CRC (IDD), or CF ADF EDF CRC (ID6).
 constexpr std::size_t request_size(data_id id) noexcept {
   return id == data_id::eeprom_write ? 4U : (id == data_id::eeprom_read ? 3U : 1U);

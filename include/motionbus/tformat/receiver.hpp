@@ -147,7 +147,7 @@ class receiver {
         ++dropped_;
         continue;
       }
-      const std::size_t frame_size = layout_of(static_cast<data_id>(code)).size;
+      const std::size_t frame_size = response_sizes[code];
       if (size_ < frame_size) {
         want_ = frame_size;
         return need_input{frame_size - size_};
