@@ -4,6 +4,7 @@
 
 #include "motionbus/core.hpp"
 #include "motionbus/devices/ts5700n8500.hpp"
+#include "motionbus/modbus.hpp"
 #include "motionbus/tformat.hpp"
 #include "motionbus/version.hpp"
 

@@ -56,6 +56,24 @@ enum class [[nodiscard]] errc : std::uint8_t{
     tformat_delimiter = 40,
     /// The EEPROM write response does not echo the data written.
     tformat_data_mismatch = 41,
+
+    // Modbus (64..127). Modbus exception codes are wire values (modbus::exception_code), not errc.
+    /// The function code is not one this codec frames (a server answers exception 01).
+    modbus_illegal_function = 64,
+    /// A quantity is outside the function's limits (Modbus App. Protocol §6; exception 03).
+    modbus_quantity = 65,
+    /// A byte count disagrees with the quantity or with the bytes present (exception 03).
+    modbus_byte_count = 66,
+    /// Starting address + quantity runs past 0xFFFF (exception 02).
+    modbus_address_overflow = 67,
+    /// FC05 value other than 0xFF00 / 0x0000 (exception 03).
+    modbus_coil_value = 68,
+    /// The response's function or echoed fields do not match the request.
+    modbus_mismatch = 69,
+    /// Slave address 248..255 (reserved), or a broadcast where one is not allowed.
+    modbus_slave_address = 70,
+    /// A PDU outside 1..253 bytes, or an ADU outside 4..256.
+    modbus_pdu_length = 71,
 };
 
 /// snake_case name of an error code, as printed by the tools; "unknown" for a value outside
@@ -81,6 +99,14 @@ constexpr const char* to_string(errc e) noexcept {
     case errc::tformat_start_bit: return "start_bit";
     case errc::tformat_delimiter: return "delimiter";
     case errc::tformat_data_mismatch: return "data_mismatch";
+    case errc::modbus_illegal_function: return "illegal_function";
+    case errc::modbus_quantity: return "illegal_quantity";
+    case errc::modbus_byte_count: return "byte_count_mismatch";
+    case errc::modbus_address_overflow: return "address_overflow";
+    case errc::modbus_coil_value: return "illegal_coil_value";
+    case errc::modbus_mismatch: return "response_mismatch";
+    case errc::modbus_slave_address: return "slave_address";
+    case errc::modbus_pdu_length: return "pdu_length";
   }
   return "unknown";
 }

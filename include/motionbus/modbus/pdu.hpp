@@ -1,0 +1,620 @@
+// motionbus — Modbus PDU codec for both roles (Modbus Application Protocol V1.1b3).
+//
+// Client: encode_* requests into a caller buffer; decode_response(pdu, request) checks the
+//         answer against the request it belongs to.
+// Server: decode_request(pdu) enforces every limit of the spec and says which exception to
+//         answer (exception_for); encode_*_response and encode_exception build the reply.
+// PDUs are function code + data, at most 253 bytes; register values are big-endian on the
+// wire. Decoded values that carry data (packed coils, register bytes, opaque payloads) are
+// views into the caller's input: valid while that buffer is.
+// Implemented: 01, 02, 03, 04, 05, 06, 0F, 10, 11, 16, 17, exception responses with any code,
+// and a raw path for any other function code.
+#ifndef MOTIONBUS_MODBUS_PDU_HPP
+#define MOTIONBUS_MODBUS_PDU_HPP
+
+#include <cstddef>
+#include <cstdint>
+
+#include "motionbus/core/errc.hpp"
+#include "motionbus/core/result.hpp"
+#include "motionbus/core/span.hpp"
+
+namespace motionbus {
+namespace modbus {
+
+inline constexpr std::size_t max_pdu_size = 253;
+
+/// Function codes (Modbus App. Protocol §6).
+enum class function_code : std::uint8_t {
+  read_coils = 0x01,
+  read_discrete_inputs = 0x02,
+  read_holding_registers = 0x03,
+  read_input_registers = 0x04,
+  write_single_coil = 0x05,
+  write_single_register = 0x06,
+  read_exception_status = 0x07,
+  diagnostics = 0x08,
+  get_comm_event_counter = 0x0B,
+  get_comm_event_log = 0x0C,
+  write_multiple_coils = 0x0F,
+  write_multiple_registers = 0x10,
+  report_server_id = 0x11,
+  mask_write_register = 0x16,
+  read_write_multiple_registers = 0x17,
+  read_fifo_queue = 0x18,
+  encapsulated_interface = 0x2B,
+};
+
+/// Exception codes as sent on the wire (§7). Unknown codes pass through unchanged.
+enum class exception_code : std::uint8_t {
+  illegal_function = 0x01,
+  illegal_data_address = 0x02,
+  illegal_data_value = 0x03,
+  server_device_failure = 0x04,
+  acknowledge = 0x05,
+  server_device_busy = 0x06,
+  memory_parity_error = 0x08,
+  gateway_path_unavailable = 0x0A,
+  gateway_target_failed = 0x0B,
+};
+
+inline constexpr std::uint8_t exception_flag = 0x80;
+
+/// Limits (§6.1–6.17).
+inline constexpr std::uint16_t max_read_bits = 2000;          // FC01/02
+inline constexpr std::uint16_t max_read_registers = 125;      // FC03/04, FC17 read
+inline constexpr std::uint16_t max_write_coils = 1968;        // FC0F
+inline constexpr std::uint16_t max_write_registers = 123;     // FC10
+inline constexpr std::uint16_t max_rw_write_registers = 121;  // FC17 write
+inline constexpr std::uint16_t coil_on = 0xFF00;
+inline constexpr std::uint16_t coil_off = 0x0000;
+
+/// Which response layout FC11 uses: the standard one (byte count, then device bytes) or the
+/// Tsubaki SM unit's (exactly two bytes, no byte count: version upper, version lower).
+enum class report_id_format : std::uint8_t { standard = 0, two_bytes_no_count = 1 };
+
+/// A request as a server sees it (fields as the function has them).
+struct request {
+  std::uint8_t function = 0;
+  std::uint16_t address = 0;         ///< starting address (FC01-06, 0F, 10, 16; FC17 read address)
+  std::uint16_t quantity = 0;        ///< FC01-04, 0F, 10; FC17 read quantity
+  std::uint16_t value = 0;           ///< FC05 (0xFF00/0x0000), FC06
+  std::uint16_t and_mask = 0;        ///< FC16
+  std::uint16_t or_mask = 0;         ///< FC16
+  std::uint16_t write_address = 0;   ///< FC17
+  std::uint16_t write_quantity = 0;  ///< FC17
+  /// FC0F packed coils, FC10/FC17 register bytes (big-endian pairs), or the whole data part of a
+  /// function this codec does not frame. A view into the decoded input.
+  byte_view data{};
+};
+
+/// A response as a client sees it.
+struct response {
+  std::uint8_t function = 0;  ///< without the exception flag
+  bool exception = false;
+  std::uint8_t exception_code = 0;  ///< wire value when exception
+  std::uint16_t address = 0;        ///< echo: FC05, 06, 0F, 10, 16
+  std::uint16_t quantity = 0;       ///< echo: FC0F, 10
+  std::uint16_t value = 0;          ///< echo: FC05, 06
+  std::uint16_t and_mask = 0;       ///< echo: FC16
+  std::uint16_t or_mask = 0;        ///< echo: FC16
+  std::uint8_t byte_count = 0;
+  /// FC01/02 packed bits, FC03/04/17 register bytes, FC11 payload, raw data. A view into input.
+  byte_view data{};
+};
+
+/// Register i of big-endian register bytes (no bounds check beyond the caller's: i < size/2).
+constexpr std::uint16_t register_at(byte_view bytes, std::size_t i) noexcept {
+  return static_cast<std::uint16_t>((bytes[2U * i] << 8U) | bytes[2U * i + 1U]);
+}
+/// Bit i of packed coils (LSB of the first byte first).
+constexpr bool bit_at(byte_view packed, std::size_t i) noexcept {
+  return ((packed[i / 8U] >> (i % 8U)) & 1U) != 0U;
+}
+
+/// The exception a server answers for a request decoding error (§7; the order of checks in
+/// decode_request follows the state diagrams of §6: function, quantity/values, address).
+constexpr exception_code exception_for(errc e) noexcept {
+  switch (e) {
+    case errc::modbus_illegal_function: return exception_code::illegal_function;
+    case errc::modbus_address_overflow: return exception_code::illegal_data_address;
+    default: return exception_code::illegal_data_value;
+  }
+}
+
+namespace detail {
+
+constexpr std::uint16_t be16(byte_view in, std::size_t at) noexcept {
+  return static_cast<std::uint16_t>((in[at] << 8U) | in[at + 1U]);
+}
+constexpr void put_be16(mutable_byte_view out, std::size_t at, std::uint16_t v) noexcept {
+  out[at] = static_cast<std::uint8_t>(v >> 8U);
+  out[at + 1U] = static_cast<std::uint8_t>(v & 0xFFU);
+}
+constexpr bool is_read_bits(std::uint8_t f) noexcept {
+  return f == 0x01 || f == 0x02;
+}
+constexpr bool is_read_registers(std::uint8_t f) noexcept {
+  return f == 0x03 || f == 0x04;
+}
+constexpr std::size_t bytes_for_bits(std::size_t bits) noexcept {
+  return (bits + 7U) / 8U;
+}
+constexpr bool overflows(std::uint16_t address, std::uint16_t quantity) noexcept {
+  return static_cast<std::uint32_t>(address) + quantity > 0x10000U;
+}
+
+// Checks a read quantity: limits first (exception 03), then the address range (exception 02).
+constexpr errc check_read(std::uint8_t f, std::uint16_t address, std::uint16_t quantity) noexcept {
+  const std::uint16_t max = is_read_bits(f) ? max_read_bits : max_read_registers;
+  if (quantity < 1U || quantity > max) {
+    return errc::modbus_quantity;
+  }
+  return overflows(address, quantity) ? errc::modbus_address_overflow : errc::ok;
+}
+
+}  // namespace detail
+
+// ---------------------------------------------------------------------------------------------
+// Client: requests
+
+/// FC01/02/03/04: read `quantity` bits or registers from `address`. Errors: invalid_argument
+/// (not a read function), modbus_quantity, modbus_address_overflow, buffer_too_small.
+constexpr result<std::size_t> encode_read(function_code fc, std::uint16_t address,
+                                          std::uint16_t quantity, mutable_byte_view out) noexcept {
+  const auto f = static_cast<std::uint8_t>(fc);
+  if (!detail::is_read_bits(f) && !detail::is_read_registers(f)) {
+    return errc::invalid_argument;
+  }
+  const errc e = detail::check_read(f, address, quantity);
+  if (e != errc::ok) {
+    return e;
+  }
+  if (out.size() < 5U) {
+    return errc::buffer_too_small;
+  }
+  out[0] = f;
+  detail::put_be16(out, 1, address);
+  detail::put_be16(out, 3, quantity);
+  return std::size_t{5};
+}
+
+/// FC05: one coil on (0xFF00) or off (0x0000).
+constexpr result<std::size_t> encode_write_single_coil(std::uint16_t address, bool on,
+                                                       mutable_byte_view out) noexcept {
+  if (out.size() < 5U) {
+    return errc::buffer_too_small;
+  }
+  out[0] = static_cast<std::uint8_t>(function_code::write_single_coil);
+  detail::put_be16(out, 1, address);
+  detail::put_be16(out, 3, on ? coil_on : coil_off);
+  return std::size_t{5};
+}
+
+/// FC06: one holding register.
+constexpr result<std::size_t> encode_write_single_register(std::uint16_t address,
+                                                           std::uint16_t value,
+                                                           mutable_byte_view out) noexcept {
+  if (out.size() < 5U) {
+    return errc::buffer_too_small;
+  }
+  out[0] = static_cast<std::uint8_t>(function_code::write_single_register);
+  detail::put_be16(out, 1, address);
+  detail::put_be16(out, 3, value);
+  return std::size_t{5};
+}
+
+/// FC0F: `quantity` coils from `packed` (LSB of the first byte first; unused high bits of the
+/// last byte are sent as 0). Errors: modbus_quantity (1..1968), modbus_byte_count (`packed`
+/// shorter than ceil(quantity/8)), modbus_address_overflow, buffer_too_small.
+constexpr result<std::size_t> encode_write_multiple_coils(std::uint16_t address,
+                                                          std::uint16_t quantity, byte_view packed,
+                                                          mutable_byte_view out) noexcept {
+  if (quantity < 1U || quantity > max_write_coils) {
+    return errc::modbus_quantity;
+  }
+  const std::size_t n = detail::bytes_for_bits(quantity);
+  if (packed.size() < n) {
+    return errc::modbus_byte_count;
+  }
+  if (detail::overflows(address, quantity)) {
+    return errc::modbus_address_overflow;
+  }
+  if (out.size() < 6U + n) {
+    return errc::buffer_too_small;
+  }
+  out[0] = static_cast<std::uint8_t>(function_code::write_multiple_coils);
+  detail::put_be16(out, 1, address);
+  detail::put_be16(out, 3, quantity);
+  out[5] = static_cast<std::uint8_t>(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    out[6U + i] = packed[i];
+  }
+  const unsigned spare = static_cast<unsigned>(n * 8U - quantity);
+  out[5U + n] = static_cast<std::uint8_t>(out[5U + n] & (0xFFU >> spare));
+  return 6U + n;
+}
+
+/// FC10: registers `values` from `address`. Errors: modbus_quantity (1..123),
+/// modbus_address_overflow, buffer_too_small.
+constexpr result<std::size_t> encode_write_multiple_registers(std::uint16_t address,
+                                                              span<const std::uint16_t> values,
+                                                              mutable_byte_view out) noexcept {
+  if (values.size() < 1U || values.size() > max_write_registers) {
+    return errc::modbus_quantity;
+  }
+  const auto q = static_cast<std::uint16_t>(values.size());
+  if (detail::overflows(address, q)) {
+    return errc::modbus_address_overflow;
+  }
+  if (out.size() < 6U + 2U * values.size()) {
+    return errc::buffer_too_small;
+  }
+  out[0] = static_cast<std::uint8_t>(function_code::write_multiple_registers);
+  detail::put_be16(out, 1, address);
+  detail::put_be16(out, 3, q);
+  out[5] = static_cast<std::uint8_t>(2U * q);
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    detail::put_be16(out, 6U + 2U * i, values[i]);
+  }
+  return 6U + 2U * values.size();
+}
+
+/// FC16: register = (register AND and_mask) OR (or_mask AND NOT and_mask).
+constexpr result<std::size_t> encode_mask_write_register(std::uint16_t address,
+                                                         std::uint16_t and_mask,
+                                                         std::uint16_t or_mask,
+                                                         mutable_byte_view out) noexcept {
+  if (out.size() < 7U) {
+    return errc::buffer_too_small;
+  }
+  out[0] = static_cast<std::uint8_t>(function_code::mask_write_register);
+  detail::put_be16(out, 1, address);
+  detail::put_be16(out, 3, and_mask);
+  detail::put_be16(out, 5, or_mask);
+  return std::size_t{7};
+}
+
+/// FC17: write `values` at `write_address`, then read `read_quantity` registers from
+/// `read_address`. Errors: modbus_quantity (read 1..125, write 1..121),
+/// modbus_address_overflow, buffer_too_small.
+constexpr result<std::size_t> encode_read_write_multiple_registers(std::uint16_t read_address,
+                                                                   std::uint16_t read_quantity,
+                                                                   std::uint16_t write_address,
+                                                                   span<const std::uint16_t> values,
+                                                                   mutable_byte_view out) noexcept {
+  if (read_quantity < 1U || read_quantity > max_read_registers || values.size() < 1U ||
+      values.size() > max_rw_write_registers) {
+    return errc::modbus_quantity;
+  }
+  const auto wq = static_cast<std::uint16_t>(values.size());
+  if (detail::overflows(read_address, read_quantity) || detail::overflows(write_address, wq)) {
+    return errc::modbus_address_overflow;
+  }
+  if (out.size() < 10U + 2U * values.size()) {
+    return errc::buffer_too_small;
+  }
+  out[0] = static_cast<std::uint8_t>(function_code::read_write_multiple_registers);
+  detail::put_be16(out, 1, read_address);
+  detail::put_be16(out, 3, read_quantity);
+  detail::put_be16(out, 5, write_address);
+  detail::put_be16(out, 7, wq);
+  out[9] = static_cast<std::uint8_t>(2U * wq);
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    detail::put_be16(out, 10U + 2U * i, values[i]);
+  }
+  return 10U + 2U * values.size();
+}
+
+/// Any function with an opaque data part (FC07, 0B, 0C, 11 with no data; custom functions).
+/// Errors: invalid_argument (function 0 or with the exception flag), modbus_pdu_length,
+/// buffer_too_small.
+constexpr result<std::size_t> encode_raw(std::uint8_t function, byte_view data,
+                                         mutable_byte_view out) noexcept {
+  if (function == 0U || (function & exception_flag) != 0U) {
+    return errc::invalid_argument;
+  }
+  if (1U + data.size() > max_pdu_size) {
+    return errc::modbus_pdu_length;
+  }
+  if (out.size() < 1U + data.size()) {
+    return errc::buffer_too_small;
+  }
+  out[0] = function;
+  for (std::size_t i = 0; i < data.size(); ++i) {
+    out[1U + i] = data[i];
+  }
+  return 1U + data.size();
+}
+
+// ---------------------------------------------------------------------------------------------
+// Server: requests in, responses out
+
+/// Decodes a complete request PDU (e.g. an RTU ADU without address and CRC). Complete: the
+/// request (consumed = PDU size). Failed (consumed = PDU size), in the order a server checks:
+/// modbus_pdu_length (empty or > 253 bytes), modbus_illegal_function (exception flag set),
+/// truncated (fewer bytes than the function's fixed part), modbus_quantity / modbus_byte_count /
+/// modbus_coil_value (exception 03), modbus_address_overflow (exception 02). Extra bytes after
+/// a fixed-size request are modbus_byte_count. Functions this codec does not frame decode as
+/// raw (function and data).
+constexpr decode_result<request> decode_request(byte_view pdu) noexcept {
+  const std::size_t n = pdu.size();
+  if (n < 1U || n > max_pdu_size) {
+    return decode_failure{errc::modbus_pdu_length, n};
+  }
+  request q;
+  q.function = pdu[0];
+  const std::uint8_t f = q.function;
+  if ((f & exception_flag) != 0U || f == 0U) {
+    return decode_failure{errc::modbus_illegal_function, n};
+  }
+  auto need = [&](std::size_t fixed) { return n < fixed; };
+  auto exact = [&](std::size_t size) -> errc {
+    return n < size ? errc::truncated : (n > size ? errc::modbus_byte_count : errc::ok);
+  };
+  errc e = errc::ok;
+  if (detail::is_read_bits(f) || detail::is_read_registers(f)) {
+    e = exact(5);
+    if (e == errc::ok) {
+      q.address = detail::be16(pdu, 1);
+      q.quantity = detail::be16(pdu, 3);
+      e = detail::check_read(f, q.address, q.quantity);
+    }
+  } else if (f == 0x05 || f == 0x06) {
+    e = exact(5);
+    if (e == errc::ok) {
+      q.address = detail::be16(pdu, 1);
+      q.value = detail::be16(pdu, 3);
+      if (f == 0x05 && q.value != coil_on && q.value != coil_off) {
+        e = errc::modbus_coil_value;
+      }
+    }
+  } else if (f == 0x0F || f == 0x10) {
+    if (need(6)) {
+      e = errc::truncated;
+    } else {
+      q.address = detail::be16(pdu, 1);
+      q.quantity = detail::be16(pdu, 3);
+      const std::size_t count = pdu[5];
+      const bool coils = f == 0x0F;
+      const std::uint16_t max = coils ? max_write_coils : max_write_registers;
+      const std::size_t want = coils ? detail::bytes_for_bits(q.quantity) : 2U * q.quantity;
+      if (q.quantity < 1U || q.quantity > max) {
+        e = errc::modbus_quantity;
+      } else if (count != want || n != 6U + count) {
+        e = errc::modbus_byte_count;
+      } else if (detail::overflows(q.address, q.quantity)) {
+        e = errc::modbus_address_overflow;
+      } else {
+        q.data = pdu.subspan(6, count);
+      }
+    }
+  } else if (f == 0x16) {
+    e = exact(7);
+    if (e == errc::ok) {
+      q.address = detail::be16(pdu, 1);
+      q.and_mask = detail::be16(pdu, 3);
+      q.or_mask = detail::be16(pdu, 5);
+    }
+  } else if (f == 0x17) {
+    if (need(10)) {
+      e = errc::truncated;
+    } else {
+      q.address = detail::be16(pdu, 1);
+      q.quantity = detail::be16(pdu, 3);
+      q.write_address = detail::be16(pdu, 5);
+      q.write_quantity = detail::be16(pdu, 7);
+      const std::size_t count = pdu[9];
+      if (q.quantity < 1U || q.quantity > max_read_registers || q.write_quantity < 1U ||
+          q.write_quantity > max_rw_write_registers) {
+        e = errc::modbus_quantity;
+      } else if (count != 2U * q.write_quantity || n != 10U + count) {
+        e = errc::modbus_byte_count;
+      } else if (detail::overflows(q.address, q.quantity) ||
+                 detail::overflows(q.write_address, q.write_quantity)) {
+        e = errc::modbus_address_overflow;
+      } else {
+        q.data = pdu.subspan(10, count);
+      }
+    }
+  } else if (f == 0x07 || f == 0x0B || f == 0x0C || f == 0x11) {
+    e = exact(1);  // no data: a longer PDU is not read as if it had an address (§3.2 CVEs)
+  } else {
+    q.data = pdu.subspan(1);  // raw: the server's own business
+  }
+  if (e != errc::ok) {
+    return decode_failure{e, n};
+  }
+  return decode_result<request>::complete(q, n);
+}
+
+/// Exception response: function | 0x80, code (any code, passed through).
+constexpr result<std::size_t> encode_exception(std::uint8_t function, std::uint8_t code,
+                                               mutable_byte_view out) noexcept {
+  if (out.size() < 2U) {
+    return errc::buffer_too_small;
+  }
+  out[0] = static_cast<std::uint8_t>(function | exception_flag);
+  out[1] = code;
+  return std::size_t{2};
+}
+
+/// FC01/02 response: `quantity` bits from `packed`, unused high bits of the last byte cleared.
+constexpr result<std::size_t> encode_read_bits_response(std::uint8_t function,
+                                                        std::uint16_t quantity, byte_view packed,
+                                                        mutable_byte_view out) noexcept {
+  if (!detail::is_read_bits(function)) {
+    return errc::invalid_argument;
+  }
+  if (quantity < 1U || quantity > max_read_bits) {
+    return errc::modbus_quantity;
+  }
+  const std::size_t n = detail::bytes_for_bits(quantity);
+  if (packed.size() < n) {
+    return errc::modbus_byte_count;
+  }
+  if (out.size() < 2U + n) {
+    return errc::buffer_too_small;
+  }
+  out[0] = function;
+  out[1] = static_cast<std::uint8_t>(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    out[2U + i] = packed[i];
+  }
+  const unsigned spare = static_cast<unsigned>(n * 8U - quantity);
+  out[1U + n] = static_cast<std::uint8_t>(out[1U + n] & (0xFFU >> spare));
+  return 2U + n;
+}
+
+/// FC03/04/17 response: the registers `values`.
+constexpr result<std::size_t> encode_read_registers_response(std::uint8_t function,
+                                                             span<const std::uint16_t> values,
+                                                             mutable_byte_view out) noexcept {
+  if (!detail::is_read_registers(function) && function != 0x17U) {
+    return errc::invalid_argument;
+  }
+  if (values.size() < 1U || values.size() > max_read_registers) {
+    return errc::modbus_quantity;
+  }
+  if (out.size() < 2U + 2U * values.size()) {
+    return errc::buffer_too_small;
+  }
+  out[0] = function;
+  out[1] = static_cast<std::uint8_t>(2U * values.size());
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    detail::put_be16(out, 2U + 2U * i, values[i]);
+  }
+  return 2U + 2U * values.size();
+}
+
+/// The normal response to a write request (FC05, 06: the request echoed; FC0F, 10: function,
+/// address, quantity; FC16: the request echoed). Other functions: invalid_argument.
+constexpr result<std::size_t> encode_write_response(const request& q,
+                                                    mutable_byte_view out) noexcept {
+  const std::uint8_t f = q.function;
+  const std::size_t n = f == 0x16 ? 7U : 5U;
+  if (f != 0x05 && f != 0x06 && f != 0x0F && f != 0x10 && f != 0x16) {
+    return errc::invalid_argument;
+  }
+  if (out.size() < n) {
+    return errc::buffer_too_small;
+  }
+  out[0] = f;
+  detail::put_be16(out, 1, q.address);
+  if (f == 0x16) {
+    detail::put_be16(out, 3, q.and_mask);
+    detail::put_be16(out, 5, q.or_mask);
+  } else {
+    detail::put_be16(out, 3, (f == 0x05 || f == 0x06) ? q.value : q.quantity);
+  }
+  return n;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Client: responses in
+
+/// Decodes a complete response PDU to `sent` (the request as encoded, itself decodable).
+/// Complete: the response; an exception response (function | 0x80, any code) is a complete
+/// response with `exception` set. Failed (consumed = PDU size): modbus_pdu_length,
+/// invalid_argument (`sent` is no valid request), modbus_mismatch (function or echoed fields
+/// differ from the request), truncated, modbus_byte_count (byte count vs quantity vs bytes
+/// present), reserved_bits (unused high bits of a bit response set).
+constexpr decode_result<response> decode_response(
+    byte_view pdu, byte_view sent, report_id_format fc11 = report_id_format::standard) noexcept {
+  const std::size_t n = pdu.size();
+  if (n < 1U || n > max_pdu_size) {
+    return decode_failure{errc::modbus_pdu_length, n};
+  }
+  const decode_result<request> dq = decode_request(sent);
+  if (!dq.is_complete()) {
+    return decode_failure{errc::invalid_argument, n};
+  }
+  const request& q = dq.value();
+  response r;
+  r.function = static_cast<std::uint8_t>(pdu[0] & static_cast<std::uint8_t>(~exception_flag));
+  if (r.function != q.function) {
+    return decode_failure{errc::modbus_mismatch, n, q.function, r.function};
+  }
+  if ((pdu[0] & exception_flag) != 0U) {
+    if (n != 2U) {
+      return decode_failure{n < 2U ? errc::truncated : errc::modbus_byte_count, n};
+    }
+    r.exception = true;
+    r.exception_code = pdu[1];
+    return decode_result<response>::complete(r, n);
+  }
+  const std::uint8_t f = q.function;
+  errc e = errc::ok;
+  if (detail::is_read_bits(f) || detail::is_read_registers(f) || f == 0x17) {
+    const std::uint16_t quantity = q.quantity;
+    const std::size_t want =
+        detail::is_read_bits(f) ? detail::bytes_for_bits(quantity) : 2U * quantity;
+    if (n < 2U) {
+      e = errc::truncated;
+    } else if (pdu[1] != want || n != 2U + want) {
+      e = n < 2U + want && pdu[1] == want ? errc::truncated : errc::modbus_byte_count;
+    } else {
+      r.byte_count = pdu[1];
+      r.data = pdu.subspan(2, want);
+      r.quantity = quantity;
+      const unsigned spare = static_cast<unsigned>(want * 8U - quantity);
+      if (detail::is_read_bits(f) && spare > 0U &&
+          (r.data[want - 1U] & static_cast<std::uint8_t>(0xFFU << (8U - spare))) != 0U) {
+        e = errc::reserved_bits;
+      }
+    }
+  } else if (f == 0x05 || f == 0x06 || f == 0x0F || f == 0x10) {
+    if (n != 5U) {
+      e = n < 5U ? errc::truncated : errc::modbus_byte_count;
+    } else {
+      r.address = detail::be16(pdu, 1);
+      const std::uint16_t second = detail::be16(pdu, 3);
+      const bool single = f == 0x05 || f == 0x06;
+      if (single) {
+        r.value = second;
+      } else {
+        r.quantity = second;
+      }
+      if (r.address != q.address || second != (single ? q.value : q.quantity)) {
+        e = errc::modbus_mismatch;
+      }
+    }
+  } else if (f == 0x16) {
+    if (n != 7U) {
+      e = n < 7U ? errc::truncated : errc::modbus_byte_count;
+    } else {
+      r.address = detail::be16(pdu, 1);
+      r.and_mask = detail::be16(pdu, 3);
+      r.or_mask = detail::be16(pdu, 5);
+      if (r.address != q.address || r.and_mask != q.and_mask || r.or_mask != q.or_mask) {
+        e = errc::modbus_mismatch;
+      }
+    }
+  } else if (f == 0x11 && fc11 == report_id_format::standard) {
+    if (n < 2U) {
+      e = errc::truncated;
+    } else if (pdu[1] != n - 2U) {
+      e = errc::modbus_byte_count;
+    } else {
+      r.byte_count = pdu[1];
+      r.data = pdu.subspan(2);
+    }
+  } else if (f == 0x11) {  // SM unit: exactly two bytes, no byte count
+    if (n != 3U) {
+      e = n < 3U ? errc::truncated : errc::modbus_byte_count;
+    } else {
+      r.data = pdu.subspan(1);
+    }
+  } else {
+    r.data = pdu.subspan(1);  // raw
+  }
+  if (e != errc::ok) {
+    return decode_failure{e, n};
+  }
+  return decode_result<response>::complete(r, n);
+}
+
+}  // namespace modbus
+}  // namespace motionbus
+
+#endif  // MOTIONBUS_MODBUS_PDU_HPP

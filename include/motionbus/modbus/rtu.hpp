@@ -1,0 +1,82 @@
+// motionbus — Modbus RTU ADU: slave address + PDU + CRC-16/MODBUS (low byte first)
+// (Modbus over Serial Line V1.02 §2.5.1, §6.2.2; PROTOCOL_NOTES §3.1).
+#ifndef MOTIONBUS_MODBUS_RTU_HPP
+#define MOTIONBUS_MODBUS_RTU_HPP
+
+#include <cstddef>
+#include <cstdint>
+
+#include "motionbus/core/crc.hpp"
+#include "motionbus/core/errc.hpp"
+#include "motionbus/core/result.hpp"
+#include "motionbus/core/span.hpp"
+#include "motionbus/modbus/pdu.hpp"
+
+namespace motionbus {
+namespace modbus {
+
+inline constexpr std::size_t max_rtu_size = 256;
+inline constexpr std::size_t min_rtu_size = 4;
+inline constexpr std::uint8_t broadcast_address = 0;
+inline constexpr std::uint8_t max_unicast_address = 247;
+
+using crc16 = crc16_modbus<>;
+
+/// An RTU frame as decoded: the slave address and a view of the PDU inside the input.
+struct rtu_frame {
+  std::uint8_t slave = 0;
+  byte_view pdu{};
+  std::uint16_t crc = 0;  ///< as received (low byte first on the wire)
+  constexpr bool broadcast() const noexcept { return slave == broadcast_address; }
+};
+
+/// Wraps `pdu` for `slave` (0 broadcast, 1..247). Errors: modbus_slave_address (248..255),
+/// modbus_pdu_length (empty or > 253), buffer_too_small. Nothing is written on error.
+constexpr result<std::size_t> encode_rtu(std::uint8_t slave, byte_view pdu,
+                                         mutable_byte_view out) noexcept {
+  if (slave > max_unicast_address) {
+    return errc::modbus_slave_address;
+  }
+  if (pdu.empty() || pdu.size() > max_pdu_size) {
+    return errc::modbus_pdu_length;
+  }
+  const std::size_t n = pdu.size() + 3U;
+  if (out.size() < n) {
+    return errc::buffer_too_small;
+  }
+  out[0] = slave;
+  for (std::size_t i = 0; i < pdu.size(); ++i) {
+    out[1U + i] = pdu[i];
+  }
+  const std::uint16_t c = crc16::compute(byte_view(out.data(), n - 2U));
+  out[n - 2U] = static_cast<std::uint8_t>(c & 0xFFU);
+  out[n - 1U] = static_cast<std::uint8_t>(c >> 8U);
+  return n;
+}
+
+/// Decodes a whole RTU ADU (the bytes between two silent intervals). Failed (consumed = size):
+/// modbus_pdu_length (fewer than 4 or more than 256 bytes), crc_mismatch (expected = computed,
+/// received = sent), modbus_slave_address (248..255).
+constexpr decode_result<rtu_frame> decode_rtu(byte_view adu) noexcept {
+  const std::size_t n = adu.size();
+  if (n < min_rtu_size || n > max_rtu_size) {
+    return decode_failure{errc::modbus_pdu_length, n};
+  }
+  rtu_frame f;
+  f.crc = static_cast<std::uint16_t>(adu[n - 2U] | (adu[n - 1U] << 8U));
+  const std::uint16_t computed = crc16::compute(adu.first(n - 2U));
+  if (computed != f.crc) {
+    return decode_failure{errc::crc_mismatch, n, computed, f.crc};
+  }
+  f.slave = adu[0];
+  if (f.slave > max_unicast_address) {
+    return decode_failure{errc::modbus_slave_address, n};
+  }
+  f.pdu = adu.subspan(1, n - 3U);
+  return decode_result<rtu_frame>::complete(f, n);
+}
+
+}  // namespace modbus
+}  // namespace motionbus
+
+#endif  // MOTIONBUS_MODBUS_RTU_HPP

@@ -1,0 +1,315 @@
+// Modbus PDU and RTU ADU. Vectors are the worked examples of the Modbus Application Protocol
+// V1.1b3 §6 (request / response bytes per function) and Modbus over Serial Line V1.02 §6.2.2.
+#include "motionbus/modbus/pdu.hpp"
+
+#include <doctest/doctest.h>
+
+#include <cstdint>
+#include <vector>
+
+#include "motionbus/modbus/rtu.hpp"
+
+using namespace motionbus;
+using namespace motionbus::modbus;
+
+namespace {
+
+using bytes = std::vector<std::uint8_t>;
+
+byte_view view(const bytes& b) {
+  return byte_view(b.data(), b.size());
+}
+
+bytes encoded(const result<std::size_t>& n, const std::uint8_t* out) {
+  REQUIRE(n.ok());
+  return bytes(out, out + n.value());
+}
+
+// Spec §6 examples: {request, response}.
+struct example {
+  const char* name;
+  bytes request;
+  bytes response;
+};
+
+std::vector<example> spec_examples() {
+  return {
+      {"FC01", {0x01, 0x00, 0x13, 0x00, 0x13}, {0x01, 0x03, 0xCD, 0x6B, 0x05}},
+      {"FC02", {0x02, 0x00, 0xC4, 0x00, 0x16}, {0x02, 0x03, 0xAC, 0xDB, 0x35}},
+      {"FC03", {0x03, 0x00, 0x6B, 0x00, 0x03}, {0x03, 0x06, 0x02, 0x2B, 0x00, 0x00, 0x00, 0x64}},
+      {"FC04", {0x04, 0x00, 0x08, 0x00, 0x01}, {0x04, 0x02, 0x00, 0x0A}},
+      {"FC05", {0x05, 0x00, 0xAC, 0xFF, 0x00}, {0x05, 0x00, 0xAC, 0xFF, 0x00}},
+      {"FC06", {0x06, 0x00, 0x01, 0x00, 0x03}, {0x06, 0x00, 0x01, 0x00, 0x03}},
+      {"FC0F", {0x0F, 0x00, 0x13, 0x00, 0x0A, 0x02, 0xCD, 0x01}, {0x0F, 0x00, 0x13, 0x00, 0x0A}},
+      {"FC10",
+       {0x10, 0x00, 0x01, 0x00, 0x02, 0x04, 0x00, 0x0A, 0x01, 0x02},
+       {0x10, 0x00, 0x01, 0x00, 0x02}},
+      {"FC16",
+       {0x16, 0x00, 0x04, 0x00, 0xF2, 0x00, 0x25},
+       {0x16, 0x00, 0x04, 0x00, 0xF2, 0x00, 0x25}},
+      {"FC17",
+       {0x17, 0x00, 0x03, 0x00, 0x06, 0x00, 0x0E, 0x00, 0x03, 0x06, 0x00, 0xFF, 0x00, 0xFF, 0x00,
+        0xFF},
+       {0x17, 0x0C, 0x00, 0xFE, 0x0A, 0xCD, 0x00, 0x01, 0x00, 0x03, 0x00, 0x0D, 0x00, 0xFF}},
+  };
+}
+
+}  // namespace
+
+TEST_CASE("client: requests encode to the spec's example bytes") {
+  std::uint8_t out[32] = {};
+  CHECK(encoded(encode_read(function_code::read_coils, 19, 19, out), out) ==
+        spec_examples()[0].request);
+  CHECK(encoded(encode_read(function_code::read_discrete_inputs, 196, 22, out), out) ==
+        spec_examples()[1].request);
+  CHECK(encoded(encode_read(function_code::read_holding_registers, 107, 3, out), out) ==
+        spec_examples()[2].request);
+  CHECK(encoded(encode_read(function_code::read_input_registers, 8, 1, out), out) ==
+        spec_examples()[3].request);
+  CHECK(encoded(encode_write_single_coil(172, true, out), out) == spec_examples()[4].request);
+  CHECK(encoded(encode_write_single_register(1, 3, out), out) == spec_examples()[5].request);
+  const std::uint8_t coils[] = {0xCD, 0x01};
+  CHECK(encoded(encode_write_multiple_coils(19, 10, coils, out), out) ==
+        spec_examples()[6].request);
+  const std::uint16_t regs[] = {0x000A, 0x0102};
+  CHECK(encoded(encode_write_multiple_registers(1, regs, out), out) == spec_examples()[7].request);
+  CHECK(encoded(encode_mask_write_register(4, 0x00F2, 0x0025, out), out) ==
+        spec_examples()[8].request);
+  const std::uint16_t w[] = {0x00FF, 0x00FF, 0x00FF};
+  CHECK(encoded(encode_read_write_multiple_registers(3, 6, 14, w, out), out) ==
+        spec_examples()[9].request);
+  const std::uint8_t none[1] = {};
+  CHECK(encoded(encode_raw(0x11, byte_view(none, 0), out), out) == bytes{0x11});
+}
+
+TEST_CASE("server: every spec example request decodes, and its response encodes to the spec") {
+  for (const auto& ex : spec_examples()) {
+    CAPTURE(ex.name);
+    const auto q = decode_request(view(ex.request));
+    REQUIRE(q.is_complete());
+    CHECK(q.consumed() == ex.request.size());
+    std::uint8_t out[32] = {};
+    result<std::size_t> n = errc::invalid_argument;
+    const std::uint8_t f = q->function;
+    if (f == 0x01 || f == 0x02) {
+      n = encode_read_bits_response(f, q->quantity,
+                                    byte_view(ex.response.data() + 2, ex.response.size() - 2), out);
+    } else if (f == 0x03 || f == 0x04 || f == 0x17) {
+      std::vector<std::uint16_t> values;
+      for (std::size_t i = 2; i + 1 < ex.response.size(); i += 2) {
+        values.push_back(static_cast<std::uint16_t>((ex.response[i] << 8) | ex.response[i + 1]));
+      }
+      CHECK(values.size() == q->quantity);
+      n = encode_read_registers_response(f, span<const std::uint16_t>(values.data(), values.size()),
+                                         out);
+    } else {
+      n = encode_write_response(q.value(), out);
+    }
+    CHECK(encoded(n, out) == ex.response);
+  }
+  const auto examples = spec_examples();  // decoded views refer to these bytes: keep them alive
+  const auto fc01 = decode_request(view(examples[0].request)).value();
+  CHECK(fc01.address == 19);
+  CHECK(fc01.quantity == 19);
+  const auto fc0f = decode_request(view(examples[6].request)).value();
+  CHECK(fc0f.quantity == 10);
+  CHECK(bit_at(fc0f.data, 0));
+  CHECK(!bit_at(fc0f.data, 1));
+  CHECK(bit_at(fc0f.data, 8));
+  const auto fc17 = decode_request(view(examples[9].request)).value();
+  CHECK(fc17.address == 3);
+  CHECK(fc17.quantity == 6);
+  CHECK(fc17.write_address == 14);
+  CHECK(fc17.write_quantity == 3);
+  CHECK(register_at(fc17.data, 2) == 0x00FF);
+}
+
+TEST_CASE("client: every spec example response decodes against its request") {
+  for (const auto& ex : spec_examples()) {
+    CAPTURE(ex.name);
+    const auto r = decode_response(view(ex.response), view(ex.request));
+    REQUIRE(r.is_complete());
+    CHECK(!r->exception);
+    CHECK(r->function == ex.request[0]);
+  }
+  const auto examples = spec_examples();  // decoded views refer to these bytes: keep them alive
+  const auto fc03 = decode_response(view(examples[2].response), view(examples[2].request));
+  CHECK(register_at(fc03->data, 0) == 0x022B);
+  CHECK(register_at(fc03->data, 2) == 0x0064);
+  const auto fc01 = decode_response(view(examples[0].response), view(examples[0].request));
+  CHECK(fc01->data.size() == 3);
+  CHECK(bit_at(fc01->data, 0));   // coil 20 on (0xCD bit 0)
+  CHECK(!bit_at(fc01->data, 1));  // coil 21 off
+}
+
+TEST_CASE("server: limits and counts, checked in the spec's order") {
+  auto err = [](const bytes& pdu) { return decode_request(view(pdu)).error(); };
+  CHECK(err({}) == errc::modbus_pdu_length);
+  CHECK(err(bytes(254, 0x03)) == errc::modbus_pdu_length);
+  CHECK(err({0x83, 0x00}) == errc::modbus_illegal_function);
+  CHECK(err({0x00}) == errc::modbus_illegal_function);
+  // quantities
+  CHECK(err({0x01, 0x00, 0x00, 0x00, 0x00}) == errc::modbus_quantity);
+  CHECK(err({0x01, 0x00, 0x00, 0x07, 0xD1}) == errc::modbus_quantity);        // 2001
+  CHECK(decode_request(view({0x01, 0x00, 0x00, 0x07, 0xD0})).is_complete());  // 2000
+  CHECK(err({0x03, 0x00, 0x00, 0x00, 0x7E}) == errc::modbus_quantity);        // 126
+  CHECK(decode_request(view({0x04, 0x00, 0x00, 0x00, 0x7D})).is_complete());  // 125
+  // quantity is checked before the address range (exception 03 before 02)
+  CHECK(err({0x03, 0xFF, 0xFF, 0x00, 0x00}) == errc::modbus_quantity);
+  CHECK(err({0x03, 0xFF, 0xFF, 0x00, 0x02}) == errc::modbus_address_overflow);
+  CHECK(decode_request(view({0x03, 0xFF, 0xFF, 0x00, 0x01})).is_complete());
+  // truncated and over-long fixed-size requests
+  CHECK(err({0x03, 0x00, 0x6B, 0x00}) == errc::truncated);
+  CHECK(err({0x03, 0x00, 0x6B, 0x00, 0x03, 0x00}) == errc::modbus_byte_count);
+  // FC05 values
+  CHECK(err({0x05, 0x00, 0xAC, 0x12, 0x34}) == errc::modbus_coil_value);
+  CHECK(decode_request(view({0x05, 0x00, 0xAC, 0x00, 0x00})).is_complete());
+  // FC0F / FC10 byte counts against quantity and bytes present
+  CHECK(err({0x0F, 0x00, 0x13, 0x00, 0x0A, 0x01, 0xCD}) == errc::modbus_byte_count);
+  CHECK(err({0x0F, 0x00, 0x13, 0x00, 0x0A, 0x02, 0xCD}) == errc::modbus_byte_count);
+  CHECK(err({0x0F, 0x00, 0x13, 0x07, 0xB1, 0xF7}) == errc::modbus_quantity);  // 1969
+  CHECK(err({0x10, 0x00, 0x01, 0x00, 0x02, 0x04, 0x00, 0x0A, 0x01}) == errc::modbus_byte_count);
+  CHECK(err({0x10, 0x00, 0x01, 0x00, 0x02, 0x03, 0x00, 0x0A, 0x01}) == errc::modbus_byte_count);
+  CHECK(err({0x10, 0x00, 0x01, 0x00, 0x7C, 0xF8}) == errc::modbus_quantity);  // 124
+  CHECK(err({0x10, 0xFF, 0xFF, 0x00, 0x02, 0x04, 0, 0, 0, 0}) == errc::modbus_address_overflow);
+  CHECK(err({0x10, 0x00, 0x01, 0x00}) == errc::truncated);
+  // FC17 write quantity 122, byte count mismatch
+  CHECK(err({0x17, 0, 3, 0, 6, 0, 14, 0, 0x7A, 0xF4}) == errc::modbus_quantity);
+  CHECK(err({0x17, 0, 3, 0, 6, 0, 14, 0, 3, 0x06, 0, 0xFF}) == errc::modbus_byte_count);
+  // functions without data must not be read as if they had an address
+  CHECK(decode_request(view({0x11})).is_complete());
+  CHECK(err({0x11, 0x00, 0x01}) == errc::modbus_byte_count);
+  CHECK(err({0x07, 0x00}) == errc::modbus_byte_count);
+  // unknown function: raw
+  const auto raw = decode_request(view({0x41, 0x01, 0x02}));
+  REQUIRE(raw.is_complete());
+  CHECK(raw->data.size() == 2);
+  // exceptions for each error
+  CHECK(exception_for(errc::modbus_illegal_function) == exception_code::illegal_function);
+  CHECK(exception_for(errc::modbus_quantity) == exception_code::illegal_data_value);
+  CHECK(exception_for(errc::modbus_byte_count) == exception_code::illegal_data_value);
+  CHECK(exception_for(errc::modbus_coil_value) == exception_code::illegal_data_value);
+  CHECK(exception_for(errc::modbus_address_overflow) == exception_code::illegal_data_address);
+}
+
+TEST_CASE("every prefix of every spec request is rejected; the whole request decodes") {
+  for (const auto& ex : spec_examples()) {
+    for (std::size_t n = 0; n < ex.request.size(); ++n) {
+      CAPTURE(ex.name);
+      CAPTURE(n);
+      CHECK(decode_request(view(ex.request).first(n)).is_failed());
+    }
+    CHECK(decode_request(view(ex.request)).is_complete());
+  }
+}
+
+TEST_CASE("client: exceptions pass through, mismatches and counts are errors") {
+  const bytes req = spec_examples()[2].request;  // FC03 read 3 registers
+  auto r = decode_response(view({0x83, 0x02}), view(req));
+  REQUIRE(r.is_complete());
+  CHECK(r->exception);
+  CHECK(r->exception_code == 0x02);
+  r = decode_response(view({0x83, 0x42}), view(req));  // unknown code: unchanged
+  CHECK(r->exception_code == 0x42);
+  CHECK(decode_response(view({0x83}), view(req)).error() == errc::truncated);
+  CHECK(decode_response(view({0x84, 0x02}), view(req)).error() == errc::modbus_mismatch);
+  CHECK(decode_response(view({0x04, 0x06, 0, 0, 0, 0, 0, 0}), view(req)).error() ==
+        errc::modbus_mismatch);
+  CHECK(decode_response(view({0x03, 0x04, 0, 0, 0, 0}), view(req)).error() ==
+        errc::modbus_byte_count);
+  CHECK(decode_response(view({0x03, 0x06, 0, 0, 0, 0}), view(req)).error() == errc::truncated);
+  CHECK(decode_response(view({0x03, 0x06, 0, 0, 0, 0, 0, 0, 0}), view(req)).error() ==
+        errc::modbus_byte_count);
+  // FC01 for 19 coils: 3 bytes, the top 5 bits of the last must be 0
+  const bytes fc01 = spec_examples()[0].request;
+  CHECK(decode_response(view({0x01, 0x03, 0xCD, 0x6B, 0x0D}), view(fc01)).error() ==
+        errc::reserved_bits);
+  // echoes
+  const bytes fc06 = spec_examples()[5].request;
+  CHECK(decode_response(view({0x06, 0x00, 0x01, 0x00, 0x04}), view(fc06)).error() ==
+        errc::modbus_mismatch);
+  const bytes fc10 = spec_examples()[7].request;
+  CHECK(decode_response(view({0x10, 0x00, 0x01, 0x00, 0x03}), view(fc10)).error() ==
+        errc::modbus_mismatch);
+  // FC11: standard (byte count) and the SM unit's two bytes without a count
+  const bytes fc11 = {0x11};
+  const bytes standard = {0x11, 0x03, 0xAA, 0xBB, 0xFF};
+  r = decode_response(view(standard), view(fc11));
+  REQUIRE(r.is_complete());
+  CHECK(r->data.size() == 3);
+  CHECK(decode_response(view({0x11, 0x05, 0xAA}), view(fc11)).error() == errc::modbus_byte_count);
+  const bytes sm_unit = {0x11, 0x01, 0x00};  // Ver.1.0.0
+  r = decode_response(view(sm_unit), view(fc11), report_id_format::two_bytes_no_count);
+  REQUIRE(r.is_complete());
+  CHECK(r->data[0] == 0x01);
+  CHECK(r->data[1] == 0x00);
+  CHECK(decode_response(view({0x11, 0x01}), view(fc11), report_id_format::two_bytes_no_count)
+            .error() == errc::truncated);
+  // an invalid request cannot be matched
+  CHECK(decode_response(view({0x03, 0x02, 0, 0}), view({0x03, 0x00})).error() ==
+        errc::invalid_argument);
+}
+
+TEST_CASE("client encoders refuse what a server would refuse") {
+  std::uint8_t out[300] = {};
+  CHECK(encode_read(function_code::read_coils, 0, 0, out).error() == errc::modbus_quantity);
+  CHECK(encode_read(function_code::read_holding_registers, 0, 126, out).error() ==
+        errc::modbus_quantity);
+  CHECK(encode_read(function_code::read_holding_registers, 0xFFFF, 2, out).error() ==
+        errc::modbus_address_overflow);
+  CHECK(encode_read(function_code::write_single_coil, 0, 1, out).error() == errc::invalid_argument);
+  CHECK(encode_read(function_code::read_coils, 0, 1, mutable_byte_view(out, 4)).error() ==
+        errc::buffer_too_small);
+  const std::uint8_t one[] = {0xFF};
+  CHECK(encode_write_multiple_coils(0, 9, one, out).error() == errc::modbus_byte_count);
+  REQUIRE(encode_write_multiple_coils(0, 3, one, out).value() == 7);
+  CHECK(out[6] == 0x07);  // unused high bits cleared
+  std::uint16_t many[124] = {};
+  CHECK(encode_write_multiple_registers(0, span<const std::uint16_t>(many, 124), out).error() ==
+        errc::modbus_quantity);
+  CHECK(encode_write_multiple_registers(0, span<const std::uint16_t>(many, 0), out).error() ==
+        errc::modbus_quantity);
+  CHECK(encode_read_write_multiple_registers(0, 1, 0, span<const std::uint16_t>(many, 122), out)
+            .error() == errc::modbus_quantity);
+  std::uint8_t big[253] = {};
+  CHECK(encode_raw(0x41, byte_view(big, 253), out).error() == errc::modbus_pdu_length);
+  CHECK(encode_raw(0x81, byte_view(big, 1), out).error() == errc::invalid_argument);
+  CHECK(encode_exception(0x03, 0x02, out).value() == 2);
+  CHECK(out[0] == 0x83);
+  CHECK(out[1] == 0x02);
+}
+
+TEST_CASE("RTU: the serial-line example, CRC low byte first, addresses and lengths") {
+  const std::uint8_t pdu[] = {0x03, 0x00, 0x6B, 0x00, 0x03};
+  std::uint8_t out[256] = {};
+  const auto n = encode_rtu(0x11, pdu, out);
+  REQUIRE(n.ok());
+  CHECK(bytes(out, out + n.value()) == bytes{0x11, 0x03, 0x00, 0x6B, 0x00, 0x03, 0x76, 0x87});
+  const auto f = decode_rtu(byte_view(out, n.value()));
+  REQUIRE(f.is_complete());
+  CHECK(f->slave == 0x11);
+  CHECK(f->pdu.size() == 5);
+  CHECK(f->crc == 0x8776);
+  CHECK(!f->broadcast());
+
+  out[7] ^= 0x01;
+  const auto bad = decode_rtu(byte_view(out, n.value()));
+  CHECK(bad.error() == errc::crc_mismatch);
+  CHECK(bad.expected() == 0x8776);
+  CHECK(bad.received() == 0x8676);
+
+  CHECK(encode_rtu(248, pdu, out).error() == errc::modbus_slave_address);
+  CHECK(encode_rtu(1, byte_view{}, out).error() == errc::modbus_pdu_length);
+  CHECK(encode_rtu(1, pdu, mutable_byte_view(out, 7)).error() == errc::buffer_too_small);
+  REQUIRE(encode_rtu(0, pdu, out).ok());
+  CHECK(decode_rtu(byte_view(out, 8))->broadcast());
+  REQUIRE(encode_rtu(247, pdu, out).ok());
+  out[0] = 248;  // re-CRC with a reserved address
+  const auto c = crc16::compute(byte_view(out, 6));
+  out[6] = static_cast<std::uint8_t>(c & 0xFF);
+  out[7] = static_cast<std::uint8_t>(c >> 8);
+  CHECK(decode_rtu(byte_view(out, 8)).error() == errc::modbus_slave_address);
+  CHECK(decode_rtu(byte_view(out, 3)).error() == errc::modbus_pdu_length);
+  std::uint8_t huge[257] = {};
+  CHECK(decode_rtu(byte_view(huge, 257)).error() == errc::modbus_pdu_length);
+}
