@@ -1,8 +1,11 @@
-// motionbus — Modbus: PDU codec (client and server) and the RTU ADU.
+// motionbus — Modbus: PDU codec (client and server), RTU and TCP ADUs, RTU timing.
 #ifndef MOTIONBUS_MODBUS_HPP
 #define MOTIONBUS_MODBUS_HPP
 
+#include "motionbus/modbus/framer.hpp"
 #include "motionbus/modbus/pdu.hpp"
 #include "motionbus/modbus/rtu.hpp"
+#include "motionbus/modbus/tcp.hpp"
+#include "motionbus/modbus/timing.hpp"
 
 #endif  // MOTIONBUS_MODBUS_HPP

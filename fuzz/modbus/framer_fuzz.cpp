@@ -1,0 +1,85 @@
+// Modbus RTU stream framer. Oracles: never holds more than 256 bytes; every frame it delivers
+// is CRC-valid, for its address, and re-encodes to bytes that occur in the input; after the
+// t3.5 signal a clean frame fed in any chunks is delivered exactly once, unchanged.
+#include <motionbus/modbus/framer.hpp>
+
+#include <cstring>
+
+#include "../fuzz_check.hpp"
+
+namespace mb = motionbus;
+namespace mo = motionbus::modbus;
+
+namespace {
+
+bool occurs_in(const std::uint8_t* hay, std::size_t n, const std::uint8_t* needle, std::size_t k) {
+  for (std::size_t i = 0; i + k <= n; ++i) {
+    if (std::memcmp(hay + i, needle, k) == 0) {
+      return true;
+    }
+  }
+  return false;
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  if (size < 3) {
+    return 0;
+  }
+  const bool server = (data[0] & 1U) != 0;
+  const std::uint8_t address = static_cast<std::uint8_t>(1U + data[1] % 247U);
+  const std::size_t chunk = 1U + data[2] % 32U;
+  mo::rtu_framer f(server ? mo::framer_role::server : mo::framer_role::client, address,
+                   (data[0] & 2U) != 0 ? mo::report_id_format::two_bytes_no_count
+                                       : mo::report_id_format::standard,
+                   (data[0] & 4U) != 0);
+  if (!server) {
+    f.sent(address, data[0] >> 3U);
+  }
+  const std::uint8_t* stream = data + 3;
+  const std::size_t n = size - 3;
+  for (std::size_t at = 0; at < n; at += chunk) {
+    mb::byte_view in(stream + at, chunk < n - at ? chunk : n - at);
+    for (int guard = 0;; ++guard) {
+      MOTIONBUS_FUZZ_CHECK(guard < 100000);
+      const auto r = f.feed(in);
+      MOTIONBUS_FUZZ_CHECK(f.pending() <= mo::max_rtu_size);
+      if (r.is_incomplete()) {
+        break;
+      }
+      MOTIONBUS_FUZZ_CHECK(r.consumed() <= in.size());
+      in = in.subspan(r.consumed());
+      if (r.is_complete()) {
+        std::uint8_t out[mo::max_rtu_size] = {};
+        const auto k = mo::encode_rtu(r.value().slave, r.value().pdu, out);
+        MOTIONBUS_FUZZ_CHECK(k.ok() && occurs_in(stream, n, out, k.value()));
+        MOTIONBUS_FUZZ_CHECK(r.value().slave == address || (server && r.value().slave == 0));
+      }
+    }
+  }
+  (void)f.end_of_frame();
+  MOTIONBUS_FUZZ_CHECK(f.pending() == 0);
+  // a clean frame after the silence
+  std::uint8_t frame[16] = {};
+  const std::uint8_t pdu[] = {0x06, 0x00, 0x01, 0x00, 0x03};
+  const std::size_t k = mo::encode_rtu(address, pdu, frame).value();
+  if (!server) {
+    f.sent(address, 0x06);
+  }
+  std::size_t found = 0;
+  for (std::size_t at = 0; at < k; at += chunk) {
+    mb::byte_view in(frame + at, chunk < k - at ? chunk : k - at);
+    for (;;) {
+      const auto r = f.feed(in);
+      if (r.is_incomplete()) {
+        break;
+      }
+      in = in.subspan(r.consumed());
+      MOTIONBUS_FUZZ_CHECK(r.is_complete() && r.value().pdu.size() == 5);
+      ++found;
+    }
+  }
+  MOTIONBUS_FUZZ_CHECK(found == 1);
+  return 0;
+}

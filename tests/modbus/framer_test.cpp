@@ -1,0 +1,207 @@
+// Modbus RTU stream framing (both roles), RTU timing, TCP MBAP.
+#include "motionbus/modbus/framer.hpp"
+
+#include <doctest/doctest.h>
+
+#include <cstdint>
+#include <vector>
+
+#include "../support/prng.hpp"
+#include "motionbus/modbus/tcp.hpp"
+#include "motionbus/modbus/timing.hpp"
+
+using namespace motionbus;
+using namespace motionbus::modbus;
+
+namespace {
+
+using bytes = std::vector<std::uint8_t>;
+
+bytes rtu(std::uint8_t slave, const bytes& pdu) {
+  std::uint8_t out[256] = {};
+  const auto n = encode_rtu(slave, byte_view(pdu.data(), pdu.size()), out);
+  REQUIRE(n.ok());
+  return bytes(out, out + n.value());
+}
+
+struct event {
+  bool ok;
+  errc error;
+  std::uint8_t slave;
+  bytes pdu;
+};
+
+std::vector<event> run(rtu_framer& f, const bytes& stream, std::size_t chunk) {
+  std::vector<event> out;
+  for (std::size_t at = 0; at < stream.size(); at += chunk) {
+    byte_view in(stream.data() + at, std::min(chunk, stream.size() - at));
+    for (;;) {
+      const auto r = f.feed(in);
+      if (r.is_incomplete()) {
+        break;
+      }
+      in = in.subspan(r.consumed());
+      if (r) {
+        out.push_back({true, errc::ok, r->slave, bytes(r->pdu.begin(), r->pdu.end())});
+      } else {
+        out.push_back({false, r.error(), 0, {}});
+      }
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("server framer: lengths from function codes and counts, any chunking") {
+  const bytes a = rtu(0x11, {0x03, 0x00, 0x6B, 0x00, 0x03});
+  const bytes b = rtu(0x11, {0x10, 0x00, 0x01, 0x00, 0x02, 0x04, 0x00, 0x0A, 0x01, 0x02});
+  const bytes c = rtu(0x11, {0x17, 0, 3, 0, 6, 0, 14, 0, 3, 6, 0, 0xFF, 0, 0xFF, 0, 0xFF});
+  const bytes d = rtu(0x11, {0x11});
+  const bytes other = rtu(0x12, {0x06, 0x00, 0x01, 0x00, 0x03});
+  const bytes bcast = rtu(0x00, {0x06, 0x00, 0x01, 0x00, 0x03});
+  bytes stream;
+  for (const auto* f : {&a, &other, &b, &c, &bcast, &d}) {
+    stream.insert(stream.end(), f->begin(), f->end());
+  }
+  for (std::size_t chunk = 1; chunk <= stream.size(); chunk += 3) {
+    rtu_framer f(framer_role::server, 0x11);
+    const auto ev = run(f, stream, chunk);
+    CAPTURE(chunk);
+    REQUIRE(ev.size() == 5);
+    for (const auto& e : ev) {
+      CHECK(e.ok);
+    }
+    CHECK(ev[0].pdu == bytes{0x03, 0x00, 0x6B, 0x00, 0x03});
+    CHECK(ev[1].pdu.size() == 10);
+    CHECK(ev[2].pdu[0] == 0x17);
+    CHECK(ev[3].slave == 0);  // broadcast taken
+    CHECK(ev[4].pdu == bytes{0x11});
+    CHECK(f.skipped() == 1);  // the frame for slave 0x12
+    CHECK(f.pending() == 0);
+  }
+}
+
+TEST_CASE("framer resynchronises after garbage and a corrupted frame, bounded") {
+  const bytes good = rtu(0x11, {0x03, 0x00, 0x6B, 0x00, 0x03});
+  bytes corrupt = good;
+  corrupt[4] ^= 0x40;
+  bytes stream = {0xFF, 0x11};  // garbage
+  stream.insert(stream.end(), corrupt.begin(), corrupt.end());
+  stream.insert(stream.end(), good.begin(), good.end());
+  rtu_framer f(framer_role::server, 0x11);
+  const auto ev = run(f, stream, 1);
+  int frames = 0;
+  int crc_errors = 0;
+  for (const auto& e : ev) {
+    frames += e.ok ? 1 : 0;
+    crc_errors += (!e.ok && e.error == errc::crc_mismatch) ? 1 : 0;
+  }
+  CHECK(frames == 1);
+  CHECK(crc_errors >= 1);
+  CHECK(f.dropped() >= 2);
+
+  // random garbage never makes the framer hold more than 256 bytes, and a clean frame after
+  // end_of_frame() is always found
+  testutil::splitmix64 rng(3);
+  for (int round = 0; round < 100; ++round) {
+    rtu_framer g(framer_role::server, 0x11);
+    bytes noise(static_cast<std::size_t>(rng.below(600)));
+    for (auto& x : noise) {
+      x = rng.byte();
+    }
+    (void)run(g, noise, 1 + static_cast<std::size_t>(rng.below(40)));
+    CHECK(g.pending() <= 256);
+    (void)g.end_of_frame();
+    const auto ev2 = run(g, good, 1);
+    REQUIRE(!ev2.empty());
+    CHECK(ev2.back().ok);
+  }
+}
+
+TEST_CASE("client framer: response lengths follow the outstanding request") {
+  rtu_framer f(framer_role::client, 0x11);
+  f.sent(0x11, 0x03);
+  const bytes resp = rtu(0x11, {0x03, 0x06, 0x02, 0x2B, 0x00, 0x00, 0x00, 0x64});
+  auto ev = run(f, resp, 1);
+  REQUIRE(ev.size() == 1);
+  CHECK(ev[0].pdu.size() == 8);
+  // exception response: 5 bytes whatever the function
+  f.sent(0x11, 0x03);
+  ev = run(f, rtu(0x11, {0x83, 0x02}), 2);
+  REQUIRE(ev.size() == 1);
+  CHECK(ev[0].pdu == bytes{0x83, 0x02});
+  // SM unit FC11: two bytes and no count
+  rtu_framer sm(framer_role::client, 0x01, report_id_format::two_bytes_no_count);
+  sm.sent(0x01, 0x11);
+  ev = run(sm, rtu(0x01, {0x11, 0x01, 0x00}), 1);
+  REQUIRE(ev.size() == 1);
+  CHECK(ev[0].pdu == bytes{0x11, 0x01, 0x00});
+  // a response from another slave is skipped
+  f.sent(0x11, 0x06);
+  ev = run(f, rtu(0x05, {0x06, 0x00, 0x01, 0x00, 0x03}), 4);
+  CHECK(ev.empty());
+  CHECK(f.skipped() == 1);
+}
+
+TEST_CASE("end_of_frame frames functions without a length rule, and drops partial frames") {
+  rtu_framer plain(framer_role::server, 0x11);
+  CHECK(run(plain, rtu(0x11, {0x41, 0x01, 0x02, 0x03}), 1).empty());
+  // unknown function: garbage by default; the next bytes may look like another frame's start
+  // (here 41 01 = FC01 from slave 0x41), which the t3.5 signal then clears
+  CHECK(plain.dropped() >= 1);
+  CHECK(!plain.end_of_frame().is_complete());
+  CHECK(plain.pending() == 0);
+  rtu_framer f(framer_role::server, 0x11, report_id_format::standard, true);
+  const bytes custom = rtu(0x11, {0x41, 0x01, 0x02, 0x03});
+  auto ev = run(f, custom, 2);
+  CHECK(ev.empty());
+  CHECK(f.pending() == custom.size());
+  const auto r = f.end_of_frame();
+  REQUIRE(r.is_complete());
+  CHECK(r->pdu.size() == 4);
+  CHECK(f.end_of_frame().is_incomplete());
+  const bytes good = rtu(0x11, {0x03, 0x00, 0x6B, 0x00, 0x03});
+  ev = run(f, bytes(good.begin(), good.begin() + 5), 5);
+  CHECK(ev.empty());
+  CHECK(f.end_of_frame().error() == errc::truncated);
+  CHECK(f.pending() == 0);
+}
+
+TEST_CASE("RTU timing: t1.5 and t3.5 from baud, parity and stop bits") {
+  CHECK(bits_per_character(parity::even, 1) == 11);
+  CHECK(bits_per_character(parity::none, 2) == 11);
+  CHECK(bits_per_character(parity::none, 1) == 10);
+  // 9600 8E1: one character = 11 bits = 1145.8 us; t3.5 = 4010.4 us, t1.5 = 1718.75 us
+  CHECK(t35_us(9600) == 4011);
+  CHECK(t15_us(9600) == 1719);
+  CHECK(t35_us(19200) == 2006);
+  CHECK(t35_us(38400) == 1750);  // fixed above 19200
+  CHECK(t15_us(115200) == 750);
+  CHECK(character_time_us(9600, parity::none, 1) == 1042);
+  CHECK(character_time_us(0, parity::none, 1) == 0);
+}
+
+TEST_CASE("TCP: MBAP header around the same PDU codec") {
+  const std::uint8_t pdu[] = {0x03, 0x00, 0x6B, 0x00, 0x03};
+  std::uint8_t out[300] = {};
+  const auto n = encode_tcp(0x1234, 0x11, pdu, out);
+  REQUIRE(n.ok());
+  CHECK(bytes(out, out + n.value()) ==
+        bytes{0x12, 0x34, 0x00, 0x00, 0x00, 0x06, 0x11, 0x03, 0x00, 0x6B, 0x00, 0x03});
+  for (std::size_t k = 0; k < n.value(); ++k) {
+    CHECK(decode_tcp(byte_view(out, k)).is_incomplete());
+  }
+  const auto f = decode_tcp(byte_view(out, n.value() + 3));  // extra bytes: the next frame
+  REQUIRE(f.is_complete());
+  CHECK(f.consumed() == 12);
+  CHECK(f->transaction == 0x1234);
+  CHECK(f->unit == 0x11);
+  CHECK(f->pdu.size() == 5);
+  out[5] = 0x01;  // length 1: no room for a function code
+  CHECK(decode_tcp(byte_view(out, 12)).error() == errc::modbus_pdu_length);
+  out[5] = 0x06;
+  out[3] = 0x01;  // protocol id 1
+  CHECK(decode_tcp(byte_view(out, 12)).error() == errc::invalid_argument);
+  CHECK(encode_tcp(1, 1, byte_view{}, out).error() == errc::modbus_pdu_length);
+}
