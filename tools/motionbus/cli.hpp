@@ -107,6 +107,7 @@ struct protocol_entries {
   std::vector<service> devices;    ///< read <name>
 };
 protocol_entries tformat_entries();
+protocol_entries modbus_entries();
 
 const std::vector<decoder>& decoders();
 const std::vector<encoder>& encoders();

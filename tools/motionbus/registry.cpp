@@ -11,7 +11,7 @@ namespace cli {
 namespace {
 
 const std::vector<protocol_entries>& all_protocols() {
-  static const std::vector<protocol_entries> list = {tformat_entries()};
+  static const std::vector<protocol_entries> list = {tformat_entries(), modbus_entries()};
   return list;
 }
 

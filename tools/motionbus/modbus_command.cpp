@@ -1,0 +1,308 @@
+// Modbus RTU in the CLI:
+//   decode modbus request <hex>                     a server's view of an RTU ADU
+//   decode modbus response <hex> [--request <hex>]  a client's view (checked against the request)
+//   encode modbus request <function> --slave N [--address N] [--quantity N] [--values a,b,...]
+//                                    [--write-address N] [--data HEX]
+#include <motionbus/core/errc.hpp>
+#include <motionbus/modbus.hpp>
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "cli.hpp"
+
+namespace mb = motionbus;
+namespace mo = motionbus::modbus;
+
+namespace {
+
+std::vector<std::int64_t> registers_of(mb::byte_view data) {
+  std::vector<std::int64_t> out;
+  for (std::size_t i = 0; i + 1 < data.size(); i += 2) {
+    out.push_back(mo::register_at(data, i / 2));
+  }
+  return out;
+}
+
+std::vector<std::int64_t> bits_of(mb::byte_view packed, std::size_t count) {
+  std::vector<std::int64_t> out;
+  for (std::size_t i = 0; i < count && i / 8 < packed.size(); ++i) {
+    out.push_back(mo::bit_at(packed, i) ? 1 : 0);
+  }
+  return out;
+}
+
+// Parses the whole input as one RTU ADU.
+std::optional<mo::rtu_frame> adu_of(const std::vector<std::uint8_t>& bytes, std::string& error) {
+  const auto f = mo::decode_rtu(mb::byte_view(bytes.data(), bytes.size()));
+  if (!f.is_complete()) {
+    error = mb::to_string(f.error());
+    return std::nullopt;
+  }
+  return f.value();
+}
+
+cli::outcome decode_request_line(const std::string& input, const cli::options&) {
+  std::string error;
+  const auto bytes = cli::parse_hex(input, error);
+  if (!bytes) {
+    return cli::outcome::failure(error);
+  }
+  const auto adu = adu_of(*bytes, error);
+  if (!adu) {
+    return cli::outcome::failure(error);
+  }
+  const auto q = mo::decode_request(adu->pdu);
+  if (!q.is_complete()) {
+    return cli::outcome::failure(mb::to_string(q.error()));
+  }
+  cli::json_object f;
+  f.add("slave", static_cast<std::int64_t>(adu->slave));
+  f.add("function", static_cast<std::int64_t>(q->function));
+  const std::uint8_t fc = q->function;
+  if (fc <= 0x06 || fc == 0x0F || fc == 0x10 || fc == 0x16 || fc == 0x17) {
+    f.add("address", static_cast<std::int64_t>(q->address));
+  }
+  if (fc <= 0x04 || fc == 0x0F || fc == 0x10 || fc == 0x17) {
+    f.add("quantity", static_cast<std::int64_t>(q->quantity));
+  }
+  if (fc == 0x05 || fc == 0x06) {
+    f.add("value", static_cast<std::int64_t>(q->value));
+  }
+  if (fc == 0x16) {
+    f.add("and_mask", static_cast<std::int64_t>(q->and_mask));
+    f.add("or_mask", static_cast<std::int64_t>(q->or_mask));
+  }
+  if (fc == 0x17) {
+    f.add("write_address", static_cast<std::int64_t>(q->write_address));
+    f.add("write_quantity", static_cast<std::int64_t>(q->write_quantity));
+  }
+  if (fc == 0x0F) {
+    f.add("byte_count", static_cast<std::int64_t>(q->data.size()));
+    f.add("values", bits_of(q->data, q->quantity));
+  } else if (fc == 0x10 || fc == 0x17) {
+    f.add("byte_count", static_cast<std::int64_t>(q->data.size()));
+    f.add("values", registers_of(q->data));
+  } else if (!q->data.empty()) {
+    f.add("data", cli::to_hex(q->data.data(), q->data.size()));
+  }
+  f.add("crc", static_cast<std::int64_t>(adu->crc));
+  return cli::outcome::success(f);
+}
+
+cli::outcome decode_response_line(const std::string& input, const cli::options& opts) {
+  std::string error;
+  const auto bytes = cli::parse_hex(input, error);
+  if (!bytes) {
+    return cli::outcome::failure(error);
+  }
+  const auto adu = adu_of(*bytes, error);
+  if (!adu) {
+    return cli::outcome::failure(error);
+  }
+  cli::json_object f;
+  f.add("slave", static_cast<std::int64_t>(adu->slave));
+  const mb::byte_view pdu = adu->pdu;
+  std::optional<mo::response> checked;
+  std::optional<mo::request> request;
+  std::vector<std::uint8_t> request_bytes;
+  if (const auto text = opts.get("request")) {
+    const auto rb = cli::parse_hex(*text, error);
+    if (!rb) {
+      throw cli::usage_error{"--request needs a hex RTU ADU"};
+    }
+    request_bytes = *rb;
+    const auto radu = mo::decode_rtu(mb::byte_view(request_bytes.data(), request_bytes.size()));
+    if (!radu.is_complete() || !mo::decode_request(radu->pdu).is_complete()) {
+      throw cli::usage_error{"--request is not a valid RTU request"};
+    }
+    if (radu->slave != adu->slave && radu->slave != 0) {
+      return cli::outcome::failure(mb::to_string(mb::errc::modbus_mismatch));
+    }
+    request = mo::decode_request(radu->pdu).value();
+    const auto r = mo::decode_response(pdu, radu->pdu);
+    if (!r.is_complete()) {
+      return cli::outcome::failure(mb::to_string(r.error()));
+    }
+    checked = r.value();
+  }
+  const std::uint8_t fc = static_cast<std::uint8_t>(pdu[0] & 0x7FU);
+  f.add("function", static_cast<std::int64_t>(fc));
+  if ((pdu[0] & mo::exception_flag) != 0U) {
+    if (pdu.size() != 2) {
+      return cli::outcome::failure(mb::to_string(mb::errc::modbus_byte_count));
+    }
+    f.add("exception", static_cast<std::int64_t>(pdu[1]));
+    f.add("crc", static_cast<std::int64_t>(adu->crc));
+    return cli::outcome::success(f);
+  }
+  const bool reads = fc <= 0x04 || fc == 0x17;
+  if (reads) {
+    if (pdu.size() < 2 || pdu[1] != pdu.size() - 2) {
+      return cli::outcome::failure(mb::to_string(mb::errc::modbus_byte_count));
+    }
+    const mb::byte_view data = pdu.subspan(2);
+    f.add("byte_count", static_cast<std::int64_t>(pdu[1]));
+    if (fc <= 0x02) {
+      f.add("values", bits_of(data, request ? request->quantity : data.size() * 8U));
+    } else {
+      if (data.size() % 2 != 0) {
+        return cli::outcome::failure(mb::to_string(mb::errc::modbus_byte_count));
+      }
+      f.add("values", registers_of(data));
+    }
+  } else if (fc == 0x05 || fc == 0x06 || fc == 0x0F || fc == 0x10) {
+    if (pdu.size() != 5) {
+      return cli::outcome::failure(
+          mb::to_string(pdu.size() < 5 ? mb::errc::truncated : mb::errc::modbus_byte_count));
+    }
+    f.add("address", static_cast<std::int64_t>(mo::register_at(pdu.subspan(1), 0)));
+    f.add(fc <= 0x06 ? "value" : "quantity",
+          static_cast<std::int64_t>(mo::register_at(pdu.subspan(1), 1)));
+  } else if (fc == 0x16) {
+    if (pdu.size() != 7) {
+      return cli::outcome::failure(mb::to_string(mb::errc::modbus_byte_count));
+    }
+    f.add("address", static_cast<std::int64_t>(mo::register_at(pdu.subspan(1), 0)));
+    f.add("and_mask", static_cast<std::int64_t>(mo::register_at(pdu.subspan(1), 1)));
+    f.add("or_mask", static_cast<std::int64_t>(mo::register_at(pdu.subspan(1), 2)));
+  } else {
+    // FC11 and anything opaque: the data part as hex (the SM unit's FC11 has no byte count)
+    f.add("data", cli::to_hex(pdu.data() + 1, pdu.size() - 1));
+  }
+  f.add("crc", static_cast<std::int64_t>(adu->crc));
+  return cli::outcome::success(f);
+}
+
+std::vector<std::uint64_t> parse_values(const std::string& text) {
+  std::vector<std::uint64_t> out;
+  std::string item;
+  for (std::size_t i = 0; i <= text.size(); ++i) {
+    if (i == text.size() || text[i] == ',') {
+      const auto v = cli::parse_uint(item);
+      if (!v || *v > 0xFFFF) {
+        throw cli::usage_error{"--values takes comma-separated numbers 0..65535"};
+      }
+      out.push_back(*v);
+      item.clear();
+    } else {
+      item += text[i];
+    }
+  }
+  return out;
+}
+
+std::uint16_t option16(const cli::options& opts, const char* name, std::uint16_t fallback) {
+  const auto v = opts.get(name);
+  if (!v) {
+    return fallback;
+  }
+  const auto n = cli::parse_uint(*v);
+  if (!n || *n > 0xFFFF) {
+    throw cli::usage_error{std::string("--") + name + " takes 0..65535"};
+  }
+  return static_cast<std::uint16_t>(*n);
+}
+
+cli::outcome encode_request(const cli::options& opts) {
+  const auto fc_value = cli::parse_uint(opts.positional.at(0));
+  if (!fc_value || *fc_value == 0 || *fc_value > 0x7F) {
+    throw cli::usage_error{"the function is a number 1..127 (decimal or 0x..)"};
+  }
+  const auto slave_text = opts.get("slave");
+  const auto slave = slave_text ? cli::parse_uint(*slave_text) : std::nullopt;
+  if (!slave || *slave > 255) {
+    throw cli::usage_error{"--slave N (0..247) is required"};
+  }
+  const auto fc = static_cast<std::uint8_t>(*fc_value);
+  const std::uint16_t address = option16(opts, "address", 0);
+  const std::vector<std::uint64_t> values =
+      opts.get("values") ? parse_values(*opts.get("values")) : std::vector<std::uint64_t>{};
+  std::vector<std::uint16_t> regs(values.begin(), values.end());
+  const mb::span<const std::uint16_t> reg_view(regs.data(), regs.size());
+  std::uint8_t pdu[mo::max_pdu_size] = {};
+  mb::result<std::size_t> n = mb::errc::invalid_argument;
+  switch (fc) {
+    case 0x01:
+    case 0x02:
+    case 0x03:
+    case 0x04:
+      n = mo::encode_read(static_cast<mo::function_code>(fc), address,
+                          option16(opts, "quantity", 1), pdu);
+      break;
+    case 0x05:
+      n = mo::encode_write_single_coil(address, !values.empty() && values[0] != 0, pdu);
+      break;
+    case 0x06:
+      n = mo::encode_write_single_register(address, regs.empty() ? 0 : regs[0], pdu);
+      break;
+    case 0x0F: {
+      std::vector<std::uint8_t> packed((values.size() + 7) / 8, 0);
+      for (std::size_t i = 0; i < values.size(); ++i) {
+        if (values[i] != 0) {
+          packed[i / 8] = static_cast<std::uint8_t>(packed[i / 8] | (1U << (i % 8)));
+        }
+      }
+      n = mo::encode_write_multiple_coils(address, static_cast<std::uint16_t>(values.size()),
+                                          mb::byte_view(packed.data(), packed.size()), pdu);
+      break;
+    }
+    case 0x10: n = mo::encode_write_multiple_registers(address, reg_view, pdu); break;
+    case 0x16:
+      if (regs.size() != 2) {
+        throw cli::usage_error{"FC 0x16 takes --values AND,OR"};
+      }
+      n = mo::encode_mask_write_register(address, regs[0], regs[1], pdu);
+      break;
+    case 0x17:
+      n = mo::encode_read_write_multiple_registers(address, option16(opts, "quantity", 1),
+                                                   option16(opts, "write-address", 0), reg_view,
+                                                   pdu);
+      break;
+    default: {
+      std::string error;
+      std::vector<std::uint8_t> data;
+      if (const auto d = opts.get("data")) {
+        const auto parsed = cli::parse_hex(*d, error);
+        if (!parsed) {
+          throw cli::usage_error{"--data takes hex bytes"};
+        }
+        data = *parsed;
+      }
+      n = mo::encode_raw(fc, mb::byte_view(data.data(), data.size()), pdu);
+    }
+  }
+  if (!n) {
+    return cli::outcome::failure(mb::to_string(n.error()));
+  }
+  std::uint8_t adu[mo::max_rtu_size] = {};
+  const auto k =
+      mo::encode_rtu(static_cast<std::uint8_t>(*slave), mb::byte_view(pdu, n.value()), adu);
+  if (!k) {
+    return cli::outcome::failure(mb::to_string(k.error()));
+  }
+  cli::json_object f;
+  f.add("hex", cli::to_hex(adu, k.value()));
+  return cli::outcome::success(f);
+}
+
+}  // namespace
+
+namespace cli {
+
+protocol_entries modbus_entries() {
+  protocol_entries e;
+  e.decoders.push_back({"modbus", "request", &decode_request_line, {}, {}});
+  e.decoders.push_back({"modbus", "response", &decode_response_line, {"request"}, {}});
+  e.encoders.push_back({"modbus",
+                        "request",
+                        &encode_request,
+                        {"slave", "address", "quantity", "values", "write-address", "data"},
+                        {},
+                        1});
+  return e;
+}
+
+}  // namespace cli
