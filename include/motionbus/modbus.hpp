@@ -1,10 +1,12 @@
-// motionbus — Modbus: PDU codec (client and server), RTU and TCP ADUs, RTU timing.
+// motionbus — Modbus: PDU codec (client and server), RTU and TCP ADUs, RTU timing, stream
+// framing, server dispatch.
 #ifndef MOTIONBUS_MODBUS_HPP
 #define MOTIONBUS_MODBUS_HPP
 
 #include "motionbus/modbus/framer.hpp"
 #include "motionbus/modbus/pdu.hpp"
 #include "motionbus/modbus/rtu.hpp"
+#include "motionbus/modbus/server.hpp"
 #include "motionbus/modbus/tcp.hpp"
 #include "motionbus/modbus/timing.hpp"
 
