@@ -3,6 +3,7 @@
 #define MOTIONBUS_MOTIONBUS_HPP
 
 #include "motionbus/core.hpp"
+#include "motionbus/devices/sm_unit.hpp"
 #include "motionbus/devices/ts5700n8500.hpp"
 #include "motionbus/modbus.hpp"
 #include "motionbus/tformat.hpp"
