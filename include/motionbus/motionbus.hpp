@@ -4,6 +4,7 @@
 
 #include "motionbus/core.hpp"
 #include "motionbus/devices/sm_unit.hpp"
+#include "motionbus/devices/sm_unit_emulator.hpp"
 #include "motionbus/devices/ts5700n8500.hpp"
 #include "motionbus/modbus.hpp"
 #include "motionbus/tformat.hpp"

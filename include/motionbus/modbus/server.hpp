@@ -14,6 +14,9 @@
 //   std::uint8_t write_registers(std::uint16_t address,
 //                                motionbus::span<const std::uint16_t>); // FC06, FC10 (16, 17)
 //   std::uint8_t report_server_id(motionbus::mutable_byte_view out, std::size_t& size); // FC11
+//   std::uint8_t admit(motionbus::byte_view pdu);  // optional: a device-specific first check
+//                                                  // of the raw request PDU (e.g. its own
+//                                                  // order of exceptions); 0 lets it through
 // A function whose accessor is missing is answered with exception 01. The request's own limits
 // are checked first (decode_request: exception 01, then 03, then 02), as the spec's state
 // diagrams order them (Modbus App. Protocol §6).
@@ -63,6 +66,12 @@ template <class D>
 struct has_write_registers<D, std::void_t<decltype(std::declval<D&>().write_registers(
                                   std::uint16_t{}, span<const std::uint16_t>{}))>>
     : std::true_type {};
+
+template <class D, class = void>
+struct has_admit : std::false_type {};
+template <class D>
+struct has_admit<D, std::void_t<decltype(std::declval<D&>().admit(byte_view{}))>> : std::true_type {
+};
 
 template <class D, class = void>
 struct has_report_server_id : std::false_type {};
@@ -189,8 +198,14 @@ constexpr result<std::size_t> serve_rtu(Device& dev, std::uint8_t own_address, b
   }
   std::uint8_t pdu[max_pdu_size] = {};
   std::size_t n = 0;
+  std::uint8_t admitted = 0;
+  if constexpr (detail::has_admit<Device>::value) {
+    admitted = dev.admit(frame.pdu);
+  }
   const decode_result<request> q = decode_request(frame.pdu);
-  if (q.is_complete()) {
+  if (admitted != 0U) {
+    n = encode_exception(frame.pdu[0], admitted, mutable_byte_view(pdu, max_pdu_size)).value_or(0);
+  } else if (q.is_complete()) {
     n = detail::serve_pdu(dev, q.value(), mutable_byte_view(pdu, max_pdu_size));
   } else {
     n = encode_exception(frame.pdu[0], static_cast<std::uint8_t>(exception_for(q.error())),

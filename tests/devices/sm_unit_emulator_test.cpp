@@ -1,0 +1,169 @@
+// The SM unit emulator on the server dispatch: login state, password rules, block access,
+// settings limits, error priority 01 > 02 > 03 > 04, broadcasts, time-varying data.
+#include "motionbus/devices/sm_unit_emulator.hpp"
+
+#include <doctest/doctest.h>
+
+#include <cstdint>
+#include <cstring>
+#include <vector>
+
+using namespace motionbus;
+namespace sm = motionbus::devices::sm_unit;
+namespace mo = motionbus::modbus;
+
+namespace {
+
+using bytes = std::vector<std::uint8_t>;
+
+struct bench {
+  sm::emulator unit;
+  std::uint8_t own = 1;
+
+  // Sends an RTU request built by `build` (into a buffer) and returns the response PDU
+  // (empty: no reply).
+  template <class Build>
+  bytes ask(Build build) {
+    std::uint8_t req[256] = {};
+    const auto n = build(mutable_byte_view(req, 256));
+    REQUIRE(n.ok());
+    return serve(byte_view(req, n.value()));
+  }
+  bytes serve(byte_view adu) {
+    std::uint8_t out[256] = {};
+    const auto r = mo::serve_rtu(unit, own, adu, out);
+    REQUIRE(r.ok());
+    if (r.value() == 0) {
+      return {};
+    }
+    const auto f = mo::decode_rtu(byte_view(out, r.value()));
+    REQUIRE(f.is_complete());
+    return bytes(f->pdu.begin(), f->pdu.end());
+  }
+  bytes pdu(std::uint8_t slave, const bytes& p) {
+    std::uint8_t adu[256] = {};
+    const auto n = mo::encode_rtu(slave, byte_view(p.data(), p.size()), adu);
+    REQUIRE(n.ok());
+    return serve(byte_view(adu, n.value()));
+  }
+};
+
+byte_view text(const char* s) {
+  return byte_view(reinterpret_cast<const std::uint8_t*>(s), std::strlen(s));
+}
+
+}  // namespace
+
+TEST_CASE("SM unit emulator: login toggles, password rules, login errors") {
+  bench b;
+  CHECK(b.unit.logged_in());  // at power-on
+  // read login status: 0xFF00
+  CHECK(b.ask([](auto out) { return sm::read_login_status(1, out); }) ==
+        bytes{0x04, 0x02, 0xFF, 0x00});
+  // the password is readable while logged in
+  auto r = b.ask([](auto out) { return sm::read_holding_block(1, sm::holding::password, 8, out); });
+  REQUIRE(r.size() == 18);
+  CHECK(std::memcmp(r.data() + 2, "password", 8) == 0);
+  // log out with the right password
+  CHECK(b.ask([](auto out) { return sm::login(1, text("password"), out); }) ==
+        bytes{0x10, 0x00, 0x64, 0x00, 0x08});
+  CHECK(!b.unit.logged_in());
+  CHECK(b.ask([](auto out) { return sm::read_login_status(1, out); }) ==
+        bytes{0x04, 0x02, 0x00, 0x00});
+  // logged out: password unreadable, writes refused (04), reads of data still fine
+  CHECK(b.ask([](auto out) { return sm::read_holding_block(1, sm::holding::password, 8, out); }) ==
+        bytes{0x83, 0x04});
+  CHECK(b.ask([](auto out) { return sm::write_setting(1, 36, 700, out); }) == bytes{0x86, 0x04});
+  CHECK(b.ask([](auto out) { return sm::set_coil(1, sm::coil::warning_reset, out); }) ==
+        bytes{0x85, 0x04});
+  CHECK(b.ask([](auto out) { return sm::read_instantaneous(1, out); }).size() == 20);
+  // product code and MFG number are readable whatever the state
+  r = b.ask([](auto out) { return sm::read_holding_block(1, sm::holding::product_code, 2, out); });
+  CHECK(r.size() == 6);
+  CHECK(b.ask([](auto out) {
+           return sm::read_holding_block(1, sm::holding::mfg_number, 5, out);
+         }).size() == 12);
+  // a wrong password: login error
+  CHECK(b.ask([](auto out) { return sm::login(1, text("wrongpass"), out); }) == bytes{0x90, 0x04});
+  CHECK(!b.unit.logged_in());
+  // log in again, change the password, and the old one no longer works
+  CHECK(b.ask([](auto out) { return sm::login(1, text("password"), out); }).size() == 5);
+  CHECK(b.unit.logged_in());
+  CHECK(b.ask([](auto out) { return sm::change_password(1, text("N3w-Pass!"), out); }) ==
+        bytes{0x10, 0x00, 0xC8, 0x00, 0x08});
+  CHECK(b.ask([](auto out) { return sm::login(1, text("password"), out); }) == bytes{0x90, 0x04});
+  CHECK(b.ask([](auto out) { return sm::login(1, text("N3w-Pass!"), out); }).size() == 5);
+  CHECK(!b.unit.logged_in());
+  // a password of 7 characters (SP padded) is a data error even while logged out: 03 > 04
+  CHECK(b.pdu(1, {0x10, 0x00, 0xC8, 0x00, 0x08, 0x10, 'a', 'b', 'c', 'd', 'e',
+                  'f',  'g',  ' ',  ' ',  ' ',  ' ',  ' ', ' ', ' ', ' ', ' '}) ==
+        bytes{0x90, 0x03});
+}
+
+TEST_CASE("SM unit emulator: blocks whole, settings limits, error priority") {
+  bench b;
+  // 01: unsupported function, whatever else is wrong
+  CHECK(b.pdu(1, {0x16, 0x01, 0x2C, 0x00, 0x00, 0x00, 0x00}) == bytes{0x96, 0x01});
+  CHECK(b.pdu(1, {0x07}) == bytes{0x87, 0x01});
+  // 02 before 03: an unknown address with a bad quantity
+  CHECK(b.pdu(1, {0x03, 0x01, 0xF4, 0x00, 0x00}) == bytes{0x83, 0x02});
+  // blocks: one address alone, a partial block, a block from its middle
+  CHECK(b.pdu(1, {0x03, 0x00, 0xC8, 0x00, 0x01}) == bytes{0x83, 0x02});
+  CHECK(b.pdu(1, {0x03, 0x00, 0xC8, 0x00, 0x07}) == bytes{0x83, 0x02});
+  CHECK(b.pdu(1, {0x03, 0x01, 0x2D, 0x00, 0x01}) == bytes{0x83, 0x02});
+  CHECK(b.pdu(1, {0x06, 0x01, 0x2C, 0x00, 0x01}) == bytes{0x86, 0x02});  // read-only block
+  CHECK(b.pdu(1, {0x02, 0x00, 0x00, 0x00, 0x01}) == bytes{0x82, 0x02});  // no inputs
+  // 03: values
+  CHECK(b.pdu(1, {0x06, 0x00, 0x00, 0x00, 0xC9}) == bytes{0x86, 0x03});        // torque 201 %
+  CHECK(b.pdu(1, {0x05, 0x00, 0x64, 0x12, 0x34}) == bytes{0x85, 0x03});        // coil value
+  CHECK(b.pdu(1, {0x04, 0x00, 0x64, 0x00, 0x09, 0x00}) == bytes{0x84, 0x03});  // extra byte
+  // settings written and read back, limits respected
+  CHECK(b.pdu(1, {0x06, 0x00, 0x24, 0x03, 0x20}) == bytes{0x06, 0x00, 0x24, 0x03, 0x20});
+  CHECK(b.unit.setting(36) == 800);
+  CHECK(b.pdu(1, {0x03, 0x00, 0x24, 0x00, 0x01}) == bytes{0x03, 0x02, 0x03, 0x20});
+  CHECK(b.pdu(1, {0x10, 0x00, 0x26, 0x00, 0x02, 0x04, 0x00, 0x05, 0x00, 0x3C}) ==
+        bytes{0x10, 0x00, 0x26, 0x00, 0x02});
+  CHECK(b.unit.setting(39) == 60);
+  // input registers 0..8 mirror the settings of DIP switch No.1
+  CHECK(b.pdu(1, {0x04, 0x00, 0x04, 0x00, 0x01}) == bytes{0x04, 0x02, 0x00, 0x01});
+  // FC11 in the SM unit's layout
+  CHECK(b.pdu(1, {0x11}) == bytes{0x11, 0x01, 0x00});
+}
+
+TEST_CASE("SM unit emulator: broadcasts, other addresses, warnings, data over time") {
+  bench b;
+  CHECK(b.pdu(0, {0x06, 0x00, 0x24, 0x02, 0x58}).empty());  // broadcast: executed, no reply
+  CHECK(b.unit.setting(36) == 600);
+  CHECK(b.pdu(2, {0x06, 0x00, 0x24, 0x01, 0x00}).empty());  // another unit
+  CHECK(b.unit.setting(36) == 600);
+  b.unit.inject_warning(sm::warning::overheat);
+  b.unit.inject_warning(sm::warning::torque_upper_b);
+  CHECK(b.pdu(1, {0x04, 0x00, 0xC8, 0x00, 0x05}) ==
+        bytes{0x04, 0x0A, 0x00, 0x02, 0x00, 0x22, 0x00, 0x02, 0x00, 0x20, 0x00, 0x00});
+  CHECK(b.ask([](auto out) { return sm::set_coil(1, sm::coil::warning_reset, out); }).size() == 5);
+  CHECK(b.unit.warning_status() == 0);
+  CHECK(b.unit.warning_count() == 2);
+  CHECK(b.ask([](auto out) {
+           return sm::set_coil(1, sm::coil::warning_count_clear, out);
+         }).size() == 5);
+  CHECK(b.unit.warning_count() == 0);
+  // instantaneous data changes with time, and decodes with the profile
+  const auto at = [&](std::uint32_t ms) {
+    b.unit.set_time_ms(ms);
+    std::uint8_t req[256] = {};
+    const std::size_t n = sm::read_instantaneous(1, req).value();
+    const bytes resp = b.serve(byte_view(req, n));
+    const auto r =
+        mo::decode_response(byte_view(resp.data(), resp.size()), byte_view(req + 1, n - 3));
+    REQUIRE(r.is_complete());
+    return sm::decode_instantaneous(r.value()).value();
+  };
+  const auto v0 = at(0);
+  const auto v1 = at(1500);
+  CHECK(v0[sm::channel::voltage] != v1[sm::channel::voltage]);
+  CHECK(v0[sm::channel::voltage] >= 2000);
+  CHECK(v0[sm::channel::acceleration_x] < 0);  // signed channel below zero
+  CHECK(v0[sm::channel::frequency] == 50);
+  // a log channel: 20 samples
+  CHECK(b.ask([](auto out) { return sm::read_log(1, 3, sm::channel::torque, out); }).size() == 42);
+}
