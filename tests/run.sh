@@ -19,7 +19,8 @@ jobs="$(nproc 2>/dev/null || echo 2)"
 bash tools/scripts/ensure-packages.sh \
   cmake ninja-build g++ git clang llvm libclang-rt-14-dev clang-format doctest-dev \
   libbenchmark-dev gcc-arm-none-eabi libstdc++-arm-none-eabi-newlib \
-  g++-s390x-linux-gnu g++-arm-linux-gnueabihf qemu-user
+  g++-s390x-linux-gnu g++-arm-linux-gnueabihf qemu-user \
+  socat pkg-config libmodbus-dev python3-pymodbus
 
 passed=0
 failed=0

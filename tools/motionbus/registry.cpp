@@ -11,7 +11,8 @@ namespace cli {
 namespace {
 
 const std::vector<protocol_entries>& all_protocols() {
-  static const std::vector<protocol_entries> list = {tformat_entries(), modbus_entries()};
+  static const std::vector<protocol_entries> list = {tformat_entries(), modbus_entries(),
+                                                     sm_unit_entries()};
   return list;
 }
 
