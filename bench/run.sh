@@ -7,6 +7,6 @@ build="${MOTIONBUS_BUILD_DIR:-$root/build}/bench-release"
 bash "$root/tools/scripts/ensure-packages.sh" cmake ninja-build g++ libbenchmark-dev
 cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DMOTIONBUS_BUILD_TESTS=OFF \
   -DMOTIONBUS_BUILD_TOOLS=OFF -DMOTIONBUS_BUILD_EXAMPLES=OFF -DMOTIONBUS_BUILD_FUZZ=OFF >/dev/null
-cmake --build "$build" --target motionbus_bench >/dev/null
+cmake --build "$build" --target motionbus_bench | grep -E "error|FAILED" -A5 || true
 "$build/bench/motionbus_bench" --benchmark_repetitions=3 --benchmark_report_aggregates_only=true \
   --benchmark_filter="${1:-.}" "${@:2}"

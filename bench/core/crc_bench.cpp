@@ -54,6 +54,9 @@ constexpr auto bitwise_t = mb::crc_table_size::bitwise;
 BENCHMARK_TEMPLATE(bm_bytes, mb::crc16_modbus<bitwise_t>)->Name("crc16_modbus/bitwise")->Arg(256);
 BENCHMARK_TEMPLATE(bm_bytes, mb::crc16_modbus<nibble_t>)->Name("crc16_modbus/nibble")->Arg(256);
 BENCHMARK_TEMPLATE(bm_bytes, mb::crc16_modbus<byte_t>)->Name("crc16_modbus/byte")->Arg(256);
+BENCHMARK_TEMPLATE(bm_bytes, mb::crc16_modbus<mb::crc_table_size::slice4>)
+    ->Name("crc16_modbus/slice4")
+    ->Arg(256);
 BENCHMARK_TEMPLATE(bm_bytes, mb::crc8_tformat<bitwise_t>)->Name("crc8_tformat/bitwise")->Arg(256);
 BENCHMARK_TEMPLATE(bm_bytes, mb::crc8_tformat<nibble_t>)->Name("crc8_tformat/nibble")->Arg(256);
 BENCHMARK_TEMPLATE(bm_bytes, mb::crc8_tformat<byte_t>)->Name("crc8_tformat/byte")->Arg(256);

@@ -27,8 +27,10 @@ std::uint32_t all_tables_agree_bits(std::uint64_t bits, unsigned count) {
   const std::uint32_t a = crc<Spec, crc_table_size::bitwise>::compute_bits(bits, count);
   const std::uint32_t b = crc<Spec, crc_table_size::nibble>::compute_bits(bits, count);
   const std::uint32_t c = crc<Spec, crc_table_size::byte>::compute_bits(bits, count);
+  const std::uint32_t d = crc<Spec, crc_table_size::slice4>::compute_bits(bits, count);
   REQUIRE(a == b);
   REQUIRE(a == c);
+  REQUIRE(a == d);
   return a;
 }
 
@@ -78,6 +80,7 @@ void random_long_inputs(std::uint64_t seed) {
     REQUIRE(crc<Spec, crc_table_size::bitwise>::compute(view) == reference);
     REQUIRE(crc<Spec, crc_table_size::nibble>::compute(view) == reference);
     REQUIRE(crc<Spec, crc_table_size::byte>::compute(view) == reference);
+    REQUIRE(crc<Spec, crc_table_size::slice4>::compute(view) == reference);
 
     // Incremental: split anywhere, feed byte-wise, then bit-wise in random-sized pieces.
     const std::size_t split =
@@ -198,6 +201,7 @@ void check_catalogue_entry() {
   CHECK(crc<spec, crc_table_size::byte>::compute(check_input) == Check);
   CHECK(crc<spec, crc_table_size::nibble>::compute(check_input) == Check);
   CHECK(crc<spec, crc_table_size::bitwise>::compute(check_input) == Check);
+  CHECK(crc<spec, crc_table_size::slice4>::compute(check_input) == Check);
   CHECK(ref::crc_of_bytes(model_of<spec>(), {check_input, check_input + 9}) == Check);
 }
 

@@ -27,6 +27,11 @@ static_assert(all_tables<mb::crc4_biss, 0x1>(check_input), "BiSS CRC4 check valu
 // Modbus over Serial Line V1.02: 11 03 00 6B 00 03 is followed by CRC bytes 76 87.
 constexpr std::uint8_t modbus_frame[] = {0x11, 0x03, 0x00, 0x6B, 0x00, 0x03};
 static_assert(mb::crc16_modbus<>::compute(modbus_frame) == 0x8776, "Modbus example frame");
+static_assert(mb::crc16_modbus<mb::crc_table_size::slice4>::compute(check_input) == 0x4B37,
+              "CRC-16/MODBUS, slice-by-4");
+static_assert(mb::crc<mb::crc_spec<32, 0x04C11DB7, 0xFFFFFFFF, true, true, 0xFFFFFFFF>,
+                      mb::crc_table_size::slice4>::compute(check_input) == 0xCBF43926U,
+              "CRC-32, slice-by-4");
 
 // A frame with its CRC appended (low byte first) has residue 0 for CRC-16/MODBUS.
 constexpr std::uint8_t modbus_with_crc[] = {0x11, 0x03, 0x00, 0x6B, 0x00, 0x03, 0x76, 0x87};

@@ -27,7 +27,9 @@ namespace motionbus {
 
 /// Table size used by a CRC engine: 256 entries (a byte at a time), 16 entries (a nibble at a
 /// time) or none (a bit at a time).
-enum class crc_table_size : std::uint16_t { bitwise = 0, nibble = 16, byte = 256 };
+/// `slice4` (4 x 256 entries) processes four bytes per step; it applies to reflected CRCs of
+/// width 8..32 (CRC-16/MODBUS, CRC-32) and falls back to the 256-entry table otherwise.
+enum class crc_table_size : std::uint16_t { bitwise = 0, nibble = 16, byte = 256, slice4 = 1024 };
 
 /// The table size used when none is given (configurable with MOTIONBUS_CRC_DEFAULT_TABLE).
 inline constexpr crc_table_size default_crc_table =
@@ -102,6 +104,34 @@ struct crc_kernel {
       }
     }
     return true;
+  }
+
+  /// Slice tables: t[k][i] = register change of byte i followed by k zero bytes (reflected).
+  static constexpr std::array<std::array<uint_least_bits_t<reg_bits>, 256>, 4>
+  make_slices() noexcept {
+    std::array<std::array<uint_least_bits_t<reg_bits>, 256>, 4> t{};
+    t[0] = make_table<8>();
+    for (std::size_t k = 1; k < 4U; ++k) {
+      for (std::uint32_t i = 0; i < 256U; ++i) {
+        const std::uint32_t prev = t[k - 1U][i];
+        const std::uint32_t rest = reg_bits > 8U ? (prev >> 8U) : 0U;
+        t[k][i] = static_cast<uint_least_bits_t<reg_bits>>(rest ^ t[0][prev & 0xFFU]);
+      }
+    }
+    return t;
+  }
+  struct slice_holder {
+    static constexpr std::array<std::array<uint_least_bits_t<reg_bits>, 256>, 4> tables =
+        make_slices();
+  };
+  static constexpr bool can_slice = Reflected && Width >= 8U;
+
+  /// Feeds four bytes b0..b3 (b0 first) with the slice tables (reflected, width 8..32).
+  static constexpr std::uint32_t step_slice4(std::uint32_t reg, std::uint32_t word) noexcept {
+    const auto& t = slice_holder::tables;
+    const std::uint32_t x = reg ^ word;
+    return static_cast<std::uint32_t>(t[3][x & 0xFFU]) ^ t[2][(x >> 8U) & 0xFFU] ^
+           t[1][(x >> 16U) & 0xFFU] ^ t[0][x >> 24U];
   }
 
   template <unsigned ChunkBits>
@@ -187,9 +217,11 @@ template <class Spec, crc_table_size Table = default_crc_table>
 class crc {
   using kernel = detail::crc_kernel<Spec::width, Spec::poly, Spec::refin>;
   static constexpr unsigned chunk_bits =
-      Table == crc_table_size::byte ? 8U : (Table == crc_table_size::nibble ? 4U : 1U);
+      (Table == crc_table_size::byte || Table == crc_table_size::slice4)
+          ? 8U
+          : (Table == crc_table_size::nibble ? 4U : 1U);
   static_assert(Table == crc_table_size::byte || Table == crc_table_size::nibble ||
-                    Table == crc_table_size::bitwise,
+                    Table == crc_table_size::bitwise || Table == crc_table_size::slice4,
                 "unknown CRC table size");
 
  public:
@@ -229,6 +261,20 @@ class crc {
       acc ^= acc >> 16U;
       acc ^= acc >> 8U;
       reg_ ^= static_cast<std::uint32_t>(acc & 0xFFU);
+    } else if constexpr (Table == crc_table_size::slice4 && kernel::can_slice) {
+      std::uint32_t reg = reg_;
+      std::size_t i = 0;
+      for (; i + 4U <= data.size(); i += 4U) {
+        const std::uint32_t word = static_cast<std::uint32_t>(data[i]) |
+                                   (static_cast<std::uint32_t>(data[i + 1U]) << 8U) |
+                                   (static_cast<std::uint32_t>(data[i + 2U]) << 16U) |
+                                   (static_cast<std::uint32_t>(data[i + 3U]) << 24U);
+        reg = kernel::step_slice4(reg, word);
+      }
+      for (; i < data.size(); ++i) {
+        reg = kernel::template feed<8>(reg, data[i], 8U);
+      }
+      reg_ = reg;
     } else {
       for (std::size_t i = 0; i < data.size(); ++i) {
         reg_ = kernel::template feed<chunk_bits>(reg_, data[i], 8U);
@@ -292,8 +338,11 @@ class crc {
     return crc().update_bits(bits, count).value();
   }
 
-  /// The table this engine uses (empty for bitwise). Exposed for size reports and tests.
-  static constexpr std::size_t table_entries() noexcept { return static_cast<std::size_t>(Table); }
+  /// Entries of the tables this engine uses (0 for bitwise). Exposed for size reports and tests.
+  static constexpr std::size_t table_entries() noexcept {
+    return Table == crc_table_size::slice4 && !kernel::can_slice ? 256U
+                                                                 : static_cast<std::size_t>(Table);
+  }
 
  private:
   static constexpr std::uint32_t initial_register() noexcept {

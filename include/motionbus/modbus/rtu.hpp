@@ -32,6 +32,8 @@ struct rtu_frame {
 
 /// Wraps `pdu` for `slave` (0 broadcast, 1..247). Errors: modbus_slave_address (248..255),
 /// modbus_pdu_length (empty or > 253), buffer_too_small. Nothing is written on error.
+/// `Table` selects the CRC table (e.g. crc_table_size::slice4 on hosts, bitwise for flash).
+template <crc_table_size Table = default_crc_table>
 constexpr result<std::size_t> encode_rtu(std::uint8_t slave, byte_view pdu,
                                          mutable_byte_view out) noexcept {
   if (slave > max_unicast_address) {
@@ -48,7 +50,7 @@ constexpr result<std::size_t> encode_rtu(std::uint8_t slave, byte_view pdu,
   for (std::size_t i = 0; i < pdu.size(); ++i) {
     out[1U + i] = pdu[i];
   }
-  const std::uint16_t c = crc16::compute(byte_view(out.data(), n - 2U));
+  const std::uint16_t c = crc16_modbus<Table>::compute(byte_view(out.data(), n - 2U));
   out[n - 2U] = static_cast<std::uint8_t>(c & 0xFFU);
   out[n - 1U] = static_cast<std::uint8_t>(c >> 8U);
   return n;
@@ -57,6 +59,7 @@ constexpr result<std::size_t> encode_rtu(std::uint8_t slave, byte_view pdu,
 /// Decodes a whole RTU ADU (the bytes between two silent intervals). Failed (consumed = size):
 /// modbus_pdu_length (fewer than 4 or more than 256 bytes), crc_mismatch (expected = computed,
 /// received = sent), modbus_slave_address (248..255).
+template <crc_table_size Table = default_crc_table>
 constexpr decode_result<rtu_frame> decode_rtu(byte_view adu) noexcept {
   const std::size_t n = adu.size();
   if (n < min_rtu_size || n > max_rtu_size) {
@@ -64,7 +67,7 @@ constexpr decode_result<rtu_frame> decode_rtu(byte_view adu) noexcept {
   }
   rtu_frame f;
   f.crc = static_cast<std::uint16_t>(adu[n - 2U] | (adu[n - 1U] << 8U));
-  const std::uint16_t computed = crc16::compute(adu.first(n - 2U));
+  const std::uint16_t computed = crc16_modbus<Table>::compute(adu.first(n - 2U));
   if (computed != f.crc) {
     return decode_failure{errc::crc_mismatch, n, computed, f.crc};
   }
