@@ -12,6 +12,8 @@
 #include <vector>
 
 #include "cli.hpp"
+#include "modbus_io.hpp"
+#include "serial.hpp"
 
 namespace mb = motionbus;
 namespace mo = motionbus::modbus;
@@ -206,7 +208,8 @@ std::uint16_t option16(const cli::options& opts, const char* name, std::uint16_t
   return static_cast<std::uint16_t>(*n);
 }
 
-cli::outcome encode_request(const cli::options& opts) {
+// Builds the request ADU from the options; an error code when the codec refuses it.
+std::vector<std::uint8_t> build_request(const cli::options& opts, std::string& error) {
   const auto fc_value = cli::parse_uint(opts.positional.at(0));
   if (!fc_value || *fc_value == 0 || *fc_value > 0x7F) {
     throw cli::usage_error{"the function is a number 1..127 (decimal or 0x..)"};
@@ -262,10 +265,10 @@ cli::outcome encode_request(const cli::options& opts) {
                                                    pdu);
       break;
     default: {
-      std::string error;
+      std::string hex_error;
       std::vector<std::uint8_t> data;
       if (const auto d = opts.get("data")) {
-        const auto parsed = cli::parse_hex(*d, error);
+        const auto parsed = cli::parse_hex(*d, hex_error);
         if (!parsed) {
           throw cli::usage_error{"--data takes hex bytes"};
         }
@@ -275,17 +278,68 @@ cli::outcome encode_request(const cli::options& opts) {
     }
   }
   if (!n) {
-    return cli::outcome::failure(mb::to_string(n.error()));
+    error = mb::to_string(n.error());
+    return {};
   }
   std::uint8_t adu[mo::max_rtu_size] = {};
   const auto k =
       mo::encode_rtu(static_cast<std::uint8_t>(*slave), mb::byte_view(pdu, n.value()), adu);
   if (!k) {
-    return cli::outcome::failure(mb::to_string(k.error()));
+    error = mb::to_string(k.error());
+    return {};
+  }
+  return std::vector<std::uint8_t>(adu, adu + k.value());
+}
+
+cli::outcome encode_request(const cli::options& opts) {
+  std::string error;
+  const auto adu = build_request(opts, error);
+  if (adu.empty()) {
+    return cli::outcome::failure(error);
   }
   cli::json_object f;
-  f.add("hex", cli::to_hex(adu, k.value()));
+  f.add("hex", cli::to_hex(adu.data(), adu.size()));
   return cli::outcome::success(f);
+}
+
+// read modbus: one transaction as a client; the response printed like `decode modbus response
+// --request`.
+int read_modbus(const cli::options& opts) {
+  if (!opts.get("function")) {
+    throw cli::usage_error{"--function N is required"};
+  }
+  cli::options request_opts = opts;
+  request_opts.positional = {*opts.get("function")};
+  std::string error;
+  const auto adu = build_request(request_opts, error);
+  if (adu.empty()) {
+    cli::print(cli::outcome::failure(error));
+    return 1;
+  }
+  if (adu[0] == 0) {
+    throw cli::usage_error{"read modbus needs a unicast --slave (1..247)"};
+  }
+  serial::port port;
+  if (!modbus_io::open_port(port, opts)) {
+    return 1;
+  }
+  const auto timeout = cli::parse_uint(opts.get("timeout-ms").value_or("1000"));
+  if (!timeout || *timeout > 60000) {
+    throw cli::usage_error{"--timeout-ms takes 0..60000"};
+  }
+  const auto e = modbus_io::transact(port, adu[0], adu.data(), adu.size(),
+                                     mo::report_id_format::standard, static_cast<int>(*timeout));
+  if (!e.error.empty()) {
+    cli::print(cli::outcome::failure(e.error));
+    return 1;
+  }
+  std::uint8_t response[mo::max_rtu_size] = {};
+  const auto k = mo::encode_rtu(adu[0], mb::byte_view(e.pdu.data(), e.pdu.size()), response);
+  cli::options decode_opts;
+  decode_opts.values["request"] = cli::to_hex(adu.data(), adu.size());
+  const cli::outcome o = decode_response_line(cli::to_hex(response, k.value_or(0)), decode_opts);
+  cli::print(o);
+  return o.ok ? 0 : 1;
 }
 
 }  // namespace
@@ -302,6 +356,11 @@ protocol_entries modbus_entries() {
                         {"slave", "address", "quantity", "values", "write-address", "data"},
                         {},
                         1});
+  e.devices.push_back({"modbus",
+                       &read_modbus,
+                       {"device", "slave", "function", "address", "quantity", "values",
+                        "write-address", "data", "baud", "parity", "stop-bits", "timeout-ms"},
+                       {}});
   return e;
 }
 

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "cli.hpp"
+#include "modbus_io.hpp"
 #include "serial.hpp"
 
 namespace mb = motionbus;
@@ -37,38 +38,6 @@ unsigned option(const cli::options& opts, const char* name, unsigned fallback, u
   return static_cast<unsigned>(*n);
 }
 
-serial::settings line_settings(const cli::options& opts) {
-  serial::settings s;
-  s.baud = option(opts, "baud", sm::baud, 4000000);
-  const std::string parity = opts.get("parity").value_or("E");
-  if (parity != "E" && parity != "N" && parity != "O") {
-    throw cli::usage_error{"--parity is E, N or O"};
-  }
-  s.parity = parity[0];
-  s.stop_bits = option(opts, "stop-bits", 1, 2);
-  if (s.stop_bits == 0) {
-    throw cli::usage_error{"--stop-bits is 1 or 2"};
-  }
-  return s;
-}
-
-bool open_port(serial::port& port, const cli::options& opts) {
-  const auto device = opts.get("device");
-  if (!device) {
-    throw cli::usage_error{"--device PATH is required"};
-  }
-  std::string warning;
-  std::string error;
-  if (!port.open(*device, line_settings(opts), warning, error)) {
-    std::cerr << "motionbus: " << error << '\n';
-    return false;
-  }
-  if (!warning.empty()) {
-    std::cerr << "motionbus: " << *device << ": " << warning << '\n';
-  }
-  return true;
-}
-
 std::uint8_t slave_of(const cli::options& opts) {
   const unsigned slave = option(opts, "slave", 1, 247);
   if (slave == 0) {
@@ -80,13 +49,13 @@ std::uint8_t slave_of(const cli::options& opts) {
 int serve_sm_unit(const cli::options& opts) {
   serial::port port;
   const std::uint8_t slave = slave_of(opts);
-  if (!open_port(port, opts)) {
+  if (!modbus_io::open_port(port, opts)) {
     return 1;
   }
   serial::install_stop_handler();
   sm::emulator unit;
   mo::rtu_framer rx(mo::framer_role::server, slave);
-  const serial::settings s = line_settings(opts);
+  const serial::settings s = modbus_io::line_settings(opts);
   const mo::parity p =
       s.parity == 'N' ? mo::parity::none : (s.parity == 'O' ? mo::parity::odd : mo::parity::even);
   // t3.5, but at least the SM unit's own 5 ms silent interval; the OS adds its own delays
@@ -127,40 +96,9 @@ int serve_sm_unit(const cli::options& opts) {
   return 0;
 }
 
-// One request/response exchange; the response PDU, or an error code.
-struct exchange {
-  std::vector<std::uint8_t> pdu;
-  std::string error;
-};
-
-exchange transact(serial::port& port, std::uint8_t slave, const std::uint8_t* adu, std::size_t size,
-                  mo::report_id_format fc11 = mo::report_id_format::standard) {
-  port.flush_input();
-  if (!port.write_all(adu, size)) {
-    return {{}, "write_error"};
-  }
-  mo::rtu_framer rx(mo::framer_role::client, slave, fc11);
-  rx.sent(slave, adu[1]);
-  const std::uint32_t deadline = serial::now_us() + 1000000U;
-  std::uint8_t buffer[256];
-  while (static_cast<std::int32_t>(deadline - serial::now_us()) > 0) {
-    const long n = port.read_some(buffer, sizeof buffer, 20);
-    if (n < 0) {
-      return {{}, "read_error"};
-    }
-    mb::byte_view in(buffer, static_cast<std::size_t>(n));
-    for (;;) {
-      const auto r = rx.feed(in);
-      if (r.is_incomplete()) {
-        break;
-      }
-      in = in.subspan(r.consumed());
-      if (r.is_complete()) {
-        return {std::vector<std::uint8_t>(r->pdu.begin(), r->pdu.end()), {}};
-      }
-    }
-  }
-  return {{}, "timeout"};
+modbus_io::exchange transact(serial::port& port, std::uint8_t slave, const std::uint8_t* adu,
+                             std::size_t size) {
+  return modbus_io::transact(port, slave, adu, size, mo::report_id_format::standard, 1000);
 }
 
 std::string decimal(std::int32_t raw, const sm::unit_info& u) {
@@ -177,7 +115,7 @@ std::string decimal(std::int32_t raw, const sm::unit_info& u) {
 int read_sm_unit(const cli::options& opts) {
   serial::port port;
   const std::uint8_t slave = slave_of(opts);
-  if (!open_port(port, opts)) {
+  if (!modbus_io::open_port(port, opts)) {
     return 1;
   }
   const std::string password = opts.get("password").value_or("password");
@@ -188,7 +126,7 @@ int read_sm_unit(const cli::options& opts) {
   };
   // Login status; log in if needed (writing the password toggles the state).
   std::size_t n = sm::read_login_status(slave, adu).value();
-  exchange e = transact(port, slave, adu, n);
+  modbus_io::exchange e = transact(port, slave, adu, n);
   if (!e.error.empty()) {
     return fail(e.error);
   }

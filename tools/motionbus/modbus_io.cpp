@@ -1,0 +1,84 @@
+// Modbus RTU transactions on a serial port for the CLI.
+#include "modbus_io.hpp"
+
+#include <motionbus/modbus/framer.hpp>
+
+#include <iostream>
+
+namespace mb = motionbus;
+namespace mo = motionbus::modbus;
+
+namespace modbus_io {
+
+exchange transact(serial::port& port, std::uint8_t slave, const std::uint8_t* adu, std::size_t size,
+                  mo::report_id_format fc11, int timeout_ms) {
+  port.flush_input();
+  if (!port.write_all(adu, size)) {
+    return {{}, "write_error"};
+  }
+  mo::rtu_framer rx(mo::framer_role::client, slave, fc11);
+  rx.sent(slave, adu[1]);
+  const std::uint32_t deadline = serial::now_us() + static_cast<std::uint32_t>(timeout_ms) * 1000U;
+  std::uint8_t buffer[256];
+  while (static_cast<std::int32_t>(deadline - serial::now_us()) > 0) {
+    const long n = port.read_some(buffer, sizeof buffer, 20);
+    if (n < 0) {
+      return {{}, "read_error"};
+    }
+    mb::byte_view in(buffer, static_cast<std::size_t>(n));
+    for (;;) {
+      const auto r = rx.feed(in);
+      if (r.is_incomplete()) {
+        break;
+      }
+      in = in.subspan(r.consumed());
+      if (r.is_complete()) {
+        return {std::vector<std::uint8_t>(r->pdu.begin(), r->pdu.end()), {}};
+      }
+    }
+  }
+  return {{}, "timeout"};
+}
+
+serial::settings line_settings(const cli::options& opts) {
+  serial::settings s;
+  s.baud = 9600;
+  if (const auto b = opts.get("baud")) {
+    const auto v = cli::parse_uint(*b);
+    if (!v || *v == 0 || *v > 4000000) {
+      throw cli::usage_error{"--baud needs a rate up to 4000000"};
+    }
+    s.baud = static_cast<unsigned>(*v);
+  }
+  const std::string parity = opts.get("parity").value_or("E");
+  if (parity != "E" && parity != "N" && parity != "O") {
+    throw cli::usage_error{"--parity is E, N or O"};
+  }
+  s.parity = parity[0];
+  if (const auto sb = opts.get("stop-bits")) {
+    if (*sb != "1" && *sb != "2") {
+      throw cli::usage_error{"--stop-bits is 1 or 2"};
+    }
+    s.stop_bits = *sb == "2" ? 2U : 1U;
+  }
+  return s;
+}
+
+bool open_port(serial::port& port, const cli::options& opts) {
+  const auto device = opts.get("device");
+  if (!device) {
+    throw cli::usage_error{"--device PATH is required"};
+  }
+  std::string warning;
+  std::string error;
+  if (!port.open(*device, line_settings(opts), warning, error)) {
+    std::cerr << "motionbus: " << error << '\n';
+    return false;
+  }
+  if (!warning.empty()) {
+    std::cerr << "motionbus: " << *device << ": " << warning << '\n';
+  }
+  return true;
+}
+
+}  // namespace modbus_io

@@ -1,0 +1,33 @@
+// Modbus RTU transactions on a serial port for the CLI (client side).
+#ifndef MOTIONBUS_TOOLS_MODBUS_IO_HPP
+#define MOTIONBUS_TOOLS_MODBUS_IO_HPP
+
+#include <motionbus/modbus/pdu.hpp>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "cli.hpp"
+#include "serial.hpp"
+
+namespace modbus_io {
+
+/// The response PDU to one request ADU, or an error code ("timeout", "read_error", ...).
+struct exchange {
+  std::vector<std::uint8_t> pdu;
+  std::string error;
+};
+
+exchange transact(serial::port& port, std::uint8_t slave, const std::uint8_t* adu, std::size_t size,
+                  motionbus::modbus::report_id_format fc11, int timeout_ms);
+
+/// Line settings from --baud, --parity (E, N, O) and --stop-bits; defaults 9600 8E1.
+serial::settings line_settings(const cli::options& opts);
+
+/// Opens --device with those settings; false (message on stderr) when it cannot.
+bool open_port(serial::port& port, const cli::options& opts);
+
+}  // namespace modbus_io
+
+#endif
