@@ -45,6 +45,26 @@ echo "    \$ motionbus decode tformat response 1a2045230111341200c0aa"
 echo "    $("$cli" decode tformat response 1a2045230111341200c0aa)"
 echo
 
+echo "== Modbus RTU: client <-> Tsubaki SM unit emulator over a pseudo-terminal pair (9600 8E1)"
+socat pty,raw,echo=0,link="$pty_dir/unit" pty,raw,echo=0,link="$pty_dir/master" &
+socat2_pid=$!
+for _ in $(seq 50); do [ -e "$pty_dir/master" ] && break; sleep 0.1; done
+"$cli" serve sm-unit --device "$pty_dir/unit" 2>/dev/null &
+sm_pid=$!
+sleep 0.3
+pretty_sm() {
+  sed -E 's/.*"voltage":\{"value":([^,]*),.*"current":\{"value":([^,]*),.*"power":\{"value":([^,]*),.*"temperature":\{"value":([^,]*),.*"frequency":\{"value":([^,]*),.*"torque":\{"value":([^,]*),.*/\1 V, \2 A, \3 W, \4 degC, \5 Hz, \6 N.m/'
+}
+for i in 1 2; do
+  echo "  instantaneous data $i: $("$cli" read sm-unit --device "$pty_dir/master" 2>/dev/null | pretty_sm)"
+  sleep 0.5
+done
+echo "  overheat limit (holding 36, 0.1 degC): $("$cli" read modbus --device "$pty_dir/master" --slave 1 --function 3 --address 36 --quantity 1 2>/dev/null)"
+echo "  write 201 % to a torque limit (max 200): $("$cli" read modbus --device "$pty_dir/master" --slave 1 --function 6 --address 0 --values 201 2>/dev/null)"
+echo "  read one address of the password block: $("$cli" read modbus --device "$pty_dir/master" --slave 1 --function 3 --address 200 --quantity 1 2>/dev/null)"
+kill "$sm_pid" "$socat2_pid" 2>/dev/null || true
+echo
+
 echo "== The shared core (examples/core_tour.cpp)"
 "$build/examples/motionbus_example_core_tour"
 echo
