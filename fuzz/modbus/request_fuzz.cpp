@@ -45,6 +45,17 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       n = mo::encode_read_write_multiple_registers(q.address, q.quantity, q.write_address, values,
                                                    out);
       break;
+    case 0x08: n = mo::encode_diagnostics(q.sub_function, q.data, out); break;
+    case 0x18: n = mo::encode_read_fifo_queue(q.address, out); break;
+    case 0x2B:
+      if (q.mei_type == mo::mei_read_device_identification) {
+        n = mo::encode_read_device_identification(q.read_code, q.object_id, out);
+      } else {
+        std::uint8_t mei_data[mo::max_pdu_size] = {q.mei_type};
+        std::memcpy(mei_data + 1, q.data.data(), q.data.size());
+        n = mo::encode_raw(q.function, mb::byte_view(mei_data, q.data.size() + 1U), out);
+      }
+      break;
     default: n = mo::encode_raw(q.function, q.data, out); break;
   }
   MOTIONBUS_FUZZ_CHECK(n.ok() && n.value() == size);

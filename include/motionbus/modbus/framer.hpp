@@ -93,6 +93,22 @@ constexpr std::size_t predict_response_size(
     case 0x11:
       return fc11 == report_id_format::two_bytes_no_count ? 6 : (in.size() < 3U ? 0 : 5U + in[2]);
     case 0x18: return in.size() < 4U ? 0 : 6U + static_cast<std::size_t>((in[2] << 8U) | in[3]);
+    case 0x2B: {  // read device identification: walk the objects as they arrive
+      if (in.size() < 8U) {
+        return 0;
+      }
+      std::size_t at = 8;
+      for (unsigned k = 0; k < in[7]; ++k) {
+        if (in.size() < at + 2U) {
+          return 0;
+        }
+        at += 2U + in[at + 1U];
+        if (at > max_rtu_size) {
+          return at;  // the caller rejects it as too long
+        }
+      }
+      return at + 2U;
+    }
     default: return unknown_length;
   }
 }

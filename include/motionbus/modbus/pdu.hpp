@@ -7,8 +7,9 @@
 // PDUs are function code + data, at most 253 bytes; register values are big-endian on the
 // wire. Decoded values that carry data (packed coils, register bytes, opaque payloads) are
 // views into the caller's input: valid while that buffer is.
-// Implemented: 01, 02, 03, 04, 05, 06, 0F, 10, 11, 16, 17, exception responses with any code,
-// and a raw path for any other function code.
+// Implemented: 01, 02, 03, 04, 05, 06, 07, 08 (all defined sub-functions), 0B, 0C, 0F, 10, 11,
+// 16, 17, 18, 2B/0E (read device identification), exception responses with any code, and a raw
+// path for any other function code.
 #ifndef MOTIONBUS_MODBUS_PDU_HPP
 #define MOTIONBUS_MODBUS_PDU_HPP
 
@@ -83,8 +84,12 @@ struct request {
   std::uint16_t or_mask = 0;         ///< FC16
   std::uint16_t write_address = 0;   ///< FC17
   std::uint16_t write_quantity = 0;  ///< FC17
-  /// FC0F packed coils, FC10/FC17 register bytes (big-endian pairs), or the whole data part of a
-  /// function this codec does not frame. A view into the decoded input.
+  std::uint16_t sub_function = 0;    ///< FC08
+  std::uint8_t mei_type = 0;         ///< FC2B (0x0E: read device identification)
+  std::uint8_t read_code = 0;        ///< FC2B/0E: 1 basic, 2 regular, 3 extended, 4 one object
+  std::uint8_t object_id = 0;        ///< FC2B/0E
+  /// FC0F packed coils, FC10/FC17 register bytes (big-endian pairs), FC08 data, or the whole
+  /// data part of a function this codec does not frame. A view into the decoded input.
   byte_view data{};
 };
 
@@ -99,9 +104,45 @@ struct response {
   std::uint16_t and_mask = 0;       ///< echo: FC16
   std::uint16_t or_mask = 0;        ///< echo: FC16
   std::uint8_t byte_count = 0;
-  /// FC01/02 packed bits, FC03/04/17 register bytes, FC11 payload, raw data. A view into input.
+  std::uint16_t sub_function = 0;   ///< FC08
+  std::uint16_t status = 0;         ///< FC07 (output byte), FC0B, FC0C
+  std::uint16_t event_count = 0;    ///< FC0B, FC0C
+  std::uint16_t message_count = 0;  ///< FC0C
+  std::uint16_t fifo_count = 0;     ///< FC18
+  std::uint8_t conformity = 0;      ///< FC2B/0E
+  bool more_follows = false;        ///< FC2B/0E
+  std::uint8_t next_object = 0;     ///< FC2B/0E
+  std::uint8_t object_count = 0;    ///< FC2B/0E
+  /// FC01/02 packed bits, FC03/04/17/18 register bytes, FC08 data, FC0C events, FC11 payload,
+  /// FC2B/0E objects (id, length, value ...), raw data. A view into the input.
   byte_view data{};
 };
+
+/// FC08 sub-functions (Modbus over Serial Line §6.1).
+namespace diagnostic {
+inline constexpr std::uint16_t return_query_data = 0x00;
+inline constexpr std::uint16_t restart_communications = 0x01;
+inline constexpr std::uint16_t return_diagnostic_register = 0x02;
+inline constexpr std::uint16_t change_ascii_delimiter = 0x03;
+inline constexpr std::uint16_t force_listen_only = 0x04;
+inline constexpr std::uint16_t clear_counters = 0x0A;
+inline constexpr std::uint16_t return_bus_message_count = 0x0B;
+inline constexpr std::uint16_t return_bus_error_count = 0x0C;
+inline constexpr std::uint16_t return_exception_count = 0x0D;
+inline constexpr std::uint16_t return_server_message_count = 0x0E;
+inline constexpr std::uint16_t return_no_response_count = 0x0F;
+inline constexpr std::uint16_t return_nak_count = 0x10;
+inline constexpr std::uint16_t return_busy_count = 0x11;
+inline constexpr std::uint16_t return_overrun_count = 0x12;
+inline constexpr std::uint16_t clear_overrun_counter = 0x14;
+/// True for the sub-functions defined by the specification.
+constexpr bool is_defined(std::uint16_t sub) noexcept {
+  return sub <= 0x04U || (sub >= 0x0AU && sub <= 0x12U) || sub == 0x14U;
+}
+}  // namespace diagnostic
+
+inline constexpr std::uint8_t mei_read_device_identification = 0x0E;
+inline constexpr std::uint16_t max_fifo_count = 31;
 
 /// Register i of big-endian register bytes (no bounds check beyond the caller's: i < size/2).
 constexpr std::uint16_t register_at(byte_view bytes, std::size_t i) noexcept {
@@ -327,6 +368,82 @@ constexpr result<std::size_t> encode_raw(std::uint8_t function, byte_view data,
   return 1U + data.size();
 }
 
+/// FC08 diagnostics: sub-function and its data (2 bytes for all but 00, which echoes any even
+/// number of bytes). Errors: modbus_illegal_function (undefined sub-function),
+/// modbus_byte_count, modbus_pdu_length, buffer_too_small.
+constexpr result<std::size_t> encode_diagnostics(std::uint16_t sub_function, byte_view data,
+                                                 mutable_byte_view out) noexcept {
+  if (!diagnostic::is_defined(sub_function)) {
+    return errc::modbus_illegal_function;
+  }
+  if (sub_function == diagnostic::return_query_data ? data.size() % 2U != 0U : data.size() != 2U) {
+    return errc::modbus_byte_count;
+  }
+  if (3U + data.size() > max_pdu_size) {
+    return errc::modbus_pdu_length;
+  }
+  if (out.size() < 3U + data.size()) {
+    return errc::buffer_too_small;
+  }
+  out[0] = static_cast<std::uint8_t>(function_code::diagnostics);
+  detail::put_be16(out, 1, sub_function);
+  for (std::size_t i = 0; i < data.size(); ++i) {
+    out[3U + i] = data[i];
+  }
+  return 3U + data.size();
+}
+
+/// FC18: read the FIFO queue at `address`.
+constexpr result<std::size_t> encode_read_fifo_queue(std::uint16_t address,
+                                                     mutable_byte_view out) noexcept {
+  if (out.size() < 3U) {
+    return errc::buffer_too_small;
+  }
+  out[0] = static_cast<std::uint8_t>(function_code::read_fifo_queue);
+  detail::put_be16(out, 1, address);
+  return std::size_t{3};
+}
+
+/// FC2B / MEI 0E: read device identification (read code 1 basic, 2 regular, 3 extended,
+/// 4 one object) from `object_id`. Errors: modbus_quantity (read code), buffer_too_small.
+constexpr result<std::size_t> encode_read_device_identification(std::uint8_t read_code,
+                                                                std::uint8_t object_id,
+                                                                mutable_byte_view out) noexcept {
+  if (read_code < 1U || read_code > 4U) {
+    return errc::modbus_quantity;
+  }
+  if (out.size() < 4U) {
+    return errc::buffer_too_small;
+  }
+  out[0] = static_cast<std::uint8_t>(function_code::encapsulated_interface);
+  out[1] = mei_read_device_identification;
+  out[2] = read_code;
+  out[3] = object_id;
+  return std::size_t{4};
+}
+
+/// One object of a read-device-identification response.
+struct device_object {
+  std::uint8_t id = 0;
+  byte_view value{};
+};
+
+/// The i-th object (0-based) of a checked FC2B/0E response's data; errc::out_of_range past the
+/// last one.
+constexpr result<device_object> object_at(const response& r, std::size_t index) noexcept {
+  std::size_t at = 0;
+  for (std::size_t k = 0; k < r.object_count; ++k) {
+    if (at + 2U > r.data.size() || at + 2U + r.data[at + 1U] > r.data.size()) {
+      return errc::modbus_byte_count;
+    }
+    if (k == index) {
+      return device_object{r.data[at], r.data.subspan(at + 2U, r.data[at + 1U])};
+    }
+    at += 2U + r.data[at + 1U];
+  }
+  return errc::out_of_range;
+}
+
 // ---------------------------------------------------------------------------------------------
 // Server: requests in, responses out
 
@@ -419,6 +536,45 @@ constexpr decode_result<request> decode_request(byte_view pdu) noexcept {
     }
   } else if (f == 0x07 || f == 0x0B || f == 0x0C || f == 0x11) {
     e = exact(1);  // no data: a longer PDU is not read as if it had an address (§3.2 CVEs)
+  } else if (f == 0x08) {
+    if (need(3)) {
+      e = errc::truncated;
+    } else {
+      q.sub_function = detail::be16(pdu, 1);
+      q.data = pdu.subspan(3);
+      if (!diagnostic::is_defined(q.sub_function)) {
+        e = errc::modbus_illegal_function;  // §6.8: unsupported sub-function
+      } else if (q.sub_function == diagnostic::return_query_data ? (q.data.size() % 2U != 0U)
+                                                                 : (q.data.size() != 2U)) {
+        e = errc::modbus_byte_count;
+      } else if (q.sub_function == diagnostic::restart_communications &&
+                 detail::be16(pdu, 3) != 0x0000U && detail::be16(pdu, 3) != 0xFF00U) {
+        e = errc::modbus_coil_value;
+      }
+    }
+  } else if (f == 0x18) {
+    e = exact(3);
+    if (e == errc::ok) {
+      q.address = detail::be16(pdu, 1);
+    }
+  } else if (f == 0x2B) {
+    if (need(2)) {
+      e = errc::truncated;
+    } else {
+      q.mei_type = pdu[1];
+      if (q.mei_type != mei_read_device_identification) {
+        q.data = pdu.subspan(2);  // other MEI types: the server's business
+      } else {
+        e = exact(4);
+        if (e == errc::ok) {
+          q.read_code = pdu[2];
+          q.object_id = pdu[3];
+          if (q.read_code < 1U || q.read_code > 4U) {
+            e = errc::modbus_quantity;  // §6.21: illegal read device ID code → exception 03
+          }
+        }
+      }
+    }
   } else {
     q.data = pdu.subspan(1);  // raw: the server's own business
   }
@@ -589,6 +745,91 @@ constexpr decode_result<response> decode_response(
       if (r.address != q.address || r.and_mask != q.and_mask || r.or_mask != q.or_mask) {
         e = errc::modbus_mismatch;
       }
+    }
+  } else if (f == 0x07) {
+    if (n != 2U) {
+      e = n < 2U ? errc::truncated : errc::modbus_byte_count;
+    } else {
+      r.status = pdu[1];
+    }
+  } else if (f == 0x08) {
+    if (n < 3U) {
+      e = errc::truncated;
+    } else {
+      r.sub_function = detail::be16(pdu, 1);
+      r.data = pdu.subspan(3);
+      if (r.sub_function != q.sub_function) {
+        e = errc::modbus_mismatch;
+      } else if (q.sub_function == diagnostic::return_query_data) {
+        if (r.data.size() != q.data.size()) {
+          e = errc::modbus_byte_count;
+        } else {
+          for (std::size_t i = 0; i < r.data.size(); ++i) {
+            if (r.data[i] != q.data[i]) {
+              e = errc::modbus_mismatch;  // the echo must be exact
+            }
+          }
+        }
+      } else if (r.data.size() != 2U) {
+        e = errc::modbus_byte_count;
+      }
+    }
+  } else if (f == 0x0B) {
+    if (n != 5U) {
+      e = n < 5U ? errc::truncated : errc::modbus_byte_count;
+    } else {
+      r.status = detail::be16(pdu, 1);
+      r.event_count = detail::be16(pdu, 3);
+    }
+  } else if (f == 0x0C) {
+    if (n < 8U) {
+      e = errc::truncated;
+    } else if (pdu[1] != n - 2U || pdu[1] > 6U + 64U) {
+      e = errc::modbus_byte_count;
+    } else {
+      r.byte_count = pdu[1];
+      r.status = detail::be16(pdu, 2);
+      r.event_count = detail::be16(pdu, 4);
+      r.message_count = detail::be16(pdu, 6);
+      r.data = pdu.subspan(8);
+    }
+  } else if (f == 0x18) {
+    if (n < 5U) {
+      e = errc::truncated;
+    } else {
+      const std::size_t count = detail::be16(pdu, 1);
+      r.fifo_count = detail::be16(pdu, 3);
+      if (r.fifo_count > max_fifo_count) {
+        e = errc::modbus_quantity;
+      } else if (count != 2U + 2U * r.fifo_count || n != 3U + count) {
+        e = errc::modbus_byte_count;
+      } else {
+        r.data = pdu.subspan(5);
+      }
+    }
+  } else if (f == 0x2B && q.mei_type == mei_read_device_identification) {
+    if (n < 7U) {
+      e = errc::truncated;
+    } else if (pdu[1] != mei_read_device_identification || pdu[2] != q.read_code) {
+      e = errc::modbus_mismatch;
+    } else {
+      r.conformity = pdu[3];
+      r.more_follows = pdu[4] == 0xFFU;
+      r.next_object = pdu[5];
+      r.object_count = pdu[6];
+      // every object's length must lie inside the PDU
+      std::size_t at = 7;
+      for (unsigned k = 0; k < r.object_count && e == errc::ok; ++k) {
+        if (at + 2U > n || at + 2U + pdu[at + 1U] > n) {
+          e = errc::modbus_byte_count;
+        } else {
+          at += 2U + pdu[at + 1U];
+        }
+      }
+      if (e == errc::ok && at != n) {
+        e = errc::modbus_byte_count;
+      }
+      r.data = pdu.subspan(7);
     }
   } else if (f == 0x11 && fc11 == report_id_format::standard) {
     if (n < 2U) {
