@@ -57,6 +57,9 @@ BENCHMARK_TEMPLATE(bm_bytes, mb::crc16_modbus<byte_t>)->Name("crc16_modbus/byte"
 BENCHMARK_TEMPLATE(bm_bytes, mb::crc16_modbus<mb::crc_table_size::slice4>)
     ->Name("crc16_modbus/slice4")
     ->Arg(256);
+BENCHMARK_TEMPLATE(bm_bytes, mb::crc16_modbus<mb::crc_table_size::slice8>)
+    ->Name("crc16_modbus/slice8")
+    ->Arg(256);
 BENCHMARK_TEMPLATE(bm_bytes, mb::crc8_tformat<bitwise_t>)->Name("crc8_tformat/bitwise")->Arg(256);
 BENCHMARK_TEMPLATE(bm_bytes, mb::crc8_tformat<nibble_t>)->Name("crc8_tformat/nibble")->Arg(256);
 BENCHMARK_TEMPLATE(bm_bytes, mb::crc8_tformat<byte_t>)->Name("crc8_tformat/byte")->Arg(256);

@@ -54,12 +54,12 @@ void bm_fc03_decode(benchmark::State& state) {
   state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations()));
 }
 
-void bm_fc03_decode_slice4(benchmark::State& state) {
+template <mb::crc_table_size Table>
+void bm_fc03_decode_sliced(benchmark::State& state) {
   const auto adu = fc03_response();
   for (auto _ : state) {
     benchmark::DoNotOptimize(adu.data());
-    const auto f =
-        mo::decode_rtu<mb::crc_table_size::slice4>(mb::byte_view(adu.data(), adu.size()));
+    const auto f = mo::decode_rtu<Table>(mb::byte_view(adu.data(), adu.size()));
     const auto r = mo::decode_response(f->pdu, fc03_request_pdu);
     std::uint32_t sum = 0;
     for (std::size_t i = 0; i < 125; ++i) {
@@ -203,7 +203,10 @@ void bm_framer_baseline(benchmark::State& state) {
 
 BENCHMARK(bm_fc03_decode_baseline)->Name("modbus_fc03_125_registers_decode/baseline");
 BENCHMARK(bm_fc03_decode)->Name("modbus_fc03_125_registers_decode/motionbus");
-BENCHMARK(bm_fc03_decode_slice4)->Name("modbus_fc03_125_registers_decode/motionbus_slice4");
+BENCHMARK_TEMPLATE(bm_fc03_decode_sliced, mb::crc_table_size::slice4)
+    ->Name("modbus_fc03_125_registers_decode/motionbus_slice4");
+BENCHMARK_TEMPLATE(bm_fc03_decode_sliced, mb::crc_table_size::slice8)
+    ->Name("modbus_fc03_125_registers_decode/motionbus_slice8");
 BENCHMARK(bm_fc10_encode_baseline)->Name("modbus_fc10_123_registers_encode/baseline");
 BENCHMARK(bm_fc10_encode)->Name("modbus_fc10_123_registers_encode/motionbus");
 BENCHMARK(bm_framer_baseline)->Name("modbus_rtu_framer_64_requests/baseline");

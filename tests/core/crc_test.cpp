@@ -81,6 +81,7 @@ void random_long_inputs(std::uint64_t seed) {
     REQUIRE(crc<Spec, crc_table_size::nibble>::compute(view) == reference);
     REQUIRE(crc<Spec, crc_table_size::byte>::compute(view) == reference);
     REQUIRE(crc<Spec, crc_table_size::slice4>::compute(view) == reference);
+    REQUIRE(crc<Spec, crc_table_size::slice8>::compute(view) == reference);
 
     // Incremental: split anywhere, feed byte-wise, then bit-wise in random-sized pieces.
     const std::size_t split =
@@ -202,6 +203,7 @@ void check_catalogue_entry() {
   CHECK(crc<spec, crc_table_size::nibble>::compute(check_input) == Check);
   CHECK(crc<spec, crc_table_size::bitwise>::compute(check_input) == Check);
   CHECK(crc<spec, crc_table_size::slice4>::compute(check_input) == Check);
+  CHECK(crc<spec, crc_table_size::slice8>::compute(check_input) == Check);
   CHECK(ref::crc_of_bytes(model_of<spec>(), {check_input, check_input + 9}) == Check);
 }
 

@@ -29,6 +29,8 @@ constexpr std::uint8_t modbus_frame[] = {0x11, 0x03, 0x00, 0x6B, 0x00, 0x03};
 static_assert(mb::crc16_modbus<>::compute(modbus_frame) == 0x8776, "Modbus example frame");
 static_assert(mb::crc16_modbus<mb::crc_table_size::slice4>::compute(check_input) == 0x4B37,
               "CRC-16/MODBUS, slice-by-4");
+static_assert(mb::crc16_modbus<mb::crc_table_size::slice8>::compute(check_input) == 0x4B37,
+              "CRC-16/MODBUS, slice-by-8");
 static_assert(mb::crc<mb::crc_spec<32, 0x04C11DB7, 0xFFFFFFFF, true, true, 0xFFFFFFFF>,
                       mb::crc_table_size::slice4>::compute(check_input) == 0xCBF43926U,
               "CRC-32, slice-by-4");

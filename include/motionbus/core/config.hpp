@@ -16,15 +16,17 @@
 #endif
 
 /// Size of the lookup tables used by the named CRCs when the caller does not choose one:
-/// 256 (fastest, 256 entries per CRC in flash), 16 (a nibble table, 16 entries) or 0 (bitwise,
-/// no table). Tables always live in constant (read-only) storage.
+/// 256 (256 entries per CRC), 16 (a nibble table) or 0 (bitwise, no table); on hosts 1024 or
+/// 2048 (slice-by-4 / slice-by-8 for reflected CRCs such as CRC-16/MODBUS; others use 256).
+/// Tables always live in constant (read-only) storage.
 #ifndef MOTIONBUS_CRC_DEFAULT_TABLE
 #define MOTIONBUS_CRC_DEFAULT_TABLE 256
 #endif
 
 #if MOTIONBUS_CRC_DEFAULT_TABLE != 256 && MOTIONBUS_CRC_DEFAULT_TABLE != 16 && \
-    MOTIONBUS_CRC_DEFAULT_TABLE != 0
-#error "MOTIONBUS_CRC_DEFAULT_TABLE must be 256, 16 or 0"
+    MOTIONBUS_CRC_DEFAULT_TABLE != 0 && MOTIONBUS_CRC_DEFAULT_TABLE != 1024 && \
+    MOTIONBUS_CRC_DEFAULT_TABLE != 2048
+#error "MOTIONBUS_CRC_DEFAULT_TABLE must be 0, 16, 256, 1024 or 2048"
 #endif
 
 /// Byte views are std::span under C++20 (when the library provides it), and a minimal

@@ -27,9 +27,16 @@ namespace motionbus {
 
 /// Table size used by a CRC engine: 256 entries (a byte at a time), 16 entries (a nibble at a
 /// time) or none (a bit at a time).
-/// `slice4` (4 x 256 entries) processes four bytes per step; it applies to reflected CRCs of
-/// width 8..32 (CRC-16/MODBUS, CRC-32) and falls back to the 256-entry table otherwise.
-enum class crc_table_size : std::uint16_t { bitwise = 0, nibble = 16, byte = 256, slice4 = 1024 };
+/// `slice4` / `slice8` (4 or 8 x 256 entries) process four or eight bytes per step; they apply
+/// to reflected CRCs of width 8..32 (CRC-16/MODBUS, CRC-32) and fall back to the 256-entry
+/// table otherwise. Meant for hosts and large MCUs, where flash is no concern.
+enum class crc_table_size : std::uint16_t {
+  bitwise = 0,
+  nibble = 16,
+  byte = 256,
+  slice4 = 1024,
+  slice8 = 2048
+};
 
 /// The table size used when none is given (configurable with MOTIONBUS_CRC_DEFAULT_TABLE).
 inline constexpr crc_table_size default_crc_table =
@@ -107,11 +114,12 @@ struct crc_kernel {
   }
 
   /// Slice tables: t[k][i] = register change of byte i followed by k zero bytes (reflected).
-  static constexpr std::array<std::array<uint_least_bits_t<reg_bits>, 256>, 4>
+  template <std::size_t N>
+  static constexpr std::array<std::array<uint_least_bits_t<reg_bits>, 256>, N>
   make_slices() noexcept {
-    std::array<std::array<uint_least_bits_t<reg_bits>, 256>, 4> t{};
+    std::array<std::array<uint_least_bits_t<reg_bits>, 256>, N> t{};
     t[0] = make_table<8>();
-    for (std::size_t k = 1; k < 4U; ++k) {
+    for (std::size_t k = 1; k < N; ++k) {
       for (std::uint32_t i = 0; i < 256U; ++i) {
         const std::uint32_t prev = t[k - 1U][i];
         const std::uint32_t rest = reg_bits > 8U ? (prev >> 8U) : 0U;
@@ -120,18 +128,29 @@ struct crc_kernel {
     }
     return t;
   }
+  template <std::size_t N>
   struct slice_holder {
-    static constexpr std::array<std::array<uint_least_bits_t<reg_bits>, 256>, 4> tables =
-        make_slices();
+    static constexpr std::array<std::array<uint_least_bits_t<reg_bits>, 256>, N> tables =
+        make_slices<N>();
   };
   static constexpr bool can_slice = Reflected && Width >= 8U;
 
   /// Feeds four bytes b0..b3 (b0 first) with the slice tables (reflected, width 8..32).
   static constexpr std::uint32_t step_slice4(std::uint32_t reg, std::uint32_t word) noexcept {
-    const auto& t = slice_holder::tables;
+    const auto& t = slice_holder<4>::tables;
     const std::uint32_t x = reg ^ word;
     return static_cast<std::uint32_t>(t[3][x & 0xFFU]) ^ t[2][(x >> 8U) & 0xFFU] ^
            t[1][(x >> 16U) & 0xFFU] ^ t[0][x >> 24U];
+  }
+
+  /// Feeds eight bytes: `lo` holds b0..b3, `hi` b4..b7 (b0 first).
+  static constexpr std::uint32_t step_slice8(std::uint32_t reg, std::uint32_t lo,
+                                             std::uint32_t hi) noexcept {
+    const auto& t = slice_holder<8>::tables;
+    const std::uint32_t x = reg ^ lo;
+    return static_cast<std::uint32_t>(t[7][x & 0xFFU]) ^ t[6][(x >> 8U) & 0xFFU] ^
+           t[5][(x >> 16U) & 0xFFU] ^ t[4][x >> 24U] ^ t[3][hi & 0xFFU] ^ t[2][(hi >> 8U) & 0xFFU] ^
+           t[1][(hi >> 16U) & 0xFFU] ^ t[0][hi >> 24U];
   }
 
   template <unsigned ChunkBits>
@@ -216,13 +235,18 @@ struct crc_spec {
 template <class Spec, crc_table_size Table = default_crc_table>
 class crc {
   using kernel = detail::crc_kernel<Spec::width, Spec::poly, Spec::refin>;
+  static constexpr bool sliced = Table == crc_table_size::slice4 || Table == crc_table_size::slice8;
   static constexpr unsigned chunk_bits =
-      (Table == crc_table_size::byte || Table == crc_table_size::slice4)
-          ? 8U
-          : (Table == crc_table_size::nibble ? 4U : 1U);
+      (Table == crc_table_size::byte || sliced) ? 8U : (Table == crc_table_size::nibble ? 4U : 1U);
   static_assert(Table == crc_table_size::byte || Table == crc_table_size::nibble ||
-                    Table == crc_table_size::bitwise || Table == crc_table_size::slice4,
+                    Table == crc_table_size::bitwise || sliced,
                 "unknown CRC table size");
+
+  static constexpr std::uint32_t le32(byte_view data, std::size_t i) noexcept {
+    return static_cast<std::uint32_t>(data[i]) | (static_cast<std::uint32_t>(data[i + 1U]) << 8U) |
+           (static_cast<std::uint32_t>(data[i + 2U]) << 16U) |
+           (static_cast<std::uint32_t>(data[i + 3U]) << 24U);
+  }
 
  public:
   using spec = Spec;
@@ -261,15 +285,16 @@ class crc {
       acc ^= acc >> 16U;
       acc ^= acc >> 8U;
       reg_ ^= static_cast<std::uint32_t>(acc & 0xFFU);
-    } else if constexpr (Table == crc_table_size::slice4 && kernel::can_slice) {
+    } else if constexpr (sliced && kernel::can_slice) {
       std::uint32_t reg = reg_;
       std::size_t i = 0;
+      if constexpr (Table == crc_table_size::slice8) {
+        for (; i + 8U <= data.size(); i += 8U) {
+          reg = kernel::step_slice8(reg, le32(data, i), le32(data, i + 4U));
+        }
+      }
       for (; i + 4U <= data.size(); i += 4U) {
-        const std::uint32_t word = static_cast<std::uint32_t>(data[i]) |
-                                   (static_cast<std::uint32_t>(data[i + 1U]) << 8U) |
-                                   (static_cast<std::uint32_t>(data[i + 2U]) << 16U) |
-                                   (static_cast<std::uint32_t>(data[i + 3U]) << 24U);
-        reg = kernel::step_slice4(reg, word);
+        reg = kernel::step_slice4(reg, le32(data, i));
       }
       for (; i < data.size(); ++i) {
         reg = kernel::template feed<8>(reg, data[i], 8U);
@@ -340,8 +365,7 @@ class crc {
 
   /// Entries of the tables this engine uses (0 for bitwise). Exposed for size reports and tests.
   static constexpr std::size_t table_entries() noexcept {
-    return Table == crc_table_size::slice4 && !kernel::can_slice ? 256U
-                                                                 : static_cast<std::size_t>(Table);
+    return sliced && !kernel::can_slice ? 256U : static_cast<std::size_t>(Table);
   }
 
  private:
