@@ -136,3 +136,36 @@ TEST_CASE("FC2B/0E read device identification: objects inside the PDU") {
   }
   CHECK(frames == 1);
 }
+
+TEST_CASE("server responses for FC 07, 08, 0B, 0C, 18, 2B/0E encode to the spec's examples") {
+  std::uint8_t out[64] = {};
+  auto n = encode_exception_status_response(0x6D, out);
+  CHECK(bytes(out, out + n.value()) == bytes{0x07, 0x6D});
+  n = encode_comm_event_counter_response(0xFFFF, 0x0108, out);
+  CHECK(bytes(out, out + n.value()) == bytes{0x0B, 0xFF, 0xFF, 0x01, 0x08});
+  const std::uint8_t events[] = {0x20, 0x00};
+  n = encode_comm_event_log_response(0x0000, 0x0108, 0x0121, events, out);
+  CHECK(bytes(out, out + n.value()) ==
+        bytes{0x0C, 0x08, 0x00, 0x00, 0x01, 0x08, 0x01, 0x21, 0x20, 0x00});
+  const std::uint16_t fifo[] = {0x01B8, 0x1284};
+  n = encode_fifo_response(fifo, out);
+  CHECK(bytes(out, out + n.value()) == bytes{0x18, 0x00, 0x06, 0x00, 0x02, 0x01, 0xB8, 0x12, 0x84});
+  std::uint16_t too_many[32] = {};
+  CHECK(encode_fifo_response(too_many, out).error() == errc::modbus_quantity);
+  const std::uint8_t data[] = {0xA5, 0x37};
+  n = encode_diagnostics(diagnostic::return_query_data, data, out);  // the echo is the same PDU
+  CHECK(bytes(out, out + n.value()) == bytes{0x08, 0x00, 0x00, 0xA5, 0x37});
+  const std::uint8_t objects[] = {0x00, 0x03, 'A', 'B', 'C', 0x01, 0x02, 'P', '1'};
+  n = encode_device_identification_response(1, 0x01, false, 0, 2, objects, out);
+  REQUIRE(n.ok());
+  const bytes resp(out, out + n.value());
+  const bytes q = {0x2B, 0x0E, 0x01, 0x00};
+  const auto r = decode_response(view(resp), view(q));
+  REQUIRE(r.is_complete());
+  CHECK(r->object_count == 2);
+  CHECK(object_at(r.value(), 1)->id == 0x01);
+  CHECK(encode_device_identification_response(1, 0x01, false, 0, 3, objects, out).error() ==
+        errc::modbus_byte_count);
+  CHECK(encode_comm_event_log_response(0, 0, 0, byte_view(objects, 9), mutable_byte_view(out, 10))
+            .error() == errc::buffer_too_small);
+}

@@ -666,6 +666,106 @@ constexpr result<std::size_t> encode_write_response(const request& q,
   return n;
 }
 
+/// FC07 response: the exception status byte.
+constexpr result<std::size_t> encode_exception_status_response(std::uint8_t status,
+                                                               mutable_byte_view out) noexcept {
+  if (out.size() < 2U) {
+    return errc::buffer_too_small;
+  }
+  out[0] = static_cast<std::uint8_t>(function_code::read_exception_status);
+  out[1] = status;
+  return std::size_t{2};
+}
+
+/// FC0B response: status word (0xFFFF busy, 0x0000 ready) and event count.
+constexpr result<std::size_t> encode_comm_event_counter_response(std::uint16_t status,
+                                                                 std::uint16_t event_count,
+                                                                 mutable_byte_view out) noexcept {
+  if (out.size() < 5U) {
+    return errc::buffer_too_small;
+  }
+  out[0] = static_cast<std::uint8_t>(function_code::get_comm_event_counter);
+  detail::put_be16(out, 1, status);
+  detail::put_be16(out, 3, event_count);
+  return std::size_t{5};
+}
+
+/// FC0C response: status, event count, message count and 0..64 event bytes.
+constexpr result<std::size_t> encode_comm_event_log_response(std::uint16_t status,
+                                                             std::uint16_t event_count,
+                                                             std::uint16_t message_count,
+                                                             byte_view events,
+                                                             mutable_byte_view out) noexcept {
+  if (events.size() > 64U) {
+    return errc::modbus_byte_count;
+  }
+  if (out.size() < 8U + events.size()) {
+    return errc::buffer_too_small;
+  }
+  out[0] = static_cast<std::uint8_t>(function_code::get_comm_event_log);
+  out[1] = static_cast<std::uint8_t>(6U + events.size());
+  detail::put_be16(out, 2, status);
+  detail::put_be16(out, 4, event_count);
+  detail::put_be16(out, 6, message_count);
+  for (std::size_t i = 0; i < events.size(); ++i) {
+    out[8U + i] = events[i];
+  }
+  return 8U + events.size();
+}
+
+/// FC18 response: the FIFO's 0..31 registers.
+constexpr result<std::size_t> encode_fifo_response(span<const std::uint16_t> values,
+                                                   mutable_byte_view out) noexcept {
+  if (values.size() > max_fifo_count) {
+    return errc::modbus_quantity;
+  }
+  if (out.size() < 5U + 2U * values.size()) {
+    return errc::buffer_too_small;
+  }
+  out[0] = static_cast<std::uint8_t>(function_code::read_fifo_queue);
+  detail::put_be16(out, 1, static_cast<std::uint16_t>(2U + 2U * values.size()));
+  detail::put_be16(out, 3, static_cast<std::uint16_t>(values.size()));
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    detail::put_be16(out, 5U + 2U * i, values[i]);
+  }
+  return 5U + 2U * values.size();
+}
+
+/// FC2B/0E response: header and `objects`, already laid out as (id, length, value)... as they
+/// go on the wire, `object_count` of them. Errors: modbus_byte_count (objects do not parse to
+/// exactly that count), modbus_pdu_length, buffer_too_small.
+constexpr result<std::size_t> encode_device_identification_response(
+    std::uint8_t read_code, std::uint8_t conformity, bool more_follows, std::uint8_t next_object,
+    std::uint8_t object_count, byte_view objects, mutable_byte_view out) noexcept {
+  std::size_t at = 0;
+  for (unsigned k = 0; k < object_count; ++k) {
+    if (at + 2U > objects.size() || at + 2U + objects[at + 1U] > objects.size()) {
+      return errc::modbus_byte_count;
+    }
+    at += 2U + objects[at + 1U];
+  }
+  if (at != objects.size()) {
+    return errc::modbus_byte_count;
+  }
+  if (7U + objects.size() > max_pdu_size) {
+    return errc::modbus_pdu_length;
+  }
+  if (out.size() < 7U + objects.size()) {
+    return errc::buffer_too_small;
+  }
+  out[0] = static_cast<std::uint8_t>(function_code::encapsulated_interface);
+  out[1] = mei_read_device_identification;
+  out[2] = read_code;
+  out[3] = conformity;
+  out[4] = more_follows ? std::uint8_t{0xFF} : std::uint8_t{0x00};
+  out[5] = next_object;
+  out[6] = object_count;
+  for (std::size_t i = 0; i < objects.size(); ++i) {
+    out[7U + i] = objects[i];
+  }
+  return 7U + objects.size();
+}
+
 // ---------------------------------------------------------------------------------------------
 // Client: responses in
 
