@@ -3,9 +3,9 @@
 // Line example 11 03 00 6B 00 03 -> 76 87) or from hand division (single-bit BiSS inputs).
 #include <doctest/doctest.h>
 
-#include <sys/wait.h>
-#include <cstdio>
 #include <string>
+
+#include "run_cli.hpp"
 
 namespace {
 
@@ -14,23 +14,9 @@ struct run_result {
   int status = -1;
 };
 
-// Runs the CLI through the shell with `args` (already shell-quoted) and optional stdin text.
 run_result run(const std::string& args, const std::string& stdin_text = "") {
-  std::string command;
-  if (!stdin_text.empty()) {
-    command = "printf '" + stdin_text + "' | ";  // printf expands \\n and \\r
-  }
-  command += std::string("'") + MOTIONBUS_CLI_PATH + "' " + args + " 2>/dev/null";
   run_result r;
-  FILE* pipe = popen(command.c_str(), "r");
-  REQUIRE(pipe != nullptr);
-  char buffer[512];
-  std::size_t n = 0;
-  while ((n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0) {
-    r.out.append(buffer, n);
-  }
-  const int status = pclose(pipe);
-  r.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.out = testcli::run(args, &r.status, stdin_text);
   return r;
 }
 

@@ -1,28 +1,15 @@
 // Modbus through the CLI. Frames are the Modbus specification's examples with CRCs computed by
 // an independent bitwise CRC-16/MODBUS (Modbus over Serial Line V1.02 §6.2.2).
 #include <doctest/doctest.h>
-#include <sys/wait.h>
 
-#include <cstdio>
 #include <string>
+
+#include "run_cli.hpp"
 
 namespace {
 
 std::string cli(const std::string& args, int* status = nullptr) {
-  const std::string command = std::string("'") + MOTIONBUS_CLI_PATH + "' " + args + " 2>/dev/null";
-  FILE* pipe = popen(command.c_str(), "r");
-  REQUIRE(pipe != nullptr);
-  std::string out;
-  char buffer[512];
-  std::size_t n = 0;
-  while ((n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0) {
-    out.append(buffer, n);
-  }
-  const int s = pclose(pipe);
-  if (status != nullptr) {
-    *status = WIFEXITED(s) ? WEXITSTATUS(s) : -1;
-  }
-  return out;
+  return testcli::run(args, status);
 }
 
 }  // namespace

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "motionbus/tformat.hpp"
+#include "run_cli.hpp"
 
 namespace mb = motionbus;
 namespace tf = motionbus::tformat;
@@ -23,20 +24,7 @@ namespace tf = motionbus::tformat;
 namespace {
 
 std::string run_cli(const std::string& args, int* status = nullptr) {
-  const std::string command = std::string("'") + MOTIONBUS_CLI_PATH + "' " + args + " 2>/dev/null";
-  FILE* pipe = popen(command.c_str(), "r");
-  REQUIRE(pipe != nullptr);
-  std::string out;
-  char buffer[512];
-  std::size_t n = 0;
-  while ((n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0) {
-    out.append(buffer, n);
-  }
-  const int s = pclose(pipe);
-  if (status != nullptr) {
-    *status = WIFEXITED(s) ? WEXITSTATUS(s) : -1;
-  }
-  return out;
+  return testcli::run(args, status);
 }
 
 std::string xor_hex(const std::vector<unsigned>& bytes) {

@@ -3,8 +3,6 @@
 
 #include <motionbus/modbus/framer.hpp>
 
-#include <iostream>
-
 namespace mb = motionbus;
 namespace mo = motionbus::modbus;
 
@@ -69,16 +67,7 @@ bool open_port(serial::port& port, const cli::options& opts) {
   if (!device) {
     throw cli::usage_error{"--device PATH is required"};
   }
-  std::string warning;
-  std::string error;
-  if (!port.open(*device, line_settings(opts), warning, error)) {
-    std::cerr << "motionbus: " << error << '\n';
-    return false;
-  }
-  if (!warning.empty()) {
-    std::cerr << "motionbus: " << *device << ": " << warning << '\n';
-  }
-  return true;
+  return serial::open_reporting(port, *device, line_settings(opts));
 }
 
 }  // namespace modbus_io

@@ -38,6 +38,9 @@ class port {
   int fd_ = -1;
 };
 
+/// port::open that reports an error or warning on stderr ("motionbus: ..."); false on error.
+bool open_reporting(port& p, const std::string& path, const settings& s);
+
 /// Monotonic microseconds (wraps at 2^32).
 std::uint32_t now_us();
 

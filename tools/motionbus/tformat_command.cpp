@@ -186,16 +186,7 @@ bool open_device(serial::port& port, const cli::options& opts) {
   if (!device) {
     throw cli::usage_error{"--device PATH is required"};
   }
-  std::string warning;
-  std::string error;
-  if (!port.open(*device, line_settings(opts), warning, error)) {
-    std::cerr << "motionbus: " << error << '\n';
-    return false;
-  }
-  if (!warning.empty()) {
-    std::cerr << "motionbus: " << *device << ": " << warning << '\n';
-  }
-  return true;
+  return serial::open_reporting(port, *device, line_settings(opts));
 }
 
 // serve tformat-encoder: answers each request as the encoder model does. A frame ends when

@@ -272,10 +272,12 @@ constexpr result<std::size_t> write_settings(std::uint8_t slave, std::uint16_t f
   });
 }
 
-/// FC10 to 100..107: toggles login/logout with the current password.
-constexpr result<std::size_t> login(std::uint8_t slave, byte_view password,
-                                    mutable_byte_view out) noexcept {
-  if (!detail::slave_ok(slave, true)) {
+namespace detail {
+// FC10 of a checked, NUL-padded password to the 8-register block at `block`.
+constexpr result<std::size_t> write_password_block(std::uint8_t slave, std::uint16_t block,
+                                                   byte_view password,
+                                                   mutable_byte_view out) noexcept {
+  if (!slave_ok(slave, true)) {
     return errc::modbus_slave_address;
   }
   const errc e = check_password(password);
@@ -284,26 +286,22 @@ constexpr result<std::size_t> login(std::uint8_t slave, byte_view password,
   }
   std::uint16_t regs[holding::password_registers] = {};
   password_registers(password, regs);
-  return detail::wrap(slave, out, [&](mutable_byte_view pdu) {
-    return modbus::encode_write_multiple_registers(holding::login, regs, pdu);
+  return wrap(slave, out, [&](mutable_byte_view pdu) {
+    return modbus::encode_write_multiple_registers(block, regs, pdu);
   });
+}
+}  // namespace detail
+
+/// FC10 to 100..107: toggles login/logout with the current password.
+constexpr result<std::size_t> login(std::uint8_t slave, byte_view password,
+                                    mutable_byte_view out) noexcept {
+  return detail::write_password_block(slave, holding::login, password, out);
 }
 
 /// FC10 to 200..207: sets a new password (logged in only), checked first.
 constexpr result<std::size_t> change_password(std::uint8_t slave, byte_view password,
                                               mutable_byte_view out) noexcept {
-  if (!detail::slave_ok(slave, true)) {
-    return errc::modbus_slave_address;
-  }
-  const errc e = check_password(password);
-  if (e != errc::ok) {
-    return e;
-  }
-  std::uint16_t regs[holding::password_registers] = {};
-  password_registers(password, regs);
-  return detail::wrap(slave, out, [&](mutable_byte_view pdu) {
-    return modbus::encode_write_multiple_registers(holding::password, regs, pdu);
-  });
+  return detail::write_password_block(slave, holding::password, password, out);
 }
 
 /// FC03 blocks: product code (300..301), MFG number (350..354), password (200..207).
