@@ -181,29 +181,28 @@ constexpr decode_result<response> decode_response(byte_view in,
   const std::uint8_t cf = in[0];
   const std::uint8_t code = data_id_code(cf);
   const auto id = static_cast<data_id>(code);
-  // One comparison covers sync code and parity; the slow path tells which failed.
-  if (cf != control_fields[code] || ((known_ids_mask >> code) & 1U) == 0U) {
+  // One comparison covers sync code, parity and a defined Data ID; the slow path tells which.
+  if (cf != valid_control_fields[code]) {
     return decode_failure{detail::check_cf(cf), 1};
   }
   const std::size_t size = response_sizes[code];
   if (in.size() < size) {
     return need_input{size - in.size()};
   }
-  switch (id) {
-    case data_id::read_all:
-      return detail::decode_status_frame<11, true, true, true, true>(in, id, opt);
-    case data_id::read_abm:
-      return detail::decode_status_frame<6, false, false, true, false>(in, id, opt);
-    case data_id::read_enid:
-      return detail::decode_status_frame<4, false, true, false, false>(in, id, opt);
-    case data_id::eeprom_write:
-    case data_id::eeprom_read: return detail::decode_eeprom_frame(in, id);
-    case data_id::read_abs:
-    case data_id::reset_errors:
-    case data_id::reset_single_turn:
-    case data_id::reset_multi_turn: break;
+  // Branches rather than a jump table, the polled IDs first.
+  if (id == data_id::read_all) {
+    return detail::decode_status_frame<11, true, true, true, true>(in, id, opt);
   }
-  return detail::decode_status_frame<6, true, false, false, false>(in, id, opt);
+  if (size == 6U && id != data_id::read_abm) {  // ID0 and the resets 7, 8, C
+    return detail::decode_status_frame<6, true, false, false, false>(in, id, opt);
+  }
+  if (id == data_id::read_abm) {
+    return detail::decode_status_frame<6, false, false, true, false>(in, id, opt);
+  }
+  if (id == data_id::read_enid) {
+    return detail::decode_status_frame<4, false, true, false, false>(in, id, opt);
+  }
+  return detail::decode_eeprom_frame(in, id);  // ID6, IDD
 }
 
 /// decode_response on a buffer that must hold exactly one frame (e.g. bytes received up to

@@ -71,6 +71,26 @@ inline constexpr std::uint8_t control_fields[16] = {
 /// Bit i set when code i is a defined Data ID (0, 1, 2, 3, 6, 7, 8, C, D).
 inline constexpr std::uint16_t known_ids_mask = 0x31CF;
 
+/// The control field of each defined code, and 0x00 for undefined codes: a byte whose code is
+/// c != 0 cannot be 0x00, so `cf == valid_control_fields[code]` checks sync code, parity and
+/// that the Data ID is defined in one comparison.
+inline constexpr std::uint8_t valid_control_fields[16] = {control_fields[0x0],
+                                                          control_fields[0x1],
+                                                          control_fields[0x2],
+                                                          control_fields[0x3],
+                                                          0x00,
+                                                          0x00,
+                                                          control_fields[0x6],
+                                                          control_fields[0x7],
+                                                          control_fields[0x8],
+                                                          0x00,
+                                                          0x00,
+                                                          0x00,
+                                                          control_fields[0xC],
+                                                          control_fields[0xD],
+                                                          0x00,
+                                                          0x00};
+
 /// The 4-bit Data ID code in a control field byte (no checks).
 constexpr std::uint8_t data_id_code(std::uint8_t cf) noexcept {
   return static_cast<std::uint8_t>((cf >> 3U) & 0x0FU);

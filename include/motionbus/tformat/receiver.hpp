@@ -142,7 +142,7 @@ class receiver {
         echo_pending_ = false;  // not an echo after all: parse as a response
       }
       const std::uint8_t code = data_id_code(buffer_[0]);
-      if (buffer_[0] != control_fields[code] || ((known_ids_mask >> code) & 1U) == 0U) {
+      if (buffer_[0] != valid_control_fields[code]) {
         drop_front(1);  // garbage: no valid CF here
         ++dropped_;
         continue;
