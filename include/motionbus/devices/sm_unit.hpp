@@ -298,7 +298,7 @@ constexpr result<std::size_t> login(std::uint8_t slave, byte_view password,
   return detail::write_password_block(slave, holding::login, password, out);
 }
 
-/// FC10 to 200..207: sets a new password (logged in only), checked first.
+/// FC10 to 200..207: replaces the password (logged in only), checked first.
 constexpr result<std::size_t> change_password(std::uint8_t slave, byte_view password,
                                               mutable_byte_view out) noexcept {
   return detail::write_password_block(slave, holding::password, password, out);
