@@ -17,10 +17,10 @@ fuzz_seconds="${MOTIONBUS_FUZZ_SECONDS:-20}"
 jobs="$(nproc 2>/dev/null || echo 2)"
 
 bash tools/scripts/ensure-packages.sh \
-  cmake ninja-build g++ git clang llvm libclang-rt-14-dev clang-format doctest-dev \
+  cmake ninja-build gcc g++ git clang llvm libclang-rt-14-dev clang-format doctest-dev \
   libbenchmark-dev gcc-arm-none-eabi libstdc++-arm-none-eabi-newlib \
   g++-s390x-linux-gnu g++-arm-linux-gnueabihf qemu-user \
-  socat pkg-config libmodbus-dev python3-pymodbus
+  socat pkg-config libmodbus-dev python3-pymodbus python3-serial python3-serial-asyncio
 
 passed=0
 failed=0
