@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "cli.hpp"
@@ -36,26 +37,35 @@ std::vector<std::int64_t> bits_of(mb::byte_view packed, std::size_t count) {
   return out;
 }
 
-// Parses the whole input as one RTU ADU.
-std::optional<mo::rtu_frame> adu_of(const std::vector<std::uint8_t>& bytes, std::string& error) {
-  const auto f = mo::decode_rtu(mb::byte_view(bytes.data(), bytes.size()));
+// The input as hex bytes holding one whole RTU ADU. `frame.pdu` points into `bytes`: the vector
+// owns the data and moving it keeps the pointer valid.
+struct parsed_adu {
+  std::vector<std::uint8_t> bytes;
+  mo::rtu_frame frame;
+};
+
+std::optional<parsed_adu> adu_of(const std::string& input, std::string& error) {
+  auto bytes = cli::parse_hex(input, error);
+  if (!bytes) {
+    return std::nullopt;
+  }
+  parsed_adu p{std::move(*bytes), {}};
+  const auto f = mo::decode_rtu(mb::byte_view(p.bytes.data(), p.bytes.size()));
   if (!f.is_complete()) {
     error = mb::to_string(f.error());
     return std::nullopt;
   }
-  return f.value();
+  p.frame = f.value();
+  return p;
 }
 
 cli::outcome decode_request_line(const std::string& input, const cli::options&) {
   std::string error;
-  const auto bytes = cli::parse_hex(input, error);
-  if (!bytes) {
+  const auto parsed = adu_of(input, error);
+  if (!parsed) {
     return cli::outcome::failure(error);
   }
-  const auto adu = adu_of(*bytes, error);
-  if (!adu) {
-    return cli::outcome::failure(error);
-  }
+  const mo::rtu_frame* adu = &parsed->frame;
   const auto q = mo::decode_request(adu->pdu);
   if (!q.is_complete()) {
     return cli::outcome::failure(mb::to_string(q.error()));
@@ -96,14 +106,11 @@ cli::outcome decode_request_line(const std::string& input, const cli::options&) 
 
 cli::outcome decode_response_line(const std::string& input, const cli::options& opts) {
   std::string error;
-  const auto bytes = cli::parse_hex(input, error);
-  if (!bytes) {
+  const auto parsed = adu_of(input, error);
+  if (!parsed) {
     return cli::outcome::failure(error);
   }
-  const auto adu = adu_of(*bytes, error);
-  if (!adu) {
-    return cli::outcome::failure(error);
-  }
+  const mo::rtu_frame* adu = &parsed->frame;
   cli::json_object f;
   f.add("slave", static_cast<std::int64_t>(adu->slave));
   const mb::byte_view pdu = adu->pdu;

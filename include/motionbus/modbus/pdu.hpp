@@ -172,6 +172,18 @@ constexpr void put_be16(mutable_byte_view out, std::size_t at, std::uint16_t v) 
   out[at] = static_cast<std::uint8_t>(v >> 8U);
   out[at + 1U] = static_cast<std::uint8_t>(v & 0xFFU);
 }
+/// The common 5-byte PDU: function code, then two big-endian words.
+constexpr result<std::size_t> encode_two_words(std::uint8_t function, std::uint16_t first,
+                                               std::uint16_t second,
+                                               mutable_byte_view out) noexcept {
+  if (out.size() < 5U) {
+    return errc::buffer_too_small;
+  }
+  out[0] = function;
+  put_be16(out, 1, first);
+  put_be16(out, 3, second);
+  return std::size_t{5};
+}
 constexpr bool is_read_bits(std::uint8_t f) noexcept {
   return f == 0x01 || f == 0x02;
 }
@@ -211,38 +223,22 @@ constexpr result<std::size_t> encode_read(function_code fc, std::uint16_t addres
   if (e != errc::ok) {
     return e;
   }
-  if (out.size() < 5U) {
-    return errc::buffer_too_small;
-  }
-  out[0] = f;
-  detail::put_be16(out, 1, address);
-  detail::put_be16(out, 3, quantity);
-  return std::size_t{5};
+  return detail::encode_two_words(f, address, quantity, out);
 }
 
 /// FC05: one coil on (0xFF00) or off (0x0000).
 constexpr result<std::size_t> encode_write_single_coil(std::uint16_t address, bool on,
                                                        mutable_byte_view out) noexcept {
-  if (out.size() < 5U) {
-    return errc::buffer_too_small;
-  }
-  out[0] = static_cast<std::uint8_t>(function_code::write_single_coil);
-  detail::put_be16(out, 1, address);
-  detail::put_be16(out, 3, on ? coil_on : coil_off);
-  return std::size_t{5};
+  return detail::encode_two_words(static_cast<std::uint8_t>(function_code::write_single_coil),
+                                  address, on ? coil_on : coil_off, out);
 }
 
 /// FC06: one holding register.
 constexpr result<std::size_t> encode_write_single_register(std::uint16_t address,
                                                            std::uint16_t value,
                                                            mutable_byte_view out) noexcept {
-  if (out.size() < 5U) {
-    return errc::buffer_too_small;
-  }
-  out[0] = static_cast<std::uint8_t>(function_code::write_single_register);
-  detail::put_be16(out, 1, address);
-  detail::put_be16(out, 3, value);
-  return std::size_t{5};
+  return detail::encode_two_words(static_cast<std::uint8_t>(function_code::write_single_register),
+                                  address, value, out);
 }
 
 /// FC0F: `quantity` coils from `packed` (LSB of the first byte first; unused high bits of the
@@ -648,22 +644,14 @@ constexpr result<std::size_t> encode_read_registers_response(std::uint8_t functi
 constexpr result<std::size_t> encode_write_response(const request& q,
                                                     mutable_byte_view out) noexcept {
   const std::uint8_t f = q.function;
-  const std::size_t n = f == 0x16 ? 7U : 5U;
-  if (f != 0x05 && f != 0x06 && f != 0x0F && f != 0x10 && f != 0x16) {
+  if (f == 0x05 || f == 0x06 || f == 0x0F || f == 0x10) {
+    return detail::encode_two_words(f, q.address, (f == 0x05 || f == 0x06) ? q.value : q.quantity,
+                                    out);
+  }
+  if (f != 0x16) {
     return errc::invalid_argument;
   }
-  if (out.size() < n) {
-    return errc::buffer_too_small;
-  }
-  out[0] = f;
-  detail::put_be16(out, 1, q.address);
-  if (f == 0x16) {
-    detail::put_be16(out, 3, q.and_mask);
-    detail::put_be16(out, 5, q.or_mask);
-  } else {
-    detail::put_be16(out, 3, (f == 0x05 || f == 0x06) ? q.value : q.quantity);
-  }
-  return n;
+  return encode_mask_write_register(q.address, q.and_mask, q.or_mask, out);
 }
 
 /// FC07 response: the exception status byte.
@@ -681,13 +669,8 @@ constexpr result<std::size_t> encode_exception_status_response(std::uint8_t stat
 constexpr result<std::size_t> encode_comm_event_counter_response(std::uint16_t status,
                                                                  std::uint16_t event_count,
                                                                  mutable_byte_view out) noexcept {
-  if (out.size() < 5U) {
-    return errc::buffer_too_small;
-  }
-  out[0] = static_cast<std::uint8_t>(function_code::get_comm_event_counter);
-  detail::put_be16(out, 1, status);
-  detail::put_be16(out, 3, event_count);
-  return std::size_t{5};
+  return detail::encode_two_words(static_cast<std::uint8_t>(function_code::get_comm_event_counter),
+                                  status, event_count, out);
 }
 
 /// FC0C response: status, event count, message count and 0..64 event bytes.
