@@ -3,6 +3,7 @@
 #define MOTIONBUS_CORE_HPP
 
 #include "motionbus/core/bits.hpp"
+#include "motionbus/core/bytes.hpp"
 #include "motionbus/core/config.hpp"
 #include "motionbus/core/crc.hpp"
 #include "motionbus/core/errc.hpp"

@@ -37,4 +37,24 @@
 #define MOTIONBUS_HAS_STD_SPAN 0
 #endif
 
+/// Marks the rare paths of a hot decoder (error reporting, uncommon layouts) so that the
+/// common path stays small enough for the compiler to inline at the call site.
+#if defined(__GNUC__) || defined(__clang__)
+#define MOTIONBUS_COLD __attribute__((noinline, cold))
+#elif defined(_MSC_VER)
+#define MOTIONBUS_COLD __declspec(noinline)
+#else
+#define MOTIONBUS_COLD
+#endif
+
+/// Marks a small hot path (a few dozen instructions) that should be inlined into its caller
+/// even where the compiler's heuristics would not (clang does not inline the ID3 decoder).
+#if defined(__GNUC__) || defined(__clang__)
+#define MOTIONBUS_INLINE inline __attribute__((always_inline))
+#elif defined(_MSC_VER)
+#define MOTIONBUS_INLINE __forceinline
+#else
+#define MOTIONBUS_INLINE inline
+#endif
+
 #endif  // MOTIONBUS_CORE_CONFIG_HPP

@@ -20,6 +20,7 @@
 #include <type_traits>
 
 #include "motionbus/core/bits.hpp"
+#include "motionbus/core/bytes.hpp"
 #include "motionbus/core/config.hpp"
 #include "motionbus/core/span.hpp"
 
@@ -243,9 +244,7 @@ class crc {
                 "unknown CRC table size");
 
   static constexpr std::uint32_t le32(byte_view data, std::size_t i) noexcept {
-    return static_cast<std::uint32_t>(data[i]) | (static_cast<std::uint32_t>(data[i + 1U]) << 8U) |
-           (static_cast<std::uint32_t>(data[i + 2U]) << 16U) |
-           (static_cast<std::uint32_t>(data[i + 3U]) << 24U);
+    return static_cast<std::uint32_t>(load_le<4>(data, i));
   }
 
  public:
@@ -272,11 +271,7 @@ class crc {
       std::uint64_t acc = 0;
       std::size_t i = 0;
       for (; i + 8U <= data.size(); i += 8U) {
-        std::uint64_t w = 0;
-        for (unsigned k = 0; k < 8U; ++k) {
-          w |= static_cast<std::uint64_t>(data[i + k]) << (8U * k);
-        }
-        acc ^= w;
+        acc ^= load_le<8>(data, i);
       }
       for (; i < data.size(); ++i) {
         acc ^= data[i];

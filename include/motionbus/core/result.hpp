@@ -80,12 +80,20 @@ class [[nodiscard]] decode_result {
   static constexpr decode_result complete(const T& value, std::size_t consumed) noexcept {
     return decode_result(value, consumed);
   }
+  /// A complete value built in place: `fill(T&)` sets the fields of a value-initialised T in
+  /// the result itself (no temporary T to copy; some compilers copy it through memory).
+  template <class Fill>
+  static constexpr decode_result complete_with(std::size_t consumed, Fill&& fill) noexcept {
+    decode_result r(T{}, consumed);
+    fill(r.value_);
+    return r;
+  }
   constexpr decode_result(need_input n) noexcept  // NOLINT(google-explicit-constructor)
-      : status_(decode_status::incomplete), needed_(n.at_least == 0 ? 1 : n.at_least) {}
+      : status_(decode_status::incomplete), count_(n.at_least == 0 ? 1 : n.at_least) {}
   constexpr decode_result(decode_failure f) noexcept  // NOLINT(google-explicit-constructor)
       : status_(decode_status::failed),
         error_(f.code == errc::ok ? errc::invalid_argument : f.code),
-        consumed_(f.consumed),
+        count_(f.consumed),
         expected_(f.expected),
         received_(f.received) {}
 
@@ -100,9 +108,9 @@ class [[nodiscard]] decode_result {
   constexpr const T& operator*() const noexcept { return value_; }
   constexpr const T* operator->() const noexcept { return &value_; }
   /// Complete: units used by the value. Failed: units the caller may drop. Else 0.
-  constexpr std::size_t consumed() const noexcept { return consumed_; }
+  constexpr std::size_t consumed() const noexcept { return is_incomplete() ? 0U : count_; }
   /// Incomplete: lower bound on the further units needed. Else 0.
-  constexpr std::size_t needed() const noexcept { return needed_; }
+  constexpr std::size_t needed() const noexcept { return is_incomplete() ? count_ : 0U; }
   /// Failed: the error. Else errc::ok.
   constexpr errc error() const noexcept { return error_; }
   constexpr std::uint32_t expected() const noexcept { return expected_; }
@@ -111,13 +119,12 @@ class [[nodiscard]] decode_result {
  private:
   constexpr decode_result() noexcept = default;
   constexpr decode_result(const T& value, std::size_t consumed) noexcept
-      : value_(value), consumed_(consumed) {}
+      : value_(value), count_(consumed) {}
 
   decode_status status_ = decode_status::complete;
   errc error_ = errc::ok;
   T value_{};
-  std::size_t consumed_ = 0;
-  std::size_t needed_ = 0;
+  std::size_t count_ = 0;  ///< consumed (complete, failed) or needed (incomplete): one word
   std::uint32_t expected_ = 0;
   std::uint32_t received_ = 0;
 };

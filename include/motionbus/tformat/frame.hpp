@@ -233,18 +233,19 @@ struct request {
 };
 
 /// A response as the master sees it; the fields present follow layout_of(id).
+/// (The one-byte fields come first and together: a decoder fills them with few stores.)
 struct response {
   data_id id = data_id::read_abs;
   std::uint8_t cf = control_field(data_id::read_abs);
   std::uint8_t sf = 0;       ///< status field (absent for ID6/IDD)
-  std::uint32_t abs = 0;     ///< single-turn position
-  std::uint32_t abm = 0;     ///< multi-turn count
   std::uint8_t enid = 0;     ///< encoder ID
   std::uint8_t almc = 0;     ///< alarm bits
   std::uint8_t address = 0;  ///< EEPROM address (ID6/IDD)
   bool busy = false;         ///< EEPROM busy (ID6/IDD): EDF is then 0x00
   std::uint8_t edf = 0;      ///< EEPROM data (ID6/IDD)
   std::uint8_t crc = 0;
+  std::uint32_t abs = 0;  ///< single-turn position
+  std::uint32_t abm = 0;  ///< multi-turn count
 
   constexpr bool ea0() const noexcept { return (sf & sf::ea0) != 0U; }
   constexpr bool ea1() const noexcept { return (sf & sf::ea1) != 0U; }

@@ -1,0 +1,64 @@
+// motionbus — multi-byte loads from byte views, usable in constant expressions.
+//
+// `load_le<N>` and `load_be<N>` assemble N (1..8) bytes starting at `at` into an integer. In a
+// constant expression they assemble byte by byte; at run time, on a little-endian GCC or clang
+// target, they do one unaligned load (plus a byte swap for big-endian order), which some
+// compilers do not derive from the byte-by-byte form on their own. The caller guarantees that
+// `at + N <= in.size()`; these are building blocks for decoders that have checked lengths.
+#ifndef MOTIONBUS_CORE_BYTES_HPP
+#define MOTIONBUS_CORE_BYTES_HPP
+
+#include <cstddef>
+#include <cstdint>
+
+#include "motionbus/core/config.hpp"
+#include "motionbus/core/span.hpp"
+
+#if (defined(__GNUC__) || defined(__clang__)) && defined(__BYTE_ORDER__) && \
+    defined(__ORDER_LITTLE_ENDIAN__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
+#define MOTIONBUS_DIRECT_LOADS 1
+#else
+#define MOTIONBUS_DIRECT_LOADS 0
+#endif
+
+namespace motionbus {
+
+/// N bytes from `in[at]`, the first byte least significant.
+template <unsigned N>
+MOTIONBUS_INLINE constexpr std::uint64_t load_le(byte_view in, std::size_t at) noexcept {
+  static_assert(N >= 1U && N <= 8U, "load_le: 1 to 8 bytes");
+#if MOTIONBUS_DIRECT_LOADS
+  if (!__builtin_is_constant_evaluated()) {
+    std::uint64_t v = 0;
+    __builtin_memcpy(&v, in.data() + at, N);
+    return v;
+  }
+#endif
+  std::uint64_t v = 0;
+  for (unsigned k = 0; k < N; ++k) {
+    v |= static_cast<std::uint64_t>(in[at + k]) << (8U * k);
+  }
+  return v;
+}
+
+/// N bytes from `in[at]`, the first byte most significant.
+template <unsigned N>
+MOTIONBUS_INLINE constexpr std::uint64_t load_be(byte_view in, std::size_t at) noexcept {
+  static_assert(N >= 1U && N <= 8U, "load_be: 1 to 8 bytes");
+#if MOTIONBUS_DIRECT_LOADS
+  if (!__builtin_is_constant_evaluated()) {
+    std::uint64_t v = 0;
+    __builtin_memcpy(&v, in.data() + at, N);
+    return __builtin_bswap64(v) >> (64U - 8U * N);
+  }
+#endif
+  std::uint64_t v = 0;
+  for (unsigned k = 0; k < N; ++k) {
+    v = (v << 8U) | in[at + k];
+  }
+  return v;
+}
+
+}  // namespace motionbus
+
+#endif  // MOTIONBUS_CORE_BYTES_HPP
