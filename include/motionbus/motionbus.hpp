@@ -2,6 +2,7 @@
 #ifndef MOTIONBUS_MOTIONBUS_HPP
 #define MOTIONBUS_MOTIONBUS_HPP
 
+#include "motionbus/biss.hpp"
 #include "motionbus/core.hpp"
 #include "motionbus/devices/sm_unit.hpp"
 #include "motionbus/devices/sm_unit_emulator.hpp"

@@ -69,6 +69,40 @@ constexpr std::uint64_t reverse_bits(std::uint64_t value, unsigned width) noexce
   return out;
 }
 
+/// Leading zero bits of a 64-bit value (64 for 0).
+constexpr unsigned countl_zero64(std::uint64_t v) noexcept {
+  if (v == 0U) {
+    return 64U;
+  }
+#if defined(__GNUC__) || defined(__clang__)
+  return static_cast<unsigned>(__builtin_clzll(v));
+#else
+  unsigned n = 0;
+  while ((v & (std::uint64_t{1} << 63U)) == 0U) {
+    v <<= 1U;
+    ++n;
+  }
+  return n;
+#endif
+}
+
+/// Trailing zero bits of a 64-bit value (64 for 0).
+constexpr unsigned countr_zero64(std::uint64_t v) noexcept {
+  if (v == 0U) {
+    return 64U;
+  }
+#if defined(__GNUC__) || defined(__clang__)
+  return static_cast<unsigned>(__builtin_ctzll(v));
+#else
+  unsigned n = 0;
+  while ((v & 1U) == 0U) {
+    v >>= 1U;
+    ++n;
+  }
+  return n;
+#endif
+}
+
 /// Sequential, bounds-checked reader of a bit stream held in `Word`s.
 template <class Word>
 class basic_bit_reader {
@@ -126,6 +160,17 @@ class basic_bit_reader {
     return b;
   }
 
+  /// `count` (0..64) bits at absolute position `at`, independent of the read position.
+  constexpr result<std::uint64_t> field_at(std::size_t at, unsigned count) const noexcept {
+    if (count > 64U) {
+      return errc::invalid_argument;
+    }
+    if (at > size_ || count > size_ - at) {
+      return errc::truncated;
+    }
+    return extract(at, count);
+  }
+
   /// The bit at absolute position `index` (independent of the read position).
   constexpr result<bool> bit_at(std::size_t index) const noexcept {
     if (index >= size_) {
@@ -141,6 +186,34 @@ class basic_bit_reader {
     }
     pos_ += count;
     return errc::ok;
+  }
+
+  /// Returned by find() when no bit matches.
+  static constexpr std::size_t npos = static_cast<std::size_t>(-1);
+
+  /// Index of the first bit equal to `value` among the `limit` bits from absolute position
+  /// `from` (clipped to size()), or npos. Scans up to 64 bits per step (a count of leading
+  /// zeros), not bit by bit. The read position does not change.
+  constexpr std::size_t find(bool value, std::size_t from,
+                             std::size_t limit = npos) const noexcept {
+    if (from >= size_) {
+      return npos;
+    }
+    const std::size_t end = limit >= size_ - from ? size_ : from + limit;
+    std::size_t pos = from;
+    while (pos < end) {
+      const unsigned n = end - pos >= 64U ? 64U : static_cast<unsigned>(end - pos);
+      std::uint64_t x = extract(pos, n);
+      if (!value) {
+        x = ~x & detail::low_mask64(n);
+      }
+      if (x != 0U) {
+        return pos +
+               (order_ == bit_order::msb_first ? countl_zero64(x << (64U - n)) : countr_zero64(x));
+      }
+      pos += n;
+    }
+    return npos;
   }
 
   /// Moves to absolute bit `position` (0..size()); errc::truncated beyond size().

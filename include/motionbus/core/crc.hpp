@@ -58,6 +58,42 @@ constexpr std::uint32_t reflect32(std::uint32_t value, unsigned width) noexcept 
   return static_cast<std::uint32_t>(reverse_bits(value, width));
 }
 
+/// One bit into a normal (MSB-first) register of `reg_bits` bits whose CRC sits in the top
+/// bits, `poly` aligned the same way. Shared by the compile-time kernel and dynamic_crc.
+constexpr std::uint32_t crc_step_normal(std::uint32_t reg, std::uint32_t bit, std::uint32_t poly,
+                                        unsigned reg_bits) noexcept {
+  const bool feedback = (((reg >> (reg_bits - 1U)) ^ bit) & 1U) != 0U;
+  reg = (reg << 1U) & low_mask32(reg_bits);
+  return feedback ? (reg ^ poly) : reg;
+}
+
+/// One bit into a reflected (LSB-first) register, `poly` reflected.
+constexpr std::uint32_t crc_step_reflected(std::uint32_t reg, std::uint32_t bit,
+                                           std::uint32_t poly) noexcept {
+  const bool feedback = ((reg ^ bit) & 1U) != 0U;
+  reg >>= 1U;
+  return feedback ? (reg ^ poly) : reg;
+}
+
+/// The register's starting value for `init` (register layout as in crc_kernel).
+constexpr std::uint32_t crc_initial_register(std::uint32_t init, unsigned width, unsigned align,
+                                             bool refin) noexcept {
+  return refin ? reflect32(init, width) : (init << align);
+}
+
+/// The CRC value held by a register: reflection and final XOR applied.
+constexpr std::uint32_t crc_register_value(std::uint32_t reg, unsigned width, unsigned align,
+                                           bool refin, bool refout, std::uint32_t xorout) noexcept {
+  std::uint32_t v = 0;
+  if (refin) {
+    v = refout ? reg : reflect32(reg, width);
+  } else {
+    const std::uint32_t r = reg >> align;
+    v = refout ? reflect32(r, width) : r;
+  }
+  return (v ^ xorout) & low_mask32(width);
+}
+
 /// The register arithmetic of one polynomial in one direction.
 ///  Reflected: the register holds the CRC reflected, LSB-aligned; bits leave at bit 0.
 ///  Normal:    the register is reg_bits = max(width, 8) wide with the CRC in its top `width`
@@ -76,13 +112,9 @@ struct crc_kernel {
   /// Feeds one bit (0/1).
   static constexpr std::uint32_t step_bit(std::uint32_t reg, std::uint32_t bit) noexcept {
     if constexpr (Reflected) {
-      const bool feedback = ((reg ^ bit) & 1U) != 0U;
-      reg >>= 1U;
-      return feedback ? (reg ^ poly) : reg;
+      return crc_step_reflected(reg, bit, poly);
     } else {
-      const bool feedback = (((reg >> (reg_bits - 1U)) ^ bit) & 1U) != 0U;
-      reg = (reg << 1U) & reg_mask;
-      return feedback ? (reg ^ poly) : reg;
+      return crc_step_normal(reg, bit, poly, reg_bits);
     }
   }
 
@@ -338,14 +370,8 @@ class crc {
 
   /// The CRC of everything fed so far (reflection and final XOR applied). Feeding may go on.
   constexpr value_type value() const noexcept {
-    std::uint32_t v = 0;
-    if constexpr (Spec::refin) {
-      v = Spec::refout ? reg_ : detail::reflect32(reg_, Spec::width);
-    } else {
-      const std::uint32_t r = reg_ >> kernel::align;
-      v = Spec::refout ? detail::reflect32(r, Spec::width) : r;
-    }
-    return static_cast<value_type>((v ^ Spec::xorout) & detail::low_mask32(Spec::width));
+    return static_cast<value_type>(detail::crc_register_value(
+        reg_, Spec::width, kernel::align, Spec::refin, Spec::refout, Spec::xorout));
   }
 
   /// One-shot CRC of `data`.
@@ -365,10 +391,90 @@ class crc {
 
  private:
   static constexpr std::uint32_t initial_register() noexcept {
-    return Spec::refin ? detail::reflect32(Spec::init, Spec::width) : (Spec::init << kernel::align);
+    return detail::crc_initial_register(Spec::init, Spec::width, kernel::align, Spec::refin);
   }
 
   std::uint32_t reg_ = initial_register();
+};
+
+// ---------------------------------------------------------------------------------------------
+// Run-time parameters.
+
+/// CRC parameters known only at run time (read from a device's data sheet in memory, given on
+/// a command line): the same Williams model as crc_spec, `poly` without its x^width term.
+struct crc_parameters {
+  unsigned width = 8;
+  std::uint32_t poly = 0x07;
+  std::uint32_t init = 0;
+  bool refin = false;
+  bool refout = false;
+  std::uint32_t xorout = 0;
+
+  /// Width 1..32 and every value within it.
+  constexpr bool valid() const noexcept {
+    const std::uint32_t m = detail::low_mask32(width);
+    return width >= 1U && width <= 32U && (poly & ~m) == 0U && (init & ~m) == 0U &&
+           (xorout & ~m) == 0U;
+  }
+  friend constexpr bool operator==(const crc_parameters& a, const crc_parameters& b) noexcept {
+    return a.width == b.width && a.poly == b.poly && a.init == b.init && a.refin == b.refin &&
+           a.refout == b.refout && a.xorout == b.xorout;
+  }
+  friend constexpr bool operator!=(const crc_parameters& a, const crc_parameters& b) noexcept {
+    return !(a == b);
+  }
+};
+
+/// The parameters of a compile-time spec, for comparison with run-time ones.
+template <class Spec>
+constexpr crc_parameters parameters_of() noexcept {
+  return {Spec::width, Spec::poly, Spec::init, Spec::refin, Spec::refout, Spec::xorout};
+}
+
+/// A CRC from run-time parameters, computed bit by bit with the engine's own register
+/// arithmetic (the same step functions as crc<Spec, crc_table_size::bitwise>, which gives the
+/// same values). Invalid parameters (see crc_parameters::valid) are clamped to a 1-bit CRC of
+/// polynomial 1; check valid() first. No table, no state beyond the register.
+class dynamic_crc {
+ public:
+  constexpr explicit dynamic_crc(const crc_parameters& p) noexcept
+      : p_(p.valid() ? p : crc_parameters{1, 1, 0, false, false, 0}),
+        reg_bits_(p_.refin ? p_.width : (p_.width < 8U ? 8U : p_.width)),
+        align_(reg_bits_ - p_.width),
+        poly_(p_.refin ? detail::reflect32(p_.poly, p_.width) : (p_.poly << align_)),
+        reg_(detail::crc_initial_register(p_.init, p_.width, align_, p_.refin)) {}
+
+  constexpr const crc_parameters& parameters() const noexcept { return p_; }
+
+  /// Feeds the low `count` (<= 64) bits of `bits` in the CRC's bit order (as crc::update_bits).
+  constexpr dynamic_crc& update_bits(std::uint64_t bits, unsigned count) noexcept {
+    const unsigned n = count > 64U ? 64U : count;
+    for (unsigned i = 0; i < n; ++i) {
+      const auto bit =
+          static_cast<std::uint32_t>(p_.refin ? ((bits >> i) & 1U) : ((bits >> (n - 1U - i)) & 1U));
+      reg_ = p_.refin ? detail::crc_step_reflected(reg_, bit, poly_)
+                      : detail::crc_step_normal(reg_, bit, poly_, reg_bits_);
+    }
+    return *this;
+  }
+
+  constexpr dynamic_crc& update(byte_view data) noexcept {
+    for (std::size_t i = 0; i < data.size(); ++i) {
+      update_bits(data[i], 8U);
+    }
+    return *this;
+  }
+
+  constexpr std::uint32_t value() const noexcept {
+    return detail::crc_register_value(reg_, p_.width, align_, p_.refin, p_.refout, p_.xorout);
+  }
+
+ private:
+  crc_parameters p_;
+  unsigned reg_bits_;
+  unsigned align_;
+  std::uint32_t poly_;
+  std::uint32_t reg_;
 };
 
 // ---------------------------------------------------------------------------------------------

@@ -74,6 +74,29 @@ enum class [[nodiscard]] errc : std::uint8_t{
     modbus_slave_address = 70,
     /// A PDU outside 1..253 bytes, or an ADU outside 4..256.
     modbus_pdu_length = 71,
+    // BiSS-C (128..191)
+    /// SL stayed high (idle) over the whole bounded search: no slave acknowledged the clock.
+    biss_no_ack = 128,
+    /// SL stayed low (Ack) past the bound without a Start bit.
+    biss_no_start = 129,
+    /// Control communication: no slave answered (R/W echo 00: wrong ID or address CRC).
+    biss_not_acknowledged = 130,
+    /// Control communication: the slave refused the access (R/W echo 11).
+    biss_access_denied = 131,
+    /// Control communication: the R/W echo differs from what was sent.
+    biss_echo_mismatch = 132,
+    /// Control communication: the slave stayed busy (wait states) past the bound in frames.
+    biss_timeout = 133,
+    /// Control communication: a write's echo (byte or CRC) differs from the byte written.
+    biss_write_not_confirmed = 134,
+    /// Control communication: abort() ended the access (14 frames with CDM = 0).
+    biss_aborted = 135,
+    /// Control communication: an access is already running.
+    biss_busy = 136,
+    /// A layout is inconsistent (field widths, CRC width, chain length).
+    biss_layout = 137,
+    /// The electronic data sheet fails its own consistency checks.
+    biss_eds = 138,
 };
 
 /// snake_case name of an error code, as printed by the tools; "unknown" for a value outside
@@ -107,6 +130,17 @@ constexpr const char* to_string(errc e) noexcept {
     case errc::modbus_mismatch: return "response_mismatch";
     case errc::modbus_slave_address: return "slave_address";
     case errc::modbus_pdu_length: return "pdu_length";
+    case errc::biss_no_ack: return "no_ack";
+    case errc::biss_no_start: return "no_start";
+    case errc::biss_not_acknowledged: return "not_acknowledged";
+    case errc::biss_access_denied: return "access_denied";
+    case errc::biss_echo_mismatch: return "echo_mismatch";
+    case errc::biss_timeout: return "timeout";
+    case errc::biss_write_not_confirmed: return "write_not_confirmed";
+    case errc::biss_aborted: return "aborted";
+    case errc::biss_busy: return "busy";
+    case errc::biss_layout: return "invalid_layout";
+    case errc::biss_eds: return "invalid_eds";
   }
   return "unknown";
 }

@@ -1,0 +1,8 @@
+// motionbus — BiSS-C: sensor data frames and control communication.
+#ifndef MOTIONBUS_BISS_HPP
+#define MOTIONBUS_BISS_HPP
+
+#include "motionbus/biss/codec.hpp"
+#include "motionbus/biss/frame.hpp"
+
+#endif  // MOTIONBUS_BISS_HPP

@@ -1,0 +1,289 @@
+// motionbus — BiSS-C sensor data: decoder of raw SL captures (master side) and encoder of SL
+// bit streams (slave side: emulators, test benches).
+//
+// Captures are sequences of 8/16/32/64-bit words, one sample per bit, first sample in the most
+// significant bit (SPI order; bit_order::lsb_first is accepted too), starting at any sample
+// from the first clock. The decoder finds the Ack as the first 0 and the Start bit as the
+// first 1 after it: it never assumes the Ack length or the CDS value and never looks for a
+// fixed pattern (PROTOCOL_NOTES §2.1). Bits after the last CRC are ignored.
+//
+// Outcomes of decode_frame:
+//   complete      frame_info (start offset, Ack length, CDS), every slave's fields in `out`,
+//                 consumed = bits up to the end of the last CRC
+//   need input    the capture ends before the frame does (truncated), or before a bound
+//                 was reached with no Ack / no Start yet; needed() bits more at least
+//   failed        biss_no_ack (only 1s over max_idle_bits + 1 samples), biss_no_start (only 0s
+//                 over max_ack_bits after the first 0), crc_mismatch (the first slave whose
+//                 CRC fails; `out` is still filled, each slave with its own crc_ok()),
+//                 biss_layout, invalid_argument (empty chain), buffer_too_small (`out` shorter
+//                 than the chain)
+// An active nE or nW is device status (slave_data::error()/warning()), not a decode failure.
+#ifndef MOTIONBUS_BISS_CODEC_HPP
+#define MOTIONBUS_BISS_CODEC_HPP
+
+#include <cstddef>
+#include <cstdint>
+
+#include "motionbus/biss/frame.hpp"
+#include "motionbus/core/bits.hpp"
+#include "motionbus/core/crc.hpp"
+#include "motionbus/core/errc.hpp"
+#include "motionbus/core/result.hpp"
+#include "motionbus/core/span.hpp"
+
+namespace motionbus {
+namespace biss {
+
+/// Search bounds of the decoder.
+struct decode_options {
+  /// Idle (1) samples accepted before the Ack's first 0.
+  std::size_t max_idle_bits = 64;
+  /// Ack (0) samples accepted before the Start bit (line delay plus processing time).
+  /// Both bounds are in samples; a longer run fails rather than waiting for more input.
+  std::size_t max_ack_bits = 256;
+};
+
+/// The wire value of the CRC over `data` (data_bits) followed by `status` (status_bits), as a
+/// slave sends it. The CRC6 0x43 used by nearly every encoder takes a compile-time table of
+/// `Table` size; any other format is computed bit by bit from its run-time parameters.
+template <crc_table_size Table = default_crc_table>
+constexpr std::uint32_t wire_crc(const crc_format& f, std::uint64_t data, unsigned data_bits,
+                                 std::uint32_t status, unsigned status_bits) noexcept {
+  if (f.width == 0U) {
+    return 0;
+  }
+  if (f.width == 6U && f.poly == 0x03U && f.start == 0U) {
+    auto c = crc6_biss<Table>();
+    c.update_bits(data, data_bits).update_bits(status, status_bits);
+    return f.inverted ? c.value() : (c.value() ^ 0x3FU);
+  }
+  dynamic_crc c(f.parameters());
+  c.update_bits(data, data_bits).update_bits(status, status_bits);
+  return c.value();
+}
+
+namespace detail {
+
+// Validates a chain and returns its bits after CDS (0 on error, with `e` set).
+constexpr std::size_t checked_chain_bits(span<const slave_layout> chain, errc& e) noexcept {
+  std::size_t bits = 0;
+  for (std::size_t i = 0; i < chain.size(); ++i) {
+    const errc v = chain[i].validate();
+    if (v != errc::ok) {
+      e = v;
+      return 0;
+    }
+    bits += chain[i].frame_bits();
+  }
+  e = errc::ok;
+  return bits;
+}
+
+}  // namespace detail
+
+/// Decodes the sensor data frame of a chain from a raw SL capture of `bit_count` samples
+/// (clipped to the words given). See the file comment for the outcomes.
+template <crc_table_size Table = default_crc_table, class Word>
+constexpr decode_result<frame_info> decode_frame(span<const Word> words, std::size_t bit_count,
+                                                 span<const slave_layout> chain,
+                                                 span<slave_data> out,
+                                                 const decode_options& opt = {},
+                                                 bit_order order = bit_order::msb_first) noexcept {
+  if (chain.empty() || chain.size() > max_chain) {
+    return decode_failure{errc::invalid_argument, 0};
+  }
+  if (out.size() < chain.size()) {
+    return decode_failure{errc::buffer_too_small, 0};
+  }
+  errc layout_error = errc::ok;
+  const std::size_t frame_bits = detail::checked_chain_bits(chain, layout_error);
+  if (layout_error != errc::ok) {
+    return decode_failure{layout_error, 0};
+  }
+  const basic_bit_reader<Word> r(words, order, 0, bit_count);
+  const std::size_t size = r.size();
+  // Ack: the first 0 within max_idle_bits + 1 samples.
+  const std::size_t ack = r.find(false, 0, opt.max_idle_bits + 1U);
+  if (ack == r.npos) {
+    if (size > opt.max_idle_bits) {
+      return decode_failure{errc::biss_no_ack, size};
+    }
+    return need_input{1};
+  }
+  // Start: the first 1 after the Ack began, within max_ack_bits samples.
+  const std::size_t start = r.find(true, ack, opt.max_ack_bits + 1U);
+  if (start == r.npos) {
+    if (size - ack > opt.max_ack_bits) {
+      return decode_failure{errc::biss_no_start, size};
+    }
+    return need_input{1};
+  }
+  const std::size_t end = start + 2U + frame_bits;
+  if (end > size) {
+    return need_input{end - size};
+  }
+  // Fields go MSB first on the wire; an LSB-first capture returns them reversed.
+  const auto field = [&r, order](std::size_t at, unsigned n) {
+    const std::uint64_t v = r.field_at(at, n).value();
+    return order == bit_order::msb_first ? v : reverse_bits(v, n);
+  };
+  frame_info info;
+  info.ack = ack;
+  info.start = start;
+  info.cds = field(start + 1U, 1) != 0U;
+  info.slaves = chain.size();
+  info.end = end;
+  std::size_t pos = start + 2U;
+  decode_failure first_bad{};
+  bool bad = false;
+  for (std::size_t i = 0; i < chain.size(); ++i) {
+    const slave_layout& l = chain[i];
+    slave_data& d = out[i];
+    const unsigned db = l.data_bits();
+    const unsigned sb = l.status_bits();
+    d.data = field(pos, db);
+    pos += db;
+    const auto status = static_cast<std::uint32_t>(field(pos, sb));
+    pos += sb;
+    d.ne = l.has_error ? (((status >> (l.has_warning ? 1U : 0U)) & 1U) != 0U) : true;
+    d.nw = l.has_warning ? ((status & 1U) != 0U) : true;
+    d.crc = static_cast<std::uint32_t>(field(pos, l.crc.width));
+    pos += l.crc.width;
+    d.crc_computed = wire_crc<Table>(l.crc, d.data, db, status, sb);
+    const std::uint64_t value = l.alignment_bits >= 64U ? 0U : (d.data >> l.alignment_bits);
+    d.single_turn = l.single_turn_bits >= 64U
+                        ? value
+                        : value & motionbus::detail::low_mask64(l.single_turn_bits);
+    d.multi_turn = l.single_turn_bits >= 64U ? 0U : (value >> l.single_turn_bits);
+    if (!d.crc_ok() && !bad) {
+      bad = true;
+      first_bad = decode_failure{errc::crc_mismatch, end, d.crc_computed, d.crc};
+    }
+  }
+  if (bad) {
+    return first_bad;
+  }
+  return decode_result<frame_info>::complete(info, end);
+}
+
+/// Single-slave form.
+template <crc_table_size Table = default_crc_table, class Word>
+constexpr decode_result<frame_info> decode_frame(span<const Word> words, std::size_t bit_count,
+                                                 const slave_layout& layout, slave_data& out,
+                                                 const decode_options& opt = {},
+                                                 bit_order order = bit_order::msb_first) noexcept {
+  return decode_frame<Table, Word>(words, bit_count, span<const slave_layout>(&layout, 1),
+                                   span<slave_data>(&out, 1), opt, order);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Slave side
+
+/// What a slave reports in one frame.
+struct slave_values {
+  std::uint64_t multi_turn = 0;
+  std::uint64_t single_turn = 0;  ///< the position for single-turn layouts such as ABSYS
+  bool ne = true;                 ///< nE line level (false: error active)
+  bool nw = true;                 ///< nW line level (false: warning active)
+};
+
+/// The SL line around the frame.
+struct line_options {
+  std::size_t idle_bits = 0;     ///< 1s before the Ack (samples before the slave answers)
+  std::size_t ack_bits = 1;      ///< Ack length, at least 1
+  bool cds = false;              ///< the CDS bit
+  std::size_t timeout_bits = 0;  ///< 0s after the last CRC (the slave's timeout)
+};
+
+/// Bits encode_frame writes for a chain and line options (0 when a layout is invalid).
+constexpr std::size_t encoded_bits(span<const slave_layout> chain,
+                                   const line_options& line) noexcept {
+  errc e = errc::ok;
+  const std::size_t bits = detail::checked_chain_bits(chain, e);
+  if (e != errc::ok) {
+    return 0;
+  }
+  return line.idle_bits + line.ack_bits + 2U + bits + line.timeout_bits;
+}
+
+/// Writes the SL samples of one frame into `out` from bit `bit_offset`: idle, Ack, Start, CDS,
+/// then each slave's data (values that do not fit their fields are errc::out_of_range), nE,
+/// nW and CRC, then the timeout. Returns the bits written. Errors write nothing:
+/// invalid_argument (empty or mismatched chain/values, Ack length 0), biss_layout,
+/// out_of_range, buffer_too_small.
+template <crc_table_size Table = default_crc_table, class Word>
+constexpr result<std::size_t> encode_frame(span<Word> out, span<const slave_layout> chain,
+                                           span<const slave_values> values,
+                                           const line_options& line = {},
+                                           bit_order order = bit_order::msb_first,
+                                           std::size_t bit_offset = 0) noexcept {
+  if (chain.empty() || chain.size() > max_chain || values.size() != chain.size() ||
+      line.ack_bits == 0U) {
+    return errc::invalid_argument;
+  }
+  errc e = errc::ok;
+  const std::size_t frame_bits = detail::checked_chain_bits(chain, e);
+  if (e != errc::ok) {
+    return e;
+  }
+  for (std::size_t i = 0; i < chain.size(); ++i) {
+    const slave_layout& l = chain[i];
+    const bool st_fits =
+        l.single_turn_bits >= 64U || (values[i].single_turn >> l.single_turn_bits) == 0U;
+    const bool mt_fits =
+        l.multi_turn_bits >= 64U || (values[i].multi_turn >> l.multi_turn_bits) == 0U;
+    if (!st_fits || !mt_fits) {
+      return errc::out_of_range;
+    }
+  }
+  basic_bit_writer<Word> w(out, order, bit_offset);
+  const std::size_t total = line.idle_bits + line.ack_bits + 2U + frame_bits + line.timeout_bits;
+  if (bit_offset > w.size() || total > w.remaining()) {
+    return errc::buffer_too_small;
+  }
+  const auto put = [&w, order](std::uint64_t v, unsigned n) {
+    (void)w.write(order == bit_order::msb_first ? v : reverse_bits(v, n), n);
+  };
+  (void)w.fill(true, line.idle_bits);
+  (void)w.fill(false, line.ack_bits);
+  put(line.cds ? 0x3U : 0x2U, 2);  // Start 1, CDS
+  for (std::size_t i = 0; i < chain.size(); ++i) {
+    const slave_layout& l = chain[i];
+    const slave_values& v = values[i];
+    const unsigned db = l.data_bits();
+    const unsigned sb = l.status_bits();
+    // data = multi-turn : single-turn : alignment zeros (each part < 64 bits, validated)
+    std::uint64_t data = l.multi_turn_bits == 0U ? 0U : v.multi_turn;
+    data =
+        l.single_turn_bits >= 64U ? v.single_turn : ((data << l.single_turn_bits) | v.single_turn);
+    data = l.alignment_bits >= 64U ? 0U : (data << l.alignment_bits);
+    std::uint32_t status = 0;
+    if (l.has_error) {
+      status = v.ne ? 1U : 0U;
+    }
+    if (l.has_warning) {
+      status = (status << 1U) | (v.nw ? 1U : 0U);
+    }
+    put(data, db);
+    put(status, sb);
+    put(wire_crc<Table>(l.crc, data, db, status, sb), l.crc.width);
+  }
+  (void)w.fill(false, line.timeout_bits);
+  return total;
+}
+
+/// Single-slave form.
+template <crc_table_size Table = default_crc_table, class Word>
+constexpr result<std::size_t> encode_frame(span<Word> out, const slave_layout& layout,
+                                           const slave_values& values,
+                                           const line_options& line = {},
+                                           bit_order order = bit_order::msb_first,
+                                           std::size_t bit_offset = 0) noexcept {
+  return encode_frame<Table, Word>(out, span<const slave_layout>(&layout, 1),
+                                   span<const slave_values>(&values, 1), line, order, bit_offset);
+}
+
+}  // namespace biss
+}  // namespace motionbus
+
+#endif  // MOTIONBUS_BISS_CODEC_HPP

@@ -1,0 +1,414 @@
+// BiSS-C sensor data: CRCs against an independent long-division reference, frames built here
+// bit by bit from PROTOCOL_NOTES §2.1 (never by the encoder under test), the start search at
+// every line delay and Ack length, every error path, chains of 1–3 slaves.
+#include "motionbus/biss/codec.hpp"
+
+#include <doctest/doctest.h>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "../support/prng.hpp"
+#include "../support/reference_crc.hpp"
+
+using namespace motionbus;
+using namespace motionbus::biss;
+
+namespace {
+
+// ---- independent helpers ----------------------------------------------------------------------
+
+std::string bits_of(std::uint64_t v, unsigned n) {
+  std::string s;
+  for (unsigned i = 0; i < n; ++i) {
+    s.push_back(((v >> (n - 1U - i)) & 1U) != 0U ? '1' : '0');
+  }
+  return s;
+}
+
+std::vector<int> as_ints(const std::string& s) {
+  std::vector<int> v;
+  for (char c : s) {
+    v.push_back(c == '1' ? 1 : 0);
+  }
+  return v;
+}
+
+// The wire CRC of a bit string: long division (reference), inverted when the format says so.
+std::uint32_t ref_wire_crc(const crc_format& f, const std::string& covered) {
+  const std::uint32_t mask = (std::uint32_t{1} << f.width) - 1U;
+  const ref::model m{f.width, f.poly, f.start, false, false, f.inverted ? mask : 0U};
+  return ref::crc_of_bits(m, as_ints(covered));
+}
+
+struct slave_bits {
+  std::uint64_t mt = 0;
+  std::uint64_t st = 0;
+  bool ne = true;
+  bool nw = true;
+};
+
+// One slave's fields as a bit string, from the layout description.
+std::string slave_string(const slave_layout& l, const slave_bits& v) {
+  std::string covered = bits_of(v.mt, l.multi_turn_bits) + bits_of(v.st, l.single_turn_bits) +
+                        std::string(l.alignment_bits, '0');
+  if (l.has_error) {
+    covered.push_back(v.ne ? '1' : '0');
+  }
+  if (l.has_warning) {
+    covered.push_back(v.nw ? '1' : '0');
+  }
+  return covered + bits_of(ref_wire_crc(l.crc, covered), l.crc.width);
+}
+
+std::string frame_string(std::size_t idle, std::size_t ack, bool cds,
+                         const std::vector<slave_layout>& chain,
+                         const std::vector<slave_bits>& values, const std::string& tail = "") {
+  std::string s = std::string(idle, '1') + std::string(ack, '0') + "1" + (cds ? "1" : "0");
+  for (std::size_t i = 0; i < chain.size(); ++i) {
+    s += slave_string(chain[i], values[i]);
+  }
+  return s + tail;
+}
+
+template <class Word>
+std::vector<Word> pack(const std::string& s) {
+  constexpr unsigned w = sizeof(Word) * 8U;
+  std::vector<Word> out((s.size() + w - 1U) / w + 1U, 0);
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    if (s[i] == '1') {
+      out[i / w] = static_cast<Word>(out[i / w] | (Word{1} << (w - 1U - i % w)));
+    }
+  }
+  return out;
+}
+
+template <class Word>
+decode_result<frame_info> decode_string(const std::string& s,
+                                        const std::vector<slave_layout>& chain,
+                                        std::vector<slave_data>& out,
+                                        const decode_options& opt = {}) {
+  const std::vector<Word> words = pack<Word>(s);
+  out.assign(chain.size(), slave_data{});
+  return decode_frame(span<const Word>(words.data(), words.size()), s.size(),
+                      span<const slave_layout>(chain.data(), chain.size()),
+                      span<slave_data>(out.data(), out.size()), opt);
+}
+
+// A 25-bit multi-turn/single-turn slave with alignment, nE only and a 5-bit CRC (0x25), and an
+// 18-bit slave without status bits, a 7-bit CRC (0x97) with a start value, not inverted.
+const slave_layout mt_layout{12, 13, 2, true, false, crc_from_biss_notation(0x25)};
+const slave_layout plain_layout{0, 18, 0, false, false, crc_from_biss_notation(0x97, 0x15, false)};
+
+}  // namespace
+
+TEST_CASE("CRC6 0x43 and CRC4 0x13 match long division on every input up to 16 bits") {
+  const ref::model crc6{6, 0x03, 0, false, false, 0x3F};
+  const ref::model crc4{4, 0x03, 0, false, false, 0x0F};
+  const dynamic_crc dyn6_proto(crc6_43.parameters());
+  for (unsigned n = 1; n <= 16; ++n) {
+    for (std::uint32_t v = 0; v < (1U << n); ++v) {
+      const auto bits = as_ints(bits_of(v, n));
+      const std::uint32_t r6 = ref::crc_of_bits(crc6, bits);
+      const std::uint32_t r4 = ref::crc_of_bits(crc4, bits);
+      CHECK(crc6_biss<crc_table_size::byte>::compute_bits(v, n) == r6);
+      CHECK(crc6_biss<crc_table_size::nibble>::compute_bits(v, n) == r6);
+      CHECK(crc6_biss<crc_table_size::bitwise>::compute_bits(v, n) == r6);
+      CHECK(crc4_biss<crc_table_size::byte>::compute_bits(v, n) == r4);
+      CHECK(crc4_biss<crc_table_size::bitwise>::compute_bits(v, n) == r4);
+      dynamic_crc d = dyn6_proto;
+      CHECK(d.update_bits(v, n).value() == r6);
+    }
+  }
+}
+
+TEST_CASE("CRC6, CRC4 and run-time CRCs match long division on random inputs up to 64 bits") {
+  testutil::splitmix64 rng(0xB155);
+  const crc_format formats[] = {crc6_43, crc_from_biss_notation(0x13), crc_from_biss_notation(0x25),
+                                crc_from_biss_notation(0x97, 0x15, false),
+                                crc_from_biss_notation(0x1021 | 0x10000, 0xFFFF)};
+  for (int i = 0; i < 4000; ++i) {
+    const auto n = static_cast<unsigned>(17U + rng.below(48));
+    const std::uint64_t v =
+        rng.next() & (n == 64U ? ~std::uint64_t{0} : ((std::uint64_t{1} << n) - 1U));
+    for (const crc_format& f : formats) {
+      const std::uint32_t want = ref_wire_crc(f, bits_of(v, n));
+      CHECK(wire_crc<crc_table_size::byte>(f, v, n, 0, 0) == want);
+      CHECK(wire_crc<crc_table_size::bitwise>(f, v, n, 0, 0) == want);
+      // split between data and status the way the decoder feeds it
+      CHECK(wire_crc(f, v >> 2U, n - 2U, static_cast<std::uint32_t>(v & 3U), 2) == want);
+    }
+  }
+}
+
+TEST_CASE("BiSS polynomial notations") {
+  CHECK(crc_from_biss_notation(0x43) == crc6_43);
+  CHECK(crc_from_biss_notation(0x13).width == 4);
+  CHECK(crc_from_biss_notation(0x13).poly == 0x3);
+  CHECK(crc_from_biss_notation(0x97).width == 7);
+  CHECK(crc_from_biss_notation(0x1).width == 0);
+  CHECK(crc_from_eds(0x21) == crc6_43);  // EDS CPOLY (31:1) 0x21 is 0x43
+  CHECK(absys_layout.frame_bits() == 40);
+  CHECK(absys_layout.data_bits() == 32);
+}
+
+TEST_CASE("ABSYS frame: encoder output equals the frame built from the notes, decoder reads it") {
+  const std::vector<slave_layout> chain{absys_layout};
+  testutil::splitmix64 rng(7);
+  for (int i = 0; i < 200; ++i) {
+    const slave_bits v{0, rng.next() & 0xFFFFFFFFU, rng.below(2) == 0U, rng.below(4) != 0U};
+    const bool cds = rng.below(2) != 0U;
+    const std::size_t ack = 1U + rng.below(8);
+    const std::string want = frame_string(0, ack, cds, chain, {v});
+    std::uint32_t words[4] = {};
+    line_options line;
+    line.ack_bits = ack;
+    line.cds = cds;
+    const slave_values sv{0, v.st, v.ne, v.nw};
+    const auto n = encode_frame(span<std::uint32_t>(words, 4), absys_layout, sv, line);
+    REQUIRE(n.ok());
+    REQUIRE(*n == want.size());
+    std::string got;
+    for (std::size_t k = 0; k < *n; ++k) {
+      got.push_back(((words[k / 32U] >> (31U - k % 32U)) & 1U) != 0U ? '1' : '0');
+    }
+    CHECK(got == want);
+    std::vector<slave_data> out;
+    const auto r = decode_string<std::uint32_t>(want, chain, out);
+    REQUIRE(r.is_complete());
+    CHECK(r->start == ack);
+    CHECK(r->ack == 0);
+    CHECK(r->cds == cds);
+    CHECK(r.consumed() == want.size());
+    CHECK(out[0].single_turn == v.st);
+    CHECK(out[0].data == v.st);
+    CHECK(out[0].ne == v.ne);
+    CHECK(out[0].nw == v.nw);
+    CHECK(out[0].crc == ref_wire_crc(crc6_43, want.substr(ack + 2, 34)));
+    CHECK(out[0].crc_ok());
+  }
+}
+
+TEST_CASE("start search at every line delay and Ack length, CDS 0 and 1, 8/16/32-bit words") {
+  const std::vector<slave_layout> chain{absys_layout};
+  const slave_bits v{0, 0x89ABCDEFU, true, true};
+  for (std::size_t idle = 0; idle <= 40; ++idle) {
+    for (std::size_t ack = 1; ack <= 24; ++ack) {
+      for (int cds = 0; cds < 2; ++cds) {
+        // bits after the CRC are not guaranteed: put ones there
+        const std::string s = frame_string(idle, ack, cds != 0, chain, {v}, "1011");
+        std::vector<slave_data> o8;
+        std::vector<slave_data> o16;
+        std::vector<slave_data> o32;
+        const auto r8 = decode_string<std::uint8_t>(s, chain, o8);
+        const auto r16 = decode_string<std::uint16_t>(s, chain, o16);
+        const auto r32 = decode_string<std::uint32_t>(s, chain, o32);
+        CAPTURE(idle);
+        CAPTURE(ack);
+        REQUIRE(r8.is_complete());
+        REQUIRE(r16.is_complete());
+        REQUIRE(r32.is_complete());
+        CHECK(r8->start == idle + ack);
+        CHECK(r8->ack == idle);
+        CHECK(r8->ack_bits() == ack);
+        CHECK(r16->start == idle + ack);
+        CHECK(r32->start == idle + ack);
+        CHECK(r8->cds == (cds != 0));
+        CHECK(o8[0].single_turn == 0x89ABCDEFU);
+        CHECK(o16[0].single_turn == 0x89ABCDEFU);
+        CHECK(o32[0].single_turn == 0x89ABCDEFU);
+        CHECK(r32.consumed() == s.size() - 4U);
+      }
+    }
+  }
+}
+
+TEST_CASE("LSB-first captures decode the same frame") {
+  const std::string s = frame_string(3, 2, true, {absys_layout}, {{0, 0x1234567U, true, false}});
+  std::vector<std::uint8_t> words((s.size() + 7U) / 8U, 0);
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    if (s[i] == '1') {
+      words[i / 8U] = static_cast<std::uint8_t>(words[i / 8U] | (1U << (i % 8U)));
+    }
+  }
+  slave_data d;
+  const auto r = decode_frame(span<const std::uint8_t>(words.data(), words.size()), s.size(),
+                              absys_layout, d, {}, bit_order::lsb_first);
+  REQUIRE(r.is_complete());
+  CHECK(r->start == 5);
+  CHECK(d.single_turn == 0x1234567U);
+  CHECK(d.warning());
+}
+
+TEST_CASE("no Ack, no Start, truncated: distinct outcomes") {
+  const std::vector<slave_layout> chain{absys_layout};
+  std::vector<slave_data> out;
+  decode_options opt;
+  opt.max_idle_bits = 16;
+  opt.max_ack_bits = 20;
+  // only ones: need more input up to the bound, then no_ack
+  CHECK(decode_string<std::uint8_t>(std::string(16, '1'), chain, out, opt).is_incomplete());
+  CHECK(decode_string<std::uint8_t>(std::string(17, '1'), chain, out, opt).error() ==
+        errc::biss_no_ack);
+  CHECK(decode_string<std::uint8_t>(std::string(200, '1'), chain, out, opt).error() ==
+        errc::biss_no_ack);
+  // Ack forever: need more input up to the bound, then no_start
+  CHECK(decode_string<std::uint8_t>("111" + std::string(20, '0'), chain, out, opt).is_incomplete());
+  CHECK(decode_string<std::uint8_t>("111" + std::string(21, '0'), chain, out, opt).error() ==
+        errc::biss_no_start);
+  // an Ack of exactly the bound is accepted
+  const std::string longest = frame_string(16, 20, false, chain, {{0, 5, true, true}});
+  CHECK(decode_string<std::uint8_t>(longest, chain, out, opt).is_complete());
+  CHECK(decode_string<std::uint8_t>(frame_string(17, 1, false, chain, {{0, 5, true, true}}), chain,
+                                    out, opt)
+            .error() == errc::biss_no_ack);
+  // every strict prefix of a frame past its Start needs input, with the exact count
+  const std::string full = frame_string(2, 3, true, chain, {{0, 0xCAFEF00DU, false, true}});
+  for (std::size_t n = 0; n < full.size(); ++n) {
+    const auto r = decode_string<std::uint16_t>(full.substr(0, n), chain, out);
+    CAPTURE(n);
+    REQUIRE(r.is_incomplete());
+    if (n > 5U) {
+      CHECK(r.needed() == full.size() - n);
+    }
+  }
+  CHECK(decode_string<std::uint16_t>(full, chain, out).is_complete());
+}
+
+TEST_CASE("every single-bit flip of data, nE, nW and CRC is a CRC mismatch; CDS flips are data") {
+  const std::vector<slave_layout> chain{absys_layout};
+  const std::string full = frame_string(1, 2, false, chain, {{0, 0x00F00F0FU, true, true}});
+  const std::size_t first = 1 + 2 + 2;  // after idle, Ack, Start, CDS
+  std::vector<slave_data> out;
+  for (std::size_t i = first; i < full.size(); ++i) {
+    std::string bad = full;
+    bad[i] = bad[i] == '1' ? '0' : '1';
+    const auto r = decode_string<std::uint32_t>(bad, chain, out);
+    CAPTURE(i);
+    REQUIRE(r.is_failed());
+    CHECK(r.error() == errc::crc_mismatch);
+    CHECK(r.received() == out[0].crc);
+    CHECK(r.expected() == out[0].crc_computed);
+    CHECK(!out[0].crc_ok());
+  }
+  std::string cds = full;
+  cds[4] = '1';
+  const auto r = decode_string<std::uint32_t>(cds, chain, out);
+  REQUIRE(r.is_complete());
+  CHECK(r->cds);
+}
+
+TEST_CASE("active nE / nW are device status, not failures") {
+  const std::vector<slave_layout> chain{absys_layout};
+  std::vector<slave_data> out;
+  const auto r = decode_string<std::uint8_t>(
+      frame_string(0, 1, false, chain, {{0, 42, false, false}}), chain, out);
+  REQUIRE(r.is_complete());
+  CHECK(out[0].error());
+  CHECK(out[0].warning());
+  CHECK(out[0].single_turn == 42);
+}
+
+TEST_CASE("chains of 1 to 3 slaves with different layouts") {
+  const std::vector<slave_layout> layouts{absys_layout, mt_layout, plain_layout};
+  testutil::splitmix64 rng(99);
+  for (std::size_t n = 1; n <= 3; ++n) {
+    for (int rep = 0; rep < 100; ++rep) {
+      std::vector<slave_layout> chain;
+      std::vector<slave_bits> vals;
+      std::vector<slave_values> svals;
+      for (std::size_t k = 0; k < n; ++k) {
+        const slave_layout& l = layouts[(k + static_cast<std::size_t>(rep)) % 3U];
+        chain.push_back(l);
+        const slave_bits b{rng.next() & ((std::uint64_t{1} << l.multi_turn_bits) - 1U),
+                           rng.next() & ((std::uint64_t{1} << l.single_turn_bits) - 1U),
+                           !l.has_error || rng.below(2) == 0U,
+                           !l.has_warning || rng.below(2) == 0U};
+        vals.push_back(b);
+        svals.push_back({b.mt, b.st, b.ne, b.nw});
+      }
+      const std::size_t idle = rng.below(10);
+      const std::size_t ack = 1U + rng.below(10);
+      const std::string s = frame_string(idle, ack, rep % 2 == 0, chain, vals);
+      std::vector<slave_data> out;
+      const auto r = decode_string<std::uint16_t>(s, chain, out);
+      CAPTURE(n);
+      CAPTURE(rep);
+      REQUIRE(r.is_complete());
+      CHECK(r->slaves == n);
+      CHECK(r->start == idle + ack);
+      for (std::size_t k = 0; k < n; ++k) {
+        CHECK(out[k].multi_turn == vals[k].mt);
+        CHECK(out[k].single_turn == vals[k].st);
+        CHECK(out[k].ne == vals[k].ne);
+        CHECK(out[k].nw == vals[k].nw);
+        CHECK(out[k].crc_ok());
+      }
+      // the encoder writes the same bits
+      std::vector<std::uint16_t> words(12, 0);
+      line_options line;
+      line.idle_bits = idle;
+      line.ack_bits = ack;
+      line.cds = rep % 2 == 0;
+      const auto w = encode_frame(span<std::uint16_t>(words.data(), words.size()),
+                                  span<const slave_layout>(chain.data(), chain.size()),
+                                  span<const slave_values>(svals.data(), svals.size()), line);
+      REQUIRE(w.ok());
+      CHECK(*w == s.size());
+      const auto packed = pack<std::uint16_t>(s);
+      for (std::size_t k = 0; k * 16U < s.size(); ++k) {
+        const unsigned used =
+            s.size() - k * 16U >= 16U ? 16U : static_cast<unsigned>(s.size() - k * 16U);
+        const auto mask = static_cast<std::uint16_t>(0xFFFFU << (16U - used));
+        CHECK((words[k] & mask) == (packed[k] & mask));
+      }
+      // a bad CRC in the last slave fails the frame but leaves the others readable
+      std::string bad = s;
+      bad.back() = bad.back() == '1' ? '0' : '1';
+      const auto rb = decode_string<std::uint16_t>(bad, chain, out);
+      CHECK(rb.error() == errc::crc_mismatch);
+      CHECK(!out[n - 1U].crc_ok());
+      for (std::size_t k = 0; k + 1U < n; ++k) {
+        CHECK(out[k].crc_ok());
+      }
+    }
+  }
+}
+
+TEST_CASE("invalid layouts, chains, buffers and values are refused") {
+  std::uint32_t words[4] = {};
+  std::vector<slave_data> out(4);
+  const span<const std::uint32_t> in(words, 4);
+  slave_layout bad = absys_layout;
+  bad.single_turn_bits = 70;
+  CHECK(bad.validate() == errc::biss_layout);
+  slave_data d;
+  CHECK(decode_frame(in, 128, bad, d).error() == errc::biss_layout);
+  bad = absys_layout;
+  bad.crc.width = 17;
+  CHECK(decode_frame(in, 128, bad, d).error() == errc::biss_layout);
+  bad = absys_layout;
+  bad.crc.poly = 0x43;  // BiSS notation given where the x^6 term must be left out
+  CHECK(decode_frame(in, 128, bad, d).error() == errc::biss_layout);
+  CHECK(
+      decode_frame(in, 128, span<const slave_layout>{}, span<slave_data>(out.data(), 4)).error() ==
+      errc::invalid_argument);
+  const slave_layout two[2] = {absys_layout, absys_layout};
+  CHECK(decode_frame(in, 128, span<const slave_layout>(two, 2), span<slave_data>(out.data(), 1))
+            .error() == errc::buffer_too_small);
+
+  std::uint32_t small[1] = {};
+  CHECK(encode_frame(span<std::uint32_t>(small, 1), absys_layout, slave_values{}).error() ==
+        errc::buffer_too_small);
+  CHECK(small[0] == 0U);
+  slave_values big;
+  big.single_turn = std::uint64_t{1} << 32U;
+  CHECK(encode_frame(span<std::uint32_t>(words, 4), absys_layout, big).error() ==
+        errc::out_of_range);
+  line_options no_ack;
+  no_ack.ack_bits = 0;
+  CHECK(encode_frame(span<std::uint32_t>(words, 4), absys_layout, slave_values{}, no_ack).error() ==
+        errc::invalid_argument);
+  CHECK(encoded_bits(span<const slave_layout>(two, 2), line_options{}) == 3U + 80U);
+}

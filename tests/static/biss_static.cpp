@@ -1,0 +1,67 @@
+// Compile-time suite for BiSS-C: CRC vectors, layouts, and a frame encoded and decoded by the
+// compiler.
+#include <cstdint>
+
+#include "motionbus/biss.hpp"
+
+namespace mb = motionbus;
+namespace bs = motionbus::biss;
+
+namespace {
+
+// Worked by hand from the definition, CRC = M(x) * x^w mod P(x), MSB first, then inverted.
+// CRC6 0x43 over position 0x00000000, nE = 1, nW = 1: M = x + 1, M * x^6 = x^7 + x^6; with
+// x^6 = x + 1 and x^7 = x^2 + x that is x^2 + 1 = 0b000101, on the wire 0b111010 = 0x3A.
+static_assert(mb::crc6_biss<>::compute_bits(0x3, 34) == 0x3A, "CRC6 of zero position, nE nW 1");
+static_assert(bs::wire_crc(bs::crc6_43, 0, 32, 0x3, 2) == 0x3A, "wire CRC, table path");
+static_assert(bs::wire_crc(bs::crc_from_biss_notation(0x43, 0, true), 0, 32, 0x3, 2) == 0x3A,
+              "wire CRC from the BiSS notation");
+static_assert(mb::dynamic_crc(bs::crc6_43.parameters()).update_bits(0x3, 34).value() == 0x3A,
+              "run-time CRC, bit by bit");
+// CRC4 0x13 of a control frame's CTS = 1, ID 000, ADR 0000000 (11 bits): M = x^10,
+// M * x^4 = x^14; with x^4 = x + 1, x^8 = x^2 + 1, x^12 = x^3 + x^2 + x + 1, x^14 = x^3 + 1 =
+// 0b1001, on the wire 0b0110.
+static_assert(mb::crc4_biss<>::compute_bits(0x400, 11) == 0x6, "CRC4 of CTS=1, ID 0, ADR 0");
+
+static_assert(bs::crc_from_biss_notation(0x43) == bs::crc6_43, "0x43 is x^6 + x + 1");
+static_assert(bs::crc_from_eds(0x21) == bs::crc6_43, "EDS CPOLY 0x21 is 0x43");
+static_assert(bs::absys_layout.frame_bits() == 40, "ABSYS: 32 + nE + nW + CRC6");
+static_assert(bs::slave_layout{}.crc == bs::crc6_43, "the ABSYS layout is the default");
+
+constexpr bool frame_round_trip() {
+  std::uint32_t words[3] = {};
+  bs::line_options line;
+  line.idle_bits = 5;
+  line.ack_bits = 3;
+  line.cds = true;
+  bs::slave_values v;
+  v.single_turn = 0xDEADBEEF;
+  v.nw = false;
+  const auto n = bs::encode_frame(mb::span<std::uint32_t>(words, 3), bs::absys_layout, v, line);
+  if (!n.ok() || *n != 5 + 3 + 2 + 40) {
+    return false;
+  }
+  bs::slave_data d;
+  const auto r = bs::decode_frame(mb::span<const std::uint32_t>(words, 3), *n, bs::absys_layout, d);
+  return r.is_complete() && r->start == 8 && r->ack == 5 && r->cds && d.single_turn == 0xDEADBEEF &&
+         d.ne && !d.nw && d.crc_ok() && r.consumed() == 50;
+}
+static_assert(frame_round_trip(), "encode -> decode at compile time");
+
+constexpr bool truncated_and_no_ack() {
+  const std::uint8_t ones[4] = {0xFF, 0xFF, 0xFF, 0xFF};
+  bs::slave_data d;
+  bs::decode_options o;
+  o.max_idle_bits = 20;
+  return bs::decode_frame(mb::span<const std::uint8_t>(ones, 4), 32, bs::absys_layout, d, o)
+                 .error() == mb::errc::biss_no_ack &&
+         bs::decode_frame(mb::span<const std::uint8_t>(ones, 4), 16, bs::absys_layout, d, o)
+             .is_incomplete();
+}
+static_assert(truncated_and_no_ack(), "no Ack vs need more input");
+
+}  // namespace
+
+int main() {
+  return 0;
+}
