@@ -60,7 +60,7 @@ void run(const std::uint8_t* data, std::size_t size, std::size_t chain_len, std:
   }
   const bs::frame_info& f = r.value();
   MOTIONBUS_FUZZ_CHECK(f.ack <= opt.max_idle_bits && f.ack_bits() >= 1U &&
-                       f.ack_bits() <= opt.max_ack_bits && f.end == r.consumed());
+                       f.ack_bits() <= opt.max_ack_bits);
   std::vector<bs::slave_values> values;
   bool filler_set = false;  // alignment bits are filler: the encoder writes them as 0
   for (std::size_t k = 0; k < out.size(); ++k) {
@@ -79,7 +79,7 @@ void run(const std::uint8_t* data, std::size_t size, std::size_t chain_len, std:
       bs::encode_frame(mb::span<Word>(copy.data(), copy.size()),
                        mb::span<const bs::slave_layout>(chain.data(), chain.size()),
                        mb::span<const bs::slave_values>(values.data(), values.size()), line);
-  MOTIONBUS_FUZZ_CHECK(w.ok() && w.value() == f.end);
+  MOTIONBUS_FUZZ_CHECK(w.ok() && w.value() == r.consumed());
   MOTIONBUS_FUZZ_CHECK(filler_set || copy == words);  // the same bits were there already
 }
 

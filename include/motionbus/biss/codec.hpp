@@ -54,7 +54,12 @@ constexpr std::uint32_t wire_crc(const crc_format& f, std::uint64_t data, unsign
   }
   if (f.width == 6U && f.poly == 0x03U && f.start == 0U) {
     auto c = crc6_biss<Table>();
-    c.update_bits(data, data_bits).update_bits(status, status_bits);
+    if (data_bits + status_bits <= 64U) {  // one field: one sliced step where tables allow
+      c.update_bits(status_bits == 0U ? data : ((data << status_bits) | status),
+                    data_bits + status_bits);
+    } else {
+      c.update_bits(data, data_bits).update_bits(status, status_bits);
+    }
     return f.inverted ? c.value() : (c.value() ^ 0x3FU);
   }
   dynamic_crc c(f.parameters());
@@ -102,17 +107,50 @@ constexpr decode_result<frame_info> decode_frame(span<const Word> words, std::si
   }
   const basic_bit_reader<Word> r(words, order, 0, bit_count);
   const std::size_t size = r.size();
+  // Fields go MSB first on the wire; an LSB-first capture returns them reversed.
+  const auto field = [&r, order](std::size_t at, unsigned n) {
+    const std::uint64_t v = r.field_at(at, n).value();
+    return order == bit_order::msb_first ? v : reverse_bits(v, n);
+  };
+  // The first (up to) 64 samples, left-aligned, zeros past the capture: the Ack, the Start
+  // bit and a whole short frame are found in this one word with leading-zero counts.
+  const unsigned n0 = size >= 64U ? 64U : static_cast<unsigned>(size);
+  std::uint64_t win = 0;
+  constexpr unsigned word_bits = basic_bit_reader<Word>::bits_per_word;
+  if (order == bit_order::msb_first && n0 == 64U && word_bits <= 32U) {
+    for (unsigned k = 0; k < 64U / word_bits; ++k) {  // whole words: no per-bit work
+      win = (win << word_bits) | words[k];
+    }
+  } else if (n0 != 0U) {
+    win = field(0, n0) << (64U - n0);
+  }
   // Ack: the first 0 within max_idle_bits + 1 samples.
-  const std::size_t ack = r.find(false, 0, opt.max_idle_bits + 1U);
-  if (ack == r.npos) {
+  std::size_t ack = countl_zero64(~win);  // leading ones, at most n0
+  if (ack >= n0) {                        // no 0 in the window: search on past it
+    ack =
+        n0 == 64U && opt.max_idle_bits >= 64U ? r.find(false, 64, opt.max_idle_bits - 63U) : r.npos;
+  }
+  if (ack == r.npos || ack > opt.max_idle_bits) {
     if (size > opt.max_idle_bits) {
       return decode_failure{errc::biss_no_ack, size};
     }
     return need_input{1};
   }
-  // Start: the first 1 after the Ack began, within max_ack_bits samples.
-  const std::size_t start = r.find(true, ack, opt.max_ack_bits + 1U);
-  if (start == r.npos) {
+  // Start: the first 1 after the Ack began, within max_ack_bits + 1 samples.
+  std::size_t start = r.npos;
+  if (ack < n0) {
+    const std::size_t k = countl_zero64(win << ack);  // zeros from the Ack on (padding too)
+    if (ack + k < n0) {
+      start = ack + k;
+    }
+  }
+  if (start == r.npos && n0 == 64U && size > 64U) {  // search on past the window
+    const std::size_t from = ack > 64U ? ack : 64U;
+    if (from - ack <= opt.max_ack_bits) {
+      start = r.find(true, from, opt.max_ack_bits + 1U - (from - ack));
+    }
+  }
+  if (start == r.npos || start - ack > opt.max_ack_bits) {
     if (size - ack > opt.max_ack_bits) {
       return decode_failure{errc::biss_no_start, size};
     }
@@ -122,33 +160,36 @@ constexpr decode_result<frame_info> decode_frame(span<const Word> words, std::si
   if (end > size) {
     return need_input{end - size};
   }
-  // Fields go MSB first on the wire; an LSB-first capture returns them reversed.
-  const auto field = [&r, order](std::size_t at, unsigned n) {
-    const std::uint64_t v = r.field_at(at, n).value();
-    return order == bit_order::msb_first ? v : reverse_bits(v, n);
-  };
   frame_info info;
   info.ack = ack;
   info.start = start;
-  info.cds = field(start + 1U, 1) != 0U;
-  info.slaves = chain.size();
-  info.end = end;
-  std::size_t pos = start + 2U;
+  info.cds = start + 1U < n0 ? ((win << (start + 1U)) >> 63U) != 0U : field(start + 1U, 1) != 0U;
   decode_failure first_bad{};
   bool bad = false;
+  const bool in_window = end <= n0;
+  std::size_t pos = start + 2U;
   for (std::size_t i = 0; i < chain.size(); ++i) {
     const slave_layout& l = chain[i];
     slave_data& d = out[i];
     const unsigned db = l.data_bits();
     const unsigned sb = l.status_bits();
-    d.data = field(pos, db);
-    pos += db;
-    const auto status = static_cast<std::uint32_t>(field(pos, sb));
-    pos += sb;
+    const unsigned cb = l.crc.width;
+    std::uint32_t status = 0;
+    if (in_window) {  // 0 < n <= 64 and pos + n <= 64 for every field here
+      const auto take = [win](std::size_t at, unsigned n) {
+        return n == 0U ? std::uint64_t{0} : ((win << at) >> (64U - n));
+      };
+      d.data = take(pos, db);
+      status = static_cast<std::uint32_t>(take(pos + db, sb));
+      d.crc = static_cast<std::uint32_t>(take(pos + db + sb, cb));
+    } else {
+      d.data = field(pos, db);
+      status = static_cast<std::uint32_t>(field(pos + db, sb));
+      d.crc = static_cast<std::uint32_t>(field(pos + db + sb, cb));
+    }
+    pos += l.frame_bits();
     d.ne = l.has_error ? (((status >> (l.has_warning ? 1U : 0U)) & 1U) != 0U) : true;
     d.nw = l.has_warning ? ((status & 1U) != 0U) : true;
-    d.crc = static_cast<std::uint32_t>(field(pos, l.crc.width));
-    pos += l.crc.width;
     d.crc_computed = wire_crc<Table>(l.crc, d.data, db, status, sb);
     const std::uint64_t value = l.alignment_bits >= 64U ? 0U : (d.data >> l.alignment_bits);
     d.single_turn = l.single_turn_bits >= 64U

@@ -133,8 +133,7 @@ struct frame_info {
   std::size_t ack = 0;    ///< index of the first Ack bit (the idle bits before it)
   std::size_t start = 0;  ///< index of the Start bit: the line delay in whole bits
   bool cds = false;       ///< the CDS bit
-  std::size_t slaves = 0;
-  std::size_t end = 0;  ///< index just past the last slave's CRC
+  // (The end of the frame, just past the last CRC, is the decode result's consumed().)
 
   /// Clocks of Ack (line delay plus processing time, in bits).
   constexpr std::size_t ack_bits() const noexcept { return start - ack; }

@@ -29,8 +29,10 @@ namespace motionbus {
 /// Table size used by a CRC engine: 256 entries (a byte at a time), 16 entries (a nibble at a
 /// time) or none (a bit at a time).
 /// `slice4` / `slice8` (4 or 8 x 256 entries) process four or eight bytes per step; they apply
-/// to reflected CRCs of width 8..32 (CRC-16/MODBUS, CRC-32) and fall back to the 256-entry
-/// table otherwise. Meant for hosts and large MCUs, where flash is no concern.
+/// to reflected CRCs of width 8..32 (CRC-16/MODBUS, CRC-32) and to the bit fields of MSB-first
+/// CRCs of width 8 or less (`update_bits` on up to 32 / 64 bits: a BiSS frame's CRC6 in one
+/// step), and fall back to the 256-entry table otherwise. Meant for hosts and large MCUs,
+/// where flash is no concern.
 enum class crc_table_size : std::uint16_t {
   bitwise = 0,
   nibble = 16,
@@ -167,6 +169,25 @@ struct crc_kernel {
         make_slices<N>();
   };
   static constexpr bool can_slice = Reflected && Width >= 8U;
+  /// MSB-first CRCs of width 8 or less (BiSS CRC6/CRC4) slice bit fields instead: the register
+  /// is one byte, so t[k][b] (byte b, then k zero bytes, from a zero register) is the same
+  /// recurrence as above, and a field of up to 8 * N bits is N independent lookups.
+  static constexpr bool can_slice_bits = !Reflected && reg_bits == 8U;
+
+  /// Feeds `count` (8 .. 8N) bits, MSB first, from `reg`: the register is folded into the top
+  /// byte of the field (feeding M into R equals feeding M ^ (R << (count - 8)) into 0), then
+  /// the N bytes are looked up independently (no dependency chain between them).
+  template <std::size_t N>
+  static constexpr std::uint32_t feed_sliced_bits(std::uint32_t reg, std::uint64_t bits,
+                                                  unsigned count) noexcept {
+    const std::uint64_t v = bits ^ (static_cast<std::uint64_t>(reg) << (count - 8U));
+    const auto& t = slice_holder<N>::tables;
+    std::uint32_t r = 0;
+    for (std::size_t k = 0; k < N; ++k) {
+      r ^= t[k][(v >> (8U * k)) & 0xFFU];
+    }
+    return r;
+  }
 
   /// Feeds four bytes b0..b3 (b0 first) with the slice tables (reflected, width 8..32).
   static constexpr std::uint32_t step_slice4(std::uint32_t reg, std::uint32_t word) noexcept {
@@ -339,7 +360,15 @@ class crc {
   /// A count above 64 is treated as 64.
   constexpr crc& update_bits(std::uint64_t bits, unsigned count) noexcept {
     const unsigned n = count > 64U ? 64U : count;
-    reg_ = kernel::template feed<chunk_bits>(reg_, bits & detail::low_mask64(n), n);
+    const std::uint64_t v = bits & detail::low_mask64(n);
+    if constexpr (sliced && kernel::can_slice_bits) {
+      constexpr unsigned slice_bits = Table == crc_table_size::slice8 ? 64U : 32U;
+      if (n >= 8U && n <= slice_bits) {
+        reg_ = kernel::template feed_sliced_bits<slice_bits / 8U>(reg_, v, n);
+        return *this;
+      }
+    }
+    reg_ = kernel::template feed<chunk_bits>(reg_, v, n);
     return *this;
   }
 
@@ -386,7 +415,9 @@ class crc {
 
   /// Entries of the tables this engine uses (0 for bitwise). Exposed for size reports and tests.
   static constexpr std::size_t table_entries() noexcept {
-    return sliced && !kernel::can_slice ? 256U : static_cast<std::size_t>(Table);
+    return sliced && !kernel::can_slice && !kernel::can_slice_bits
+               ? 256U
+               : static_cast<std::size_t>(Table);
   }
 
  private:
