@@ -109,6 +109,7 @@ struct protocol_entries {
 protocol_entries tformat_entries();
 protocol_entries modbus_entries();
 protocol_entries sm_unit_entries();
+protocol_entries biss_entries();
 
 const std::vector<decoder>& decoders();
 const std::vector<encoder>& encoders();

@@ -12,7 +12,7 @@ namespace {
 
 const std::vector<protocol_entries>& all_protocols() {
   static const std::vector<protocol_entries> list = {tformat_entries(), modbus_entries(),
-                                                     sm_unit_entries()};
+                                                     sm_unit_entries(), biss_entries()};
   return list;
 }
 
@@ -89,8 +89,17 @@ int command_decode(const std::vector<std::string>& args) {
   }
   for (const auto& d : cli::decoders()) {
     if (args[2] == d.protocol && args[3] == d.kind) {
-      const cli::options opts = cli::parse_options(args, 5, d.value_options, d.switch_options);
+      // No positional input when options come first (e.g. `decode biss csd --hex ...`): the
+      // decoder takes its input from them.
+      const bool options_only = args[4].size() > 2 && args[4].compare(0, 2, "--") == 0;
+      const cli::options opts =
+          cli::parse_options(args, options_only ? 4 : 5, d.value_options, d.switch_options);
       const cli::line_handler handle = d.handle;
+      if (options_only) {
+        const cli::outcome o = handle("", opts);
+        cli::print(o);
+        return o.ok ? 0 : 1;
+      }
       return cli::run_inputs(args[4], [&](const std::string& in) { return handle(in, opts); });
     }
   }

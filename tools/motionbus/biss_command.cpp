@@ -1,0 +1,226 @@
+// BiSS-C in the CLI:
+//   decode biss csd <bits> [layout options]                the 0/1 samples on SL from the first
+//   clock decode biss csd --hex <words> [--bits N] [layout options]  the same as hex words, MSB
+//   first encode biss csd --position N [--ne B] [--nw B] [--ack N] [--cds B] [--idle N] [layout
+//   options]
+// Layout options (default: AMO ABSYS): --data-bits N (32), --crc-bits N (6), --crc-poly HEX
+// (BiSS notation with the x^N term, 43; the form without it is accepted too), --crc-start N (0),
+// --no-crc-invert.
+#include <motionbus/biss.hpp>
+#include <motionbus/core/errc.hpp>
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "cli.hpp"
+
+namespace mb = motionbus;
+namespace bs = motionbus::biss;
+
+namespace {
+
+std::uint64_t option_number(const cli::options& opts, const std::string& name,
+                            std::uint64_t fallback, std::uint64_t max) {
+  const auto v = opts.get(name);
+  if (!v) {
+    return fallback;
+  }
+  const auto n = cli::parse_uint(*v);
+  if (!n || *n > max) {
+    throw cli::usage_error{"--" + name + " needs a number up to " + std::to_string(max)};
+  }
+  return *n;
+}
+
+// A hexadecimal number with or without 0x.
+std::optional<std::uint64_t> parse_hex_number(std::string t) {
+  if (t.size() > 2 && t[0] == '0' && (t[1] == 'x' || t[1] == 'X')) {
+    t = t.substr(2);
+  }
+  if (t.empty() || t.size() > 16) {
+    return std::nullopt;
+  }
+  std::uint64_t v = 0;
+  for (const char c : t) {
+    const int d = (c >= '0' && c <= '9')   ? c - '0'
+                  : (c >= 'a' && c <= 'f') ? c - 'a' + 10
+                  : (c >= 'A' && c <= 'F') ? c - 'A' + 10
+                                           : -1;
+    if (d < 0) {
+      return std::nullopt;
+    }
+    v = (v << 4U) | static_cast<std::uint64_t>(d);
+  }
+  return v;
+}
+
+bs::slave_layout layout_from(const cli::options& opts) {
+  bs::slave_layout l = bs::absys_layout;
+  l.single_turn_bits = static_cast<unsigned>(option_number(opts, "data-bits", 32, 64));
+  if (l.single_turn_bits == 0) {
+    throw cli::usage_error{"--data-bits must be 1..64"};
+  }
+  const auto width = static_cast<unsigned>(option_number(opts, "crc-bits", 6, bs::max_crc_bits));
+  std::uint64_t poly = 0x43;
+  if (const auto p = opts.get("crc-poly")) {
+    const auto v = parse_hex_number(*p);
+    if (!v) {
+      throw cli::usage_error{"--crc-poly needs a hexadecimal polynomial such as 43"};
+    }
+    poly = *v;
+  } else if (width != 6) {
+    throw cli::usage_error{"--crc-bits other than 6 needs --crc-poly"};
+  }
+  const std::uint64_t top = std::uint64_t{1} << width;
+  if (width == 0) {
+    poly = 0;
+  } else if ((poly & ~(top - 1U)) == top) {
+    poly &= top - 1U;  // BiSS notation: drop the x^width term
+  } else if (poly >= top) {
+    throw cli::usage_error{"--crc-poly does not fit --crc-bits"};
+  }
+  l.crc.width = width;
+  l.crc.poly = static_cast<std::uint32_t>(poly);
+  l.crc.start = static_cast<std::uint32_t>(
+      option_number(opts, "crc-start", 0, width == 0 ? 0 : (std::uint64_t{1} << width) - 1U));
+  l.crc.inverted = !opts.has("no-crc-invert");
+  return l;
+}
+
+// The capture as 0/1 samples: the positional bit string, or --hex words (MSB first) cut to
+// --bits samples.
+std::optional<std::vector<std::uint8_t>> samples_from(const std::string& input,
+                                                      const cli::options& opts,
+                                                      std::string& error) {
+  std::vector<std::uint8_t> bits;
+  if (const auto hex = opts.get("hex")) {
+    for (std::size_t i = 0; i < hex->size(); ++i) {
+      const char c = (*hex)[i];
+      if (c == ' ' || c == '_' || c == ',' || c == ':') {
+        continue;
+      }
+      if (c == '0' && i + 1 < hex->size() && ((*hex)[i + 1] == 'x' || (*hex)[i + 1] == 'X')) {
+        ++i;
+        continue;
+      }
+      const auto d = parse_hex_number(std::string(1, c));
+      if (!d) {
+        error = "invalid_hex";
+        return std::nullopt;
+      }
+      for (int b = 3; b >= 0; --b) {
+        bits.push_back(static_cast<std::uint8_t>((*d >> static_cast<unsigned>(b)) & 1U));
+      }
+    }
+    const std::uint64_t n = option_number(opts, "bits", bits.size(), bits.size());
+    bits.resize(static_cast<std::size_t>(n));
+    if (bits.empty()) {
+      error = "empty_input";
+      return std::nullopt;
+    }
+    return bits;
+  }
+  return cli::parse_bits(input, error);
+}
+
+cli::outcome decode_csd(const std::string& input, const cli::options& opts) {
+  const bs::slave_layout layout = layout_from(opts);
+  std::string error;
+  const auto bits = samples_from(input, opts, error);
+  if (!bits) {
+    return cli::outcome::failure(error);
+  }
+  std::vector<std::uint8_t> words((bits->size() + 7U) / 8U, 0);
+  for (std::size_t i = 0; i < bits->size(); ++i) {
+    if ((*bits)[i] != 0U) {
+      words[i / 8U] = static_cast<std::uint8_t>(words[i / 8U] | (0x80U >> (i % 8U)));
+    }
+  }
+  bs::slave_data d;
+  const auto r = bs::decode_frame(mb::span<const std::uint8_t>(words.data(), words.size()),
+                                  bits->size(), layout, d);
+  if (r.is_incomplete()) {
+    // The capture is all there is: name what it lacks.
+    std::size_t ack = 0;
+    while (ack < bits->size() && (*bits)[ack] != 0U) {
+      ++ack;
+    }
+    std::size_t start = ack;
+    while (start < bits->size() && (*bits)[start] == 0U) {
+      ++start;
+    }
+    const mb::errc e = ack == bits->size()     ? mb::errc::biss_no_ack
+                       : start == bits->size() ? mb::errc::biss_no_start
+                                               : mb::errc::truncated;
+    return cli::outcome::failure(mb::to_string(e));
+  }
+  if (r.is_failed()) {
+    return cli::outcome::failure(mb::to_string(r.error()));
+  }
+  cli::json_object f;
+  f.add("position", static_cast<std::int64_t>(d.single_turn));
+  f.add("ne", d.ne ? 1 : 0);
+  f.add("nw", d.nw ? 1 : 0);
+  f.add("cds", r->cds ? 1 : 0);
+  f.add("crc", static_cast<std::int64_t>(d.crc));
+  f.add("start", static_cast<std::int64_t>(r->start));
+  f.add("ack_bits", static_cast<std::int64_t>(r->ack_bits()));
+  return cli::outcome::success(f);
+}
+
+bool option_bit(const cli::options& opts, const std::string& name, bool fallback) {
+  return option_number(opts, name, fallback ? 1 : 0, 1) != 0U;
+}
+
+cli::outcome encode_csd(const cli::options& opts) {
+  const bs::slave_layout layout = layout_from(opts);
+  if (!opts.has("position")) {
+    throw cli::usage_error{"encode biss csd needs --position N"};
+  }
+  bs::slave_values v;
+  v.single_turn = option_number(opts, "position", 0, ~std::uint64_t{0});
+  v.ne = option_bit(opts, "ne", true);
+  v.nw = option_bit(opts, "nw", true);
+  bs::line_options line;
+  line.ack_bits = static_cast<std::size_t>(option_number(opts, "ack", 1, 4096));
+  line.idle_bits = static_cast<std::size_t>(option_number(opts, "idle", 0, 4096));
+  line.cds = option_bit(opts, "cds", false);
+  if (line.ack_bits == 0) {
+    throw cli::usage_error{"--ack must be at least 1"};
+  }
+  std::vector<std::uint8_t> words(
+      (bs::encoded_bits(mb::span<const bs::slave_layout>(&layout, 1), line) + 7U) / 8U + 1U, 0);
+  const auto n =
+      bs::encode_frame(mb::span<std::uint8_t>(words.data(), words.size()), layout, v, line);
+  if (!n) {
+    return cli::outcome::failure(mb::to_string(n.error()));
+  }
+  std::string bits;
+  for (std::size_t i = 0; i < *n; ++i) {
+    bits.push_back(((words[i / 8U] >> (7U - i % 8U)) & 1U) != 0U ? '1' : '0');
+  }
+  cli::json_object f;
+  f.add("bits", bits);
+  return cli::outcome::success(f);
+}
+
+}  // namespace
+
+namespace cli {
+
+protocol_entries biss_entries() {
+  const std::vector<std::string> layout_options = {"data-bits", "crc-bits", "crc-poly",
+                                                   "crc-start"};
+  std::vector<std::string> decode_options = layout_options;
+  decode_options.insert(decode_options.end(), {"hex", "bits"});
+  std::vector<std::string> encode_options = layout_options;
+  encode_options.insert(encode_options.end(), {"position", "ne", "nw", "ack", "cds", "idle"});
+  protocol_entries e;
+  e.decoders.push_back({"biss", "csd", &decode_csd, decode_options, {"no-crc-invert"}});
+  e.encoders.push_back({"biss", "csd", &encode_csd, encode_options, {"no-crc-invert"}, 0});
+  return e;
+}
+
+}  // namespace cli
