@@ -3,6 +3,7 @@
 #define MOTIONBUS_BISS_HPP
 
 #include "motionbus/biss/codec.hpp"
+#include "motionbus/biss/control.hpp"
 #include "motionbus/biss/frame.hpp"
 
 #endif  // MOTIONBUS_BISS_HPP

@@ -1,0 +1,310 @@
+// BiSS-C control communication: master and slave state machines talking frame by frame, with
+// reads, writes, sequential access, wait states, aborts and injected bit errors. The CDM
+// sequence is also checked against the slot table of PROTOCOL_NOTES §2.2, built here.
+#include "motionbus/biss/control.hpp"
+
+#include <doctest/doctest.h>
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "../support/reference_crc.hpp"
+
+using namespace motionbus;
+using namespace motionbus::biss;
+
+namespace {
+
+struct test_registers {
+  std::array<std::uint8_t, 128> mem{};
+  std::array<bool, 128> read_only{};
+  std::array<bool, 128> hidden{};
+  int write_delay = 0;  // frames of wait states after each write
+  int busy = 0;
+  int writes = 0;
+
+  bool readable(std::uint8_t a) const { return !hidden[a]; }
+  bool writable(std::uint8_t a) const { return !hidden[a] && !read_only[a]; }
+  bool ready() const { return busy == 0; }
+  std::uint8_t read(std::uint8_t a) { return mem[a]; }
+  void write(std::uint8_t a, std::uint8_t v) {
+    mem[a] = v;
+    busy = write_delay;
+    ++writes;
+  }
+  void tick() {
+    if (busy > 0) {
+      --busy;
+    }
+  }
+};
+
+// Frame loop: master CDM -> slave, slave CDS -> master (next frame). `cdm_fault` and
+// `cds_fault` may flip a bit in a given frame. Returns the frames run.
+struct link {
+  link(control_master& master, control_slave<test_registers>& slave, test_registers& regs)
+      : m(master), s(slave), r(regs) {}
+  control_master& m;
+  control_slave<test_registers>& s;
+  test_registers& r;
+  std::function<bool(std::size_t, bool)> cdm_fault = [](std::size_t, bool b) { return b; };
+  std::function<bool(std::size_t, bool)> cds_fault = [](std::size_t, bool b) { return b; };
+  std::vector<int> cdm_log;
+
+  std::size_t run(std::size_t limit = 100000) {
+    bool cds = false;
+    std::size_t k = 0;
+    for (; k < limit && m.busy(); ++k) {
+      const bool cdm = cdm_fault(k, m.step(cds));
+      cdm_log.push_back(cdm ? 1 : 0);
+      cds = cds_fault(k, s.step(cdm));
+      r.tick();
+    }
+    return k;
+  }
+  void idle(std::size_t frames) {
+    bool cds = false;
+    for (std::size_t k = 0; k < frames; ++k) {
+      cds = s.step(m.step(cds));
+      r.tick();
+    }
+  }
+};
+
+std::string bits(std::uint32_t v, unsigned n) {
+  std::string s;
+  for (unsigned i = 0; i < n; ++i) {
+    s.push_back(((v >> (n - 1U - i)) & 1U) != 0U ? '1' : '0');
+  }
+  return s;
+}
+
+std::uint32_t ref_crc4(std::uint32_t v, unsigned n) {
+  std::vector<int> b;
+  for (unsigned i = 0; i < n; ++i) {
+    b.push_back(static_cast<int>((v >> (n - 1U - i)) & 1U));
+  }
+  return ref::crc_of_bits({4, 0x3, 0, false, false, 0xF}, b);
+}
+
+}  // namespace
+
+TEST_CASE("control CRC4s match long division") {
+  for (unsigned id = 0; id < 8; ++id) {
+    for (unsigned a = 0; a < 128; ++a) {
+      CHECK(header_crc(static_cast<std::uint8_t>(id), static_cast<std::uint8_t>(a)) ==
+            ref_crc4((1U << 10U) | (id << 7U) | a, 11));
+    }
+  }
+  for (unsigned d = 0; d < 256; ++d) {
+    CHECK(data_crc(static_cast<std::uint8_t>(d)) == ref_crc4(d, 8));
+  }
+}
+
+TEST_CASE("read: the CDM sequence follows the slot table, the byte arrives with its CRC") {
+  test_registers regs;
+  regs.mem[0x42] = 0x63;
+  control_master m;
+  control_slave<test_registers> s(regs, 5);
+  std::uint8_t out[1] = {};
+  REQUIRE(m.start_read(5, 0x42, mutable_byte_view(out, 1)) == errc::ok);
+  link l{m, s, regs};
+  const std::size_t frames = l.run();
+  CHECK(m.state() == control_state::done);
+  CHECK(m.error() == errc::ok);
+  CHECK(out[0] == 0x63);
+  CHECK(frames == control_master::frames_for(1) - preamble_frames);  // the master was silent
+  // The slots: S CTS ID ADR ~CRC4 R W | S 8 zeros 4 zeros P
+  std::string sent;
+  for (int b : l.cdm_log) {
+    sent.push_back(b != 0 ? '1' : '0');
+  }
+  const std::string want =
+      "1"
+      "1" +
+      bits(5, 3) + bits(0x42, 7) + bits(ref_crc4((1U << 10U) | (5U << 7U) | 0x42U, 11), 4) + "10" +
+      "1" + std::string(12, '0') + "0";
+  CHECK(sent.substr(0, want.size()) == want);
+}
+
+TEST_CASE("write: the data and its CRC go out, the echo confirms, the register changes") {
+  test_registers regs;
+  control_master m;
+  control_slave<test_registers> s(regs);
+  const std::uint8_t data[1] = {0xA7};
+  REQUIRE(m.start_write(0, 0x4C, byte_view(data, 1)) == errc::ok);
+  link l{m, s, regs};
+  l.run();
+  CHECK(m.state() == control_state::done);
+  CHECK(regs.mem[0x4C] == 0xA7);
+  std::string sent;
+  for (int b : l.cdm_log) {
+    sent.push_back(b != 0 ? '1' : '0');
+  }
+  const std::string want = "11" + bits(0, 3) + bits(0x4C, 7) +
+                           bits(ref_crc4((1U << 10U) | 0x4CU, 11), 4) + "01" + "1" + bits(0xA7, 8) +
+                           bits(ref_crc4(0xA7, 8), 4) + "0";
+  CHECK(sent.substr(0, want.size()) == want);
+}
+
+TEST_CASE("sequential reads and writes, with wait states after each write") {
+  test_registers regs;
+  for (unsigned a = 0; a < 128; ++a) {
+    regs.mem[a] = static_cast<std::uint8_t>(a * 3U);
+  }
+  regs.write_delay = 25;
+  control_master m;
+  control_slave<test_registers> s(regs, 2);
+  std::uint8_t out[8] = {};
+  REQUIRE(m.start_read(2, 0x10, mutable_byte_view(out, 8)) == errc::ok);
+  link l{m, s, regs};
+  l.run();
+  REQUIRE(m.state() == control_state::done);
+  for (unsigned i = 0; i < 8; ++i) {
+    CHECK(out[i] == static_cast<std::uint8_t>((0x10 + i) * 3U));
+  }
+  const std::uint8_t data[4] = {1, 2, 3, 4};
+  REQUIRE(m.start_write(2, 0x7C, byte_view(data, 4)) == errc::ok);
+  const std::size_t frames = l.run();
+  REQUIRE(m.state() == control_state::done);
+  CHECK(m.transferred() == 4);
+  CHECK(regs.mem[0x7C] == 1);
+  CHECK(regs.mem[0x7F] == 4);
+  CHECK(regs.writes == 4);
+  // three writes' wait states delayed the following starts
+  CHECK(frames >= 18U + 4U * 14U + 3U * 20U);
+  // reading back right after the last write waits for it too
+  std::uint8_t back[4] = {};
+  REQUIRE(m.start_read(2, 0x7C, mutable_byte_view(back, 4)) == errc::ok);
+  l.run();
+  CHECK(m.state() == control_state::done);
+  CHECK(back[3] == 4);
+}
+
+TEST_CASE("refused, unanswered and out-of-range accesses") {
+  test_registers regs;
+  regs.read_only[0x42] = true;
+  regs.hidden[0x50] = true;
+  control_master m;
+  control_slave<test_registers> s(regs, 1);
+  link l{m, s, regs};
+  const std::uint8_t data[1] = {9};
+  REQUIRE(m.start_write(1, 0x42, byte_view(data, 1)) == errc::ok);
+  l.run();
+  CHECK(m.error() == errc::biss_access_denied);
+  CHECK(regs.writes == 0);
+  std::uint8_t out[2] = {};
+  REQUIRE(m.start_read(1, 0x50, mutable_byte_view(out, 1)) == errc::ok);
+  l.run();
+  CHECK(m.error() == errc::biss_access_denied);
+  REQUIRE(m.start_read(3, 0x10, mutable_byte_view(out, 1)) == errc::ok);  // nobody has ID 3
+  l.run();
+  CHECK(m.error() == errc::biss_not_acknowledged);
+  // the slave still works afterwards
+  regs.mem[0x10] = 0x5A;
+  REQUIRE(m.start_read(1, 0x10, mutable_byte_view(out, 1)) == errc::ok);
+  l.run();
+  CHECK(m.state() == control_state::done);
+  CHECK(out[0] == 0x5A);
+  // arguments
+  CHECK(m.start_read(8, 0, mutable_byte_view(out, 1)) == errc::invalid_argument);
+  CHECK(m.start_read(0, 0x80, mutable_byte_view(out, 1)) == errc::invalid_argument);
+  CHECK(m.start_read(0, 0x7F, mutable_byte_view(out, 2)) == errc::invalid_argument);
+  CHECK(m.start_read(0, 0, mutable_byte_view{}) == errc::invalid_argument);
+  REQUIRE(m.start_read(1, 0, mutable_byte_view(out, 1)) == errc::ok);
+  CHECK(m.start_read(1, 0, mutable_byte_view(out, 1)) == errc::biss_busy);
+}
+
+TEST_CASE("wait states beyond the bound time out; abort sends the slave back to idle") {
+  test_registers regs;
+  regs.busy = 1000000;  // a slave that never gets ready
+  control_options opt;
+  opt.max_wait_frames = 50;
+  control_master m(opt);
+  control_slave<test_registers> s(regs);
+  link l{m, s, regs};
+  std::uint8_t out[1] = {};
+  REQUIRE(m.start_read(0, 0x01, mutable_byte_view(out, 1)) == errc::ok);
+  const std::size_t frames = l.run();
+  CHECK(m.error() == errc::biss_timeout);
+  CHECK(frames <= 18U + 1U + 51U + 1U);
+  regs.busy = 0;
+  regs.mem[1] = 0x11;
+  REQUIRE(m.start_read(0, 0x01, mutable_byte_view(out, 1)) == errc::ok);
+  l.run();
+  CHECK(m.state() == control_state::done);
+  CHECK(out[0] == 0x11);
+
+  // abort in the middle of a header
+  REQUIRE(m.start_read(0, 0x01, mutable_byte_view(out, 1)) == errc::ok);
+  bool cds = false;
+  for (int k = 0; k < 8; ++k) {
+    cds = s.step(m.step(cds));
+  }
+  m.abort();
+  CHECK(m.error() == errc::biss_aborted);
+  const bool after_abort = m.step(cds);
+  CHECK(!after_abort);
+  cds = s.step(after_abort);
+  // the next access needs the 14 zeros first, then works
+  out[0] = 0;
+  REQUIRE(m.start_read(0, 0x01, mutable_byte_view(out, 1)) == errc::ok);
+  const std::size_t after = l.run();
+  CHECK(m.error() == errc::ok);
+  CHECK(m.state() == control_state::done);
+  CHECK(out[0] == 0x11);
+  CHECK(after >= preamble_frames);
+}
+
+TEST_CASE("injected bit errors: header CRC, read data, write data, echoes") {
+  test_registers regs;
+  regs.mem[0x20] = 0xC3;
+  control_master m;
+  control_slave<test_registers> s(regs);
+  std::uint8_t out[1] = {};
+  // every single CDM bit flip within the header (after S) makes the access fail cleanly
+  for (std::size_t slot = 1; slot < 18; ++slot) {
+    link l{m, s, regs};
+    l.cdm_fault = [slot](std::size_t k, bool b) { return k == slot ? !b : b; };
+    REQUIRE(m.start_read(0, 0x20, mutable_byte_view(out, 1)) == errc::ok);
+    l.run();
+    CAPTURE(slot);
+    CHECK(m.state() == control_state::failed);
+    link quiet{m, s, regs};
+    quiet.idle(preamble_frames);
+  }
+  // a flipped CDS bit in the read data or its CRC is a CRC mismatch
+  for (std::size_t k = 19; k < 19 + 12; ++k) {
+    link l{m, s, regs};
+    l.cds_fault = [k](std::size_t f, bool b) { return f == k ? !b : b; };
+    REQUIRE(m.start_read(0, 0x20, mutable_byte_view(out, 1)) == errc::ok);
+    l.run();
+    CAPTURE(k);
+    CHECK(m.error() == errc::crc_mismatch);
+    link quiet{m, s, regs};
+    quiet.idle(preamble_frames);
+  }
+  // a flipped CDM bit in the write data or CRC: the slave refuses, the master is told
+  const std::uint8_t data[1] = {0x3C};
+  for (std::size_t k = 19; k < 19 + 12; ++k) {
+    link l{m, s, regs};
+    l.cdm_fault = [k](std::size_t f, bool b) { return f == k ? !b : b; };
+    REQUIRE(m.start_write(0, 0x21, byte_view(data, 1)) == errc::ok);
+    l.run();
+    CAPTURE(k);
+    CHECK(m.error() == errc::biss_write_not_confirmed);
+    CHECK(regs.mem[0x21] == 0);
+    link quiet{m, s, regs};
+    quiet.idle(preamble_frames);
+  }
+  CHECK(s.rejected_writes() == 12);
+  // a flipped echo (CDS) of the R/W bits
+  link l{m, s, regs};
+  l.cds_fault = [](std::size_t f, bool b) { return f == 17 ? !b : b; };
+  REQUIRE(m.start_read(0, 0x20, mutable_byte_view(out, 1)) == errc::ok);
+  l.run();
+  CHECK(m.error() == errc::biss_access_denied);  // 10 became 11
+}
