@@ -425,7 +425,7 @@ class control_slave {
       index_ = 0;
     }
     if (write_mode_) {
-      value_ = static_cast<std::uint8_t>((value_ << 1U) | (cdm ? 1U : 0U));
+      value_ = static_cast<std::uint8_t>((static_cast<unsigned>(value_) << 1U) | (cdm ? 1U : 0U));
       return cdm;  // echo
     }
     return ((value_ >> (7U - i)) & 1U) != 0U;
@@ -433,7 +433,8 @@ class control_slave {
 
   constexpr bool crc_bit(bool cdm) noexcept {
     const unsigned i = index_++;
-    master_crc_ = static_cast<std::uint8_t>((master_crc_ << 1U) | (cdm ? 1U : 0U));
+    master_crc_ =
+        static_cast<std::uint8_t>((static_cast<unsigned>(master_crc_) << 1U) | (cdm ? 1U : 0U));
     if (index_ == 4U) {
       state_ = state::stop;
       index_ = 0;
