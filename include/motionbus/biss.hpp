@@ -4,6 +4,7 @@
 
 #include "motionbus/biss/codec.hpp"
 #include "motionbus/biss/control.hpp"
+#include "motionbus/biss/eds.hpp"
 #include "motionbus/biss/frame.hpp"
 
 #endif  // MOTIONBUS_BISS_HPP

@@ -4,6 +4,8 @@
 
 #include "motionbus/biss.hpp"
 #include "motionbus/core.hpp"
+#include "motionbus/devices/absys.hpp"
+#include "motionbus/devices/absys_emulator.hpp"
 #include "motionbus/devices/sm_unit.hpp"
 #include "motionbus/devices/sm_unit_emulator.hpp"
 #include "motionbus/devices/ts5700n8500.hpp"

@@ -1,0 +1,271 @@
+// motionbus — the BiSS electronic data sheet (EDS): the common part and the standard encoder
+// profile BP3, each one 64-byte register bank read through control communication. Layouts as
+// the AMO ABSYS interface text §2.8 and §2.9 list them; multi-byte values are big-endian.
+//
+// The checksum in byte 0x3F of each bank is not specified by the vendor text. This library
+// writes, and optionally verifies, the low byte of the sum of bytes 0x00..0x3E (an assumption,
+// stated here and tested; verification is off by default so that a device using another rule
+// still parses).
+#ifndef MOTIONBUS_BISS_EDS_HPP
+#define MOTIONBUS_BISS_EDS_HPP
+
+#include <cstddef>
+#include <cstdint>
+
+#include "motionbus/biss/frame.hpp"
+#include "motionbus/core/errc.hpp"
+#include "motionbus/core/result.hpp"
+#include "motionbus/core/span.hpp"
+
+namespace motionbus {
+namespace biss {
+
+/// Bytes per register bank (addresses 0x00..0x3F of the bank window).
+inline constexpr std::size_t bank_size = 64;
+
+/// EDS common part (bank 0x80 on ABSYS), §2.8.
+struct eds_common {
+  std::uint8_t version = 0x01;          ///< 0x00
+  std::uint8_t length = 0x02;           ///< 0x01: banks of the whole EDS
+  std::uint8_t user_bank_start = 0x84;  ///< 0x02
+  std::uint8_t user_bank_end = 0x84;    ///< 0x03
+  std::uint8_t channels = 0x01;         ///< 0x10: data channels in the device
+  std::uint8_t validity = 0x01;         ///< 0x11: area of validity of this EDS
+  std::uint8_t location = 0x80;         ///< 0x12: memory location of this EDS
+  std::uint8_t profile_bank = 0x81;     ///< 0x14: bank of channel 1's content description (BP3)
+  std::uint8_t data_length = 0x20;      ///< 0x15: channel 1 data length in bits
+  std::uint8_t data_format = 0x00;      ///< 0x16
+  std::uint8_t crc_poly = 0x21;         ///< 0x17: channel 1 CRC polynomial, bits (8:1)
+
+  friend constexpr bool operator==(const eds_common& a, const eds_common& b) noexcept {
+    return a.version == b.version && a.length == b.length &&
+           a.user_bank_start == b.user_bank_start && a.user_bank_end == b.user_bank_end &&
+           a.channels == b.channels && a.validity == b.validity && a.location == b.location &&
+           a.profile_bank == b.profile_bank && a.data_length == b.data_length &&
+           a.data_format == b.data_format && a.crc_poly == b.crc_poly;
+  }
+};
+
+enum class encoder_type : std::uint8_t { rotary = 0x00, linear = 0x01 };
+
+/// Standard encoder profile BP3 (bank 0x81 on ABSYS), §2.9.
+struct bp3_profile {
+  std::uint8_t version = 0x03;               ///< 0x00 BP_VER (0x02 and 0x03 are described)
+  std::uint8_t length = 0x01;                ///< 0x01 BP_LEN, banks
+  std::uint16_t profile_id = 0x6320;         ///< 0x02..0x03 BP_ID
+  std::uint8_t feedback1 = 0x01;             ///< 0x04 FB1 (error = 1, warning = 2)
+  std::uint8_t feedback2 = 0x02;             ///< 0x05 FB2
+  std::uint8_t power_on_delay_ms = 0xFF;     ///< 0x06 PON_DLY
+  encoder_type type = encoder_type::rotary;  ///< 0x08 EN_TYP
+  std::uint8_t positions = 0x01;             ///< 0x09 POS_NUM
+  std::uint8_t mt_length = 0;                ///< 0x0A MT_LEN, bits
+  std::uint8_t mt_format = 0;                ///< 0x0B
+  std::uint8_t coarse_length = 0;            ///< 0x0C CO_LEN
+  std::uint8_t coarse_format = 0;            ///< 0x0D
+  std::uint8_t fine_length = 0x20;           ///< 0x0E FI_LEN
+  std::uint8_t fine_format = 0;              ///< 0x0F
+  std::uint32_t mt_count = 0;                ///< 0x10..0x13 MT_CNT
+  std::uint32_t sip_count = 0;               ///< 0x14..0x17 SIP_CNT: nm (linear) / periods per rev
+  std::uint32_t sip_resolution = 0;          ///< 0x18..0x1B SIP_RES: 0..20
+  std::uint32_t crc_poly = 0x21;             ///< 0x1C..0x1F CPOLY, bits (31:1)
+  std::uint32_t crc_start = 0;               ///< 0x20..0x23 CSTART
+
+  /// Rotary: pulses per revolution = SIP_CNT x 2^SIP_RES (0 when it does not fit 64 bits).
+  constexpr std::uint64_t pulses_per_revolution() const noexcept {
+    return sip_resolution > 31U ? 0U : (static_cast<std::uint64_t>(sip_count) << sip_resolution);
+  }
+  /// Linear: one LSB in nanometres = SIP_CNT / 2^SIP_RES.
+  constexpr double lsb_nm() const noexcept {
+    return sip_resolution > 31U ? 0.0
+                                : static_cast<double>(sip_count) /
+                                      static_cast<double>(std::uint64_t{1} << sip_resolution);
+  }
+  /// The sensor-data layout this profile announces (multi-turn + coarse + fine data bits, nE,
+  /// nW, the CRC from CPOLY and CSTART, inverted).
+  constexpr slave_layout layout() const noexcept {
+    slave_layout l;
+    l.multi_turn_bits = mt_length;
+    l.single_turn_bits = static_cast<unsigned>(coarse_length) + fine_length;
+    l.alignment_bits = 0;
+    l.crc = crc_from_eds(crc_poly, crc_start);
+    return l;
+  }
+
+  friend constexpr bool operator==(const bp3_profile& a, const bp3_profile& b) noexcept {
+    return a.version == b.version && a.length == b.length && a.profile_id == b.profile_id &&
+           a.feedback1 == b.feedback1 && a.feedback2 == b.feedback2 &&
+           a.power_on_delay_ms == b.power_on_delay_ms && a.type == b.type &&
+           a.positions == b.positions && a.mt_length == b.mt_length && a.mt_format == b.mt_format &&
+           a.coarse_length == b.coarse_length && a.coarse_format == b.coarse_format &&
+           a.fine_length == b.fine_length && a.fine_format == b.fine_format &&
+           a.mt_count == b.mt_count && a.sip_count == b.sip_count &&
+           a.sip_resolution == b.sip_resolution && a.crc_poly == b.crc_poly &&
+           a.crc_start == b.crc_start;
+  }
+};
+
+/// This library's bank checksum: the low byte of the sum of bytes 0x00..0x3E.
+constexpr std::uint8_t bank_checksum(byte_view bank) noexcept {
+  unsigned sum = 0;
+  for (std::size_t i = 0; i + 1U < bank_size && i < bank.size(); ++i) {
+    sum += bank[i];
+  }
+  return static_cast<std::uint8_t>(sum & 0xFFU);
+}
+
+struct eds_options {
+  bool verify_checksum = false;  ///< see the file comment
+};
+
+namespace detail {
+
+constexpr std::uint32_t be32_at(byte_view b, std::size_t at) noexcept {
+  return (static_cast<std::uint32_t>(b[at]) << 24U) |
+         (static_cast<std::uint32_t>(b[at + 1U]) << 16U) |
+         (static_cast<std::uint32_t>(b[at + 2U]) << 8U) | b[at + 3U];
+}
+
+constexpr void put_be32(mutable_byte_view b, std::size_t at, std::uint32_t v) noexcept {
+  b[at] = static_cast<std::uint8_t>(v >> 24U);
+  b[at + 1U] = static_cast<std::uint8_t>((v >> 16U) & 0xFFU);
+  b[at + 2U] = static_cast<std::uint8_t>((v >> 8U) & 0xFFU);
+  b[at + 3U] = static_cast<std::uint8_t>(v & 0xFFU);
+}
+
+}  // namespace detail
+
+/// Parses the common part from one 64-byte bank. Errors: truncated (fewer than 64 bytes),
+/// biss_eds (EDS length 0, no data channel, data length 0 or above 64 bits, a zero CRC
+/// polynomial, or a bad checksum when verified).
+constexpr result<eds_common> decode_eds_common(byte_view bank,
+                                               const eds_options& opt = {}) noexcept {
+  if (bank.size() < bank_size) {
+    return errc::truncated;
+  }
+  eds_common e;
+  e.version = bank[0x00];
+  e.length = bank[0x01];
+  e.user_bank_start = bank[0x02];
+  e.user_bank_end = bank[0x03];
+  e.channels = bank[0x10];
+  e.validity = bank[0x11];
+  e.location = bank[0x12];
+  e.profile_bank = bank[0x14];
+  e.data_length = bank[0x15];
+  e.data_format = bank[0x16];
+  e.crc_poly = bank[0x17];
+  if (e.length == 0U || e.channels == 0U || e.data_length == 0U || e.data_length > max_data_bits ||
+      e.crc_poly == 0U) {
+    return errc::biss_eds;
+  }
+  if (opt.verify_checksum && bank[0x3F] != bank_checksum(bank)) {
+    return errc::biss_eds;
+  }
+  return e;
+}
+
+/// Parses the BP3 profile from one 64-byte bank. Errors: truncated, biss_eds (version other
+/// than 2 or 3, encoder type other than rotary/linear, SIP_RES above 20, data lengths summing
+/// to 0 or above 64 bits, a CRC polynomial wider than 16 bits or zero, a start value that does
+/// not fit it, a bad checksum when verified).
+constexpr result<bp3_profile> decode_bp3(byte_view bank, const eds_options& opt = {}) noexcept {
+  if (bank.size() < bank_size) {
+    return errc::truncated;
+  }
+  bp3_profile p;
+  p.version = bank[0x00];
+  p.length = bank[0x01];
+  p.profile_id = static_cast<std::uint16_t>((bank[0x02] << 8U) | bank[0x03]);
+  p.feedback1 = bank[0x04];
+  p.feedback2 = bank[0x05];
+  p.power_on_delay_ms = bank[0x06];
+  if (bank[0x08] > 0x01U) {
+    return errc::biss_eds;
+  }
+  p.type = static_cast<encoder_type>(bank[0x08]);
+  p.positions = bank[0x09];
+  p.mt_length = bank[0x0A];
+  p.mt_format = bank[0x0B];
+  p.coarse_length = bank[0x0C];
+  p.coarse_format = bank[0x0D];
+  p.fine_length = bank[0x0E];
+  p.fine_format = bank[0x0F];
+  p.mt_count = detail::be32_at(bank, 0x10);
+  p.sip_count = detail::be32_at(bank, 0x14);
+  p.sip_resolution = detail::be32_at(bank, 0x18);
+  p.crc_poly = detail::be32_at(bank, 0x1C);
+  p.crc_start = detail::be32_at(bank, 0x20);
+  const unsigned bits = static_cast<unsigned>(p.mt_length) + p.coarse_length + p.fine_length;
+  if ((p.version != 0x02U && p.version != 0x03U) || p.sip_resolution > 20U || bits == 0U ||
+      bits > max_data_bits || p.crc_poly == 0U || p.crc_poly >= (1U << max_crc_bits)) {
+    return errc::biss_eds;
+  }
+  const crc_format f = crc_from_eds(p.crc_poly, 0);
+  if ((p.crc_start >> f.width) != 0U) {
+    return errc::biss_eds;
+  }
+  if (opt.verify_checksum && bank[0x3F] != bank_checksum(bank)) {
+    return errc::biss_eds;
+  }
+  return p;
+}
+
+/// Writes the common part into a 64-byte bank (undefined bytes 0, checksum in 0x3F).
+constexpr errc encode_eds_common(const eds_common& e, mutable_byte_view bank) noexcept {
+  if (bank.size() < bank_size) {
+    return errc::buffer_too_small;
+  }
+  for (std::size_t i = 0; i < bank_size; ++i) {
+    bank[i] = 0;
+  }
+  bank[0x00] = e.version;
+  bank[0x01] = e.length;
+  bank[0x02] = e.user_bank_start;
+  bank[0x03] = e.user_bank_end;
+  bank[0x10] = e.channels;
+  bank[0x11] = e.validity;
+  bank[0x12] = e.location;
+  bank[0x14] = e.profile_bank;
+  bank[0x15] = e.data_length;
+  bank[0x16] = e.data_format;
+  bank[0x17] = e.crc_poly;
+  bank[0x3F] = bank_checksum(bank);
+  return errc::ok;
+}
+
+/// Writes the BP3 profile into a 64-byte bank (undefined bytes 0, checksum in 0x3F).
+constexpr errc encode_bp3(const bp3_profile& p, mutable_byte_view bank) noexcept {
+  if (bank.size() < bank_size) {
+    return errc::buffer_too_small;
+  }
+  for (std::size_t i = 0; i < bank_size; ++i) {
+    bank[i] = 0;
+  }
+  bank[0x00] = p.version;
+  bank[0x01] = p.length;
+  bank[0x02] = static_cast<std::uint8_t>(p.profile_id >> 8U);
+  bank[0x03] = static_cast<std::uint8_t>(p.profile_id & 0xFFU);
+  bank[0x04] = p.feedback1;
+  bank[0x05] = p.feedback2;
+  bank[0x06] = p.power_on_delay_ms;
+  bank[0x08] = static_cast<std::uint8_t>(p.type);
+  bank[0x09] = p.positions;
+  bank[0x0A] = p.mt_length;
+  bank[0x0B] = p.mt_format;
+  bank[0x0C] = p.coarse_length;
+  bank[0x0D] = p.coarse_format;
+  bank[0x0E] = p.fine_length;
+  bank[0x0F] = p.fine_format;
+  detail::put_be32(bank, 0x10, p.mt_count);
+  detail::put_be32(bank, 0x14, p.sip_count);
+  detail::put_be32(bank, 0x18, p.sip_resolution);
+  detail::put_be32(bank, 0x1C, p.crc_poly);
+  detail::put_be32(bank, 0x20, p.crc_start);
+  bank[0x3F] = bank_checksum(bank);
+  return errc::ok;
+}
+
+}  // namespace biss
+}  // namespace motionbus
+
+#endif  // MOTIONBUS_BISS_EDS_HPP

@@ -1,0 +1,115 @@
+// motionbus — AMO ABSYS absolute encoders (WMIA/WMKA angular, LMIA/LMKA linear) over BiSS-C:
+// the register map of BiSS-C slave revision 0x03, commands, preset modes, error status, and
+// the position-with-offset arithmetic (ABSYS interface text §1–§3).
+//
+// Sensor data: 32-bit position, nE, nW (unused, always 1), CRC6 0x43 inverted: biss::absys_layout.
+#ifndef MOTIONBUS_DEVICES_ABSYS_HPP
+#define MOTIONBUS_DEVICES_ABSYS_HPP
+
+#include <cstdint>
+
+#include "motionbus/biss/eds.hpp"
+#include "motionbus/biss/frame.hpp"
+
+namespace motionbus {
+namespace devices {
+namespace absys {
+
+/// Sensor data layout (also biss::absys_layout).
+inline constexpr biss::slave_layout layout = biss::absys_layout;
+
+/// Register addresses (§2.1). Multi-byte values are big-endian (most significant byte at the
+/// lowest address). 0x00..0x3F is the window onto the bank selected at 0x40.
+namespace reg {
+inline constexpr std::uint8_t bank_window = 0x00;    ///< 0x00..0x3F
+inline constexpr std::uint8_t bank_select = 0x40;    ///< R/W, not persistent, 0x80 after power-on
+inline constexpr std::uint8_t eds_bank = 0x41;       ///< R/W, 0x80
+inline constexpr std::uint8_t profile_id = 0x42;     ///< 0x42..0x43, 0x63 0x20 (BP3, 32 bits)
+inline constexpr std::uint8_t serial_number = 0x44;  ///< 0x44..0x4B
+inline constexpr std::uint8_t offset = 0x4C;         ///< 0x4C..0x4F, R/W, persistent
+inline constexpr std::uint8_t command = 0x60;        ///< R/W
+inline constexpr std::uint8_t position = 0x63;       ///< 0x63..0x66, R: the position as sent
+inline constexpr std::uint8_t preset_mode = 0x6A;    ///< R/W, persistent
+inline constexpr std::uint8_t error_status = 0x6B;   ///< R, latched
+inline constexpr std::uint8_t functional_reserve = 0x6F;            ///< R, 0..254
+inline constexpr std::uint8_t functional_reserve_indicator = 0x70;  ///< R, 0 / 1
+inline constexpr std::uint8_t device_id = 0x75;                     ///< 0x75..0x7C
+inline constexpr std::uint8_t revision = 0x7D;                      ///< R, 0x03
+inline constexpr std::uint8_t manufacturer_id = 0x7E;               ///< 0x7E..0x7F, "Am"
+}  // namespace reg
+
+/// Register banks behind the window (§2.2).
+namespace bank {
+inline constexpr std::uint8_t eds_common = 0x80;  ///< EDS common part (1/4)
+inline constexpr std::uint8_t eds_bp3 = 0x81;     ///< EDS standard profile BP3 (2/4)
+inline constexpr std::uint8_t eds_reserved_3 = 0x82;
+inline constexpr std::uint8_t eds_reserved_4 = 0x83;
+inline constexpr std::uint8_t user = 0x84;  ///< user / OEM data, free to read and write
+inline constexpr std::uint8_t not_allowed = 0xFF;
+}  // namespace bank
+
+/// Values of the command register (§2.3).
+enum class command : std::uint8_t {
+  set_offset_to_position = 0x02,  ///< the actual position becomes the offset (17 ms)
+  reset_offset = 0x03,            ///< offset = 0 (17 ms)
+  reset_errors = 0x06,            ///< clears the latched error status
+};
+
+/// Preset mode register (§2.3).
+enum class preset_mode : std::uint8_t {
+  with_offset = 0x00,  ///< position sent = actual position - offset
+  actual = 0x01,       ///< position sent = actual position (offset ignored)
+};
+
+/// Error status register bits (§2.7).
+inline constexpr std::uint8_t status_warning = 0x01;
+inline constexpr std::uint8_t status_error = 0x02;
+
+/// Vendor values.
+inline constexpr std::uint8_t revision_03 = 0x03;
+inline constexpr std::uint16_t bp3_32bit_profile_id = 0x6320;
+inline constexpr char manufacturer[2] = {'A', 'm'};
+/// Register access timings (§3.4), in microseconds.
+inline constexpr std::uint32_t persistent_write_us = 4000;  ///< one persistent byte (> 4 ms)
+inline constexpr std::uint32_t offset_command_us = 17000;   ///< command 02/03: four EEPROM writes
+inline constexpr std::uint32_t eeprom_read_us = 50;         ///< a non-cached read
+/// Time from power-on to valid position data (§1, Table 1).
+inline constexpr std::uint32_t power_on_delay_ms = 1800;
+
+/// Linear encoders: POSITION_WITH_OFFSET = POSITION_ABSOLUTE - OFFSET, signed two's complement
+/// on 32 bits (§2.3).
+constexpr std::int32_t linear_position(std::uint32_t absolute, std::uint32_t offset) noexcept {
+  const std::uint32_t d = absolute - offset;  // modulo 2^32
+  return d <= 0x7FFFFFFFU ? static_cast<std::int32_t>(d)
+                          : -static_cast<std::int32_t>(~d) - 1;  // two's complement, no UB
+}
+
+/// Rotary encoders: POSITION_WITH_OFFSET = (POSITION_ABSOLUTE - OFFSET) MODULO PULSES_PER_REV,
+/// unsigned (§2.3): a mathematical modulo, so the result is in 0..pulses-1 also when the offset
+/// exceeds the position. `pulses` 0 returns the plain 32-bit difference.
+constexpr std::uint32_t rotary_position(std::uint32_t absolute, std::uint32_t offset,
+                                        std::uint64_t pulses) noexcept {
+  if (pulses == 0U) {
+    return absolute - offset;
+  }
+  const std::uint64_t a = absolute % pulses;
+  const std::uint64_t o = offset % pulses;
+  return static_cast<std::uint32_t>(a >= o ? a - o : pulses - (o - a));
+}
+
+/// The EDS an ABSYS device carries by default (§2.8, §2.9) for a given type and resolution.
+constexpr biss::bp3_profile default_bp3(biss::encoder_type type, std::uint32_t sip_count,
+                                        std::uint32_t sip_resolution) noexcept {
+  biss::bp3_profile p;
+  p.version = 0x02;
+  p.type = type;
+  p.sip_count = sip_count;
+  p.sip_resolution = sip_resolution;
+  return p;
+}
+
+}  // namespace absys
+}  // namespace devices
+}  // namespace motionbus
+
+#endif  // MOTIONBUS_DEVICES_ABSYS_HPP

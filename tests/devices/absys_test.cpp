@@ -1,0 +1,268 @@
+// AMO ABSYS profile: EDS bytes from the vendor tables (§2.8, §2.9), position-with-offset
+// arithmetic (§2.3), and the emulator driven by the library's BiSS master over an in-memory
+// bit stream: identity, EDS, offset, preset, commands, latched errors, write wait states.
+#include "motionbus/devices/absys.hpp"
+
+#include <doctest/doctest.h>
+
+#include <climits>
+#include <cstdint>
+#include <vector>
+
+#include "motionbus/biss.hpp"
+#include "motionbus/devices/absys_emulator.hpp"
+
+using namespace motionbus;
+namespace bs = motionbus::biss;
+namespace ab = motionbus::devices::absys;
+
+namespace {
+
+// One frame on an in-memory line: the emulator's SL samples, decoded as a master would, the
+// CDS handed to the control master, its CDM handed back to the emulator.
+struct bench {
+  ab::emulator& enc;
+  bs::control_master master;
+  std::size_t frames = 0;
+  bs::slave_data last{};
+
+  explicit bench(ab::emulator& e) : enc(e) {}
+
+  bool frame() {
+    std::uint32_t words[3] = {};
+    const auto n = enc.frame(span<std::uint32_t>(words, 3), 2, 1 + frames % 3U);
+    REQUIRE(n.ok());
+    const auto r = bs::decode_frame(span<const std::uint32_t>(words, 3), *n, ab::layout, last);
+    REQUIRE(r.is_complete());
+    enc.control(master.step(r->cds));
+    ++frames;
+    return master.busy();
+  }
+  errc run() {
+    while (frame()) {
+    }
+    return master.error();
+  }
+  errc read(std::uint8_t address, std::uint8_t* out, std::size_t n) {
+    REQUIRE(master.start_read(0, address, mutable_byte_view(out, n)) == errc::ok);
+    return run();
+  }
+  errc write(std::uint8_t address, std::vector<std::uint8_t> data) {
+    REQUIRE(master.start_write(0, address, byte_view(data.data(), data.size())) == errc::ok);
+    return run();
+  }
+  std::uint8_t read1(std::uint8_t address) {
+    std::uint8_t v = 0;
+    REQUIRE(read(address, &v, 1) == errc::ok);
+    return v;
+  }
+};
+
+}  // namespace
+
+TEST_CASE("EDS banks: the bytes of the vendor tables, parsed back") {
+  std::uint8_t common[64] = {};
+  REQUIRE(bs::encode_eds_common(bs::eds_common{}, mutable_byte_view(common, 64)) == errc::ok);
+  // §2.8 defaults
+  CHECK(common[0x00] == 0x01);
+  CHECK(common[0x01] == 0x02);
+  CHECK(common[0x02] == 0x84);
+  CHECK(common[0x03] == 0x84);
+  CHECK(common[0x10] == 0x01);
+  CHECK(common[0x11] == 0x01);
+  CHECK(common[0x12] == 0x80);
+  CHECK(common[0x14] == 0x81);
+  CHECK(common[0x15] == 0x20);
+  CHECK(common[0x17] == 0x21);
+  const auto c = bs::decode_eds_common(byte_view(common, 64), {true});
+  REQUIRE(c.ok());
+  CHECK(*c == bs::eds_common{});
+  CHECK(bs::crc_from_eds(c->crc_poly) == bs::crc6_43);
+
+  std::uint8_t bp3[64] = {};
+  const auto def = ab::default_bp3(bs::encoder_type::rotary, 512, 10);
+  REQUIRE(bs::encode_bp3(def, mutable_byte_view(bp3, 64)) == errc::ok);
+  // §2.9 defaults, multi-byte values big-endian
+  const std::uint8_t head[] = {0x02, 0x01, 0x63, 0x20, 0x01, 0x02, 0xFF, 0x00,
+                               0x00, 0x01, 0x00, 0x00, 0x00, 0x00, 0x20, 0x00};
+  for (std::size_t i = 0; i < sizeof head; ++i) {
+    CHECK(bp3[i] == head[i]);
+  }
+  CHECK(bp3[0x14] == 0x00);
+  CHECK(bp3[0x16] == 0x02);  // 512 = 0x00000200
+  CHECK(bp3[0x1B] == 10);
+  CHECK(bp3[0x1F] == 0x21);  // CPOLY 0x00000021
+  const auto p = bs::decode_bp3(byte_view(bp3, 64), {true});
+  REQUIRE(p.ok());
+  CHECK(*p == def);
+  CHECK(p->pulses_per_revolution() == 512U * 1024U);
+  CHECK(p->layout().frame_bits() == ab::layout.frame_bits());
+  CHECK(p->layout().crc == bs::crc6_43);
+
+  bs::bp3_profile lin = ab::default_bp3(bs::encoder_type::linear, 1000, 3);
+  CHECK(lin.lsb_nm() == doctest::Approx(125.0));
+}
+
+TEST_CASE("EDS errors: truncated, inconsistent fields, checksum") {
+  std::uint8_t bank[64] = {};
+  CHECK(bs::decode_bp3(byte_view(bank, 63)).error() == errc::truncated);
+  CHECK(bs::decode_eds_common(byte_view(bank, 10)).error() == errc::truncated);
+  CHECK(bs::decode_eds_common(byte_view(bank, 64)).error() == errc::biss_eds);  // all zero
+  REQUIRE(bs::encode_bp3(bs::bp3_profile{}, mutable_byte_view(bank, 64)) == errc::ok);
+  CHECK(bs::decode_bp3(byte_view(bank, 64)).ok());
+  const auto broken = [&](std::size_t at, std::uint8_t v) {
+    std::uint8_t b[64];
+    for (std::size_t i = 0; i < 64; ++i) {
+      b[i] = bank[i];
+    }
+    b[at] = v;
+    return bs::decode_bp3(byte_view(b, 64)).error();
+  };
+  CHECK(broken(0x00, 0x07) == errc::biss_eds);  // version
+  CHECK(broken(0x08, 0x02) == errc::biss_eds);  // encoder type
+  CHECK(broken(0x1B, 21) == errc::biss_eds);    // SIP_RES
+  CHECK(broken(0x0E, 0x00) == errc::biss_eds);  // no data bits
+  CHECK(broken(0x0E, 65) == errc::biss_eds);    // too many
+  CHECK(broken(0x1F, 0x00) == errc::biss_eds);  // no CRC polynomial
+  CHECK(broken(0x23, 0x40) == errc::biss_eds);  // start value wider than CRC6
+  CHECK(broken(0x30, 0x01) == errc::ok);        // undefined byte: fine without verification
+  std::uint8_t b[64];
+  for (std::size_t i = 0; i < 64; ++i) {
+    b[i] = bank[i];
+  }
+  b[0x30] = 1;
+  CHECK(bs::decode_bp3(byte_view(b, 64), {true}).error() == errc::biss_eds);
+  std::uint8_t small[10] = {};
+  CHECK(bs::encode_bp3(bs::bp3_profile{}, mutable_byte_view(small, 10)) == errc::buffer_too_small);
+}
+
+TEST_CASE("position with offset: linear signed, rotary modulo pulses per revolution") {
+  CHECK(ab::linear_position(1000, 100) == 900);
+  CHECK(ab::linear_position(100, 1000) == -900);
+  CHECK(ab::linear_position(0x80000000U, 0) == INT_MIN);
+  CHECK(ab::linear_position(0, 1) == -1);
+  CHECK(ab::rotary_position(1000, 100, 524288) == 900);
+  CHECK(ab::rotary_position(100, 1000, 524288) == 524288 - 900);
+  CHECK(ab::rotary_position(524289, 0, 524288) == 1);
+  CHECK(ab::rotary_position(5, 0xFFFFFFFFU, 0) == 6U);
+}
+
+TEST_CASE("ABSYS emulator: sensor data and identity through the BiSS master") {
+  ab::emulator enc;
+  enc.set_position(123456);
+  bench b(enc);
+  b.frame();
+  CHECK(b.last.single_turn == 123456);
+  CHECK(b.last.ne);
+  CHECK(b.last.nw);
+  CHECK(b.read1(ab::reg::manufacturer_id) == 'A');
+  CHECK(b.read1(ab::reg::manufacturer_id + 1) == 'm');
+  CHECK(b.read1(ab::reg::revision) == 0x03);
+  std::uint8_t id[2] = {};
+  REQUIRE(b.read(ab::reg::profile_id, id, 2) == errc::ok);
+  CHECK(id[0] == 0x63);
+  CHECK(id[1] == 0x20);
+  std::uint8_t sn[8] = {};
+  REQUIRE(b.read(ab::reg::serial_number, sn, 8) == errc::ok);
+  CHECK(sn[2] == 0x00);
+  CHECK(sn[3] == 0xBC);
+  CHECK(sn[4] == 0x61);
+  CHECK(sn[5] == 0x4E);
+  // the EDS through the bank window
+  CHECK(b.read1(ab::reg::bank_select) == 0x80);
+  std::uint8_t bank[64] = {};
+  REQUIRE(b.read(0x00, bank, 64) == errc::ok);
+  CHECK(bs::decode_eds_common(byte_view(bank, 64), {true}).ok());
+  REQUIRE(b.write(ab::reg::bank_select, {0x81}) == errc::ok);
+  REQUIRE(b.read(0x00, bank, 64) == errc::ok);
+  const auto p = bs::decode_bp3(byte_view(bank, 64), {true});
+  REQUIRE(p.ok());
+  CHECK(p->pulses_per_revolution() == 512U * 1024U);
+  // device configuration banks are not for users
+  REQUIRE(b.write(ab::reg::bank_select, {0x05}) == errc::ok);
+  std::uint8_t x = 0;
+  CHECK(b.read(0x00, &x, 1) == errc::biss_access_denied);
+  // read-only registers refuse writes
+  CHECK(b.write(ab::reg::revision, {0x04}) == errc::biss_access_denied);
+}
+
+TEST_CASE("ABSYS emulator: offset, preset mode and commands, with write wait states") {
+  ab::emulator enc;  // rotary, 512 x 2^10 pulses per revolution, 100 us frames
+  enc.set_position(5000);
+  bench b(enc);
+  // offset 0x00000064 through the four registers: 4 ms each = 40 frames of wait states
+  const std::size_t before = b.frames;
+  REQUIRE(b.write(ab::reg::offset, {0x00, 0x00, 0x00, 0x64}) == errc::ok);
+  CHECK(enc.offset() == 100);
+  CHECK(b.frames - before >= 3U * 40U);
+  b.frame();
+  CHECK(b.last.single_turn == 4900);
+  std::uint8_t pos[4] = {};
+  REQUIRE(b.read(ab::reg::position, pos, 4) == errc::ok);  // waits for the last write
+  CHECK(((pos[0] << 24U) | (pos[1] << 16U) | (pos[2] << 8U) | pos[3]) == 4900U);
+  // offset above the position: modulo pulses per revolution
+  enc.set_position(50);
+  b.frame();
+  CHECK(b.last.single_turn == 512U * 1024U - 50U);
+  // preset mode 1: the offset is ignored
+  REQUIRE(b.write(ab::reg::preset_mode, {0x01}) == errc::ok);
+  b.frame();
+  CHECK(b.last.single_turn == 50);
+  REQUIRE(b.write(ab::reg::preset_mode, {0x00}) == errc::ok);
+  // command 02: offset = actual position; 17 ms = 170 frames before the next access is served
+  enc.set_position(777);
+  REQUIRE(b.write(ab::reg::command, {0x02}) == errc::ok);
+  CHECK(enc.offset() == 777);
+  const std::size_t t0 = b.frames;
+  CHECK(b.read1(ab::reg::offset + 3) == (777 & 0xFF));
+  CHECK(b.frames - t0 >= 160U);
+  b.frame();
+  CHECK(b.last.single_turn == 0);
+  // command 03: offset reset
+  REQUIRE(b.write(ab::reg::command, {0x03}) == errc::ok);
+  CHECK(enc.offset() == 0);
+  b.frame();
+  CHECK(b.last.single_turn == 777);
+}
+
+TEST_CASE("ABSYS emulator: linear encoder offset is signed") {
+  ab::emulator_config cfg;
+  cfg.type = bs::encoder_type::linear;
+  cfg.sip_count = 1000;
+  cfg.sip_resolution = 0;
+  ab::emulator enc(cfg);
+  enc.set_position(10);
+  bench b(enc);
+  REQUIRE(b.write(ab::reg::offset, {0x00, 0x00, 0x00, 0x14}) == errc::ok);
+  b.frame();
+  CHECK(ab::linear_position(enc.absolute_position(), enc.offset()) == -10);
+  CHECK(static_cast<std::int32_t>(b.last.single_turn - 0x100000000ULL) == -10);
+}
+
+TEST_CASE("ABSYS emulator: errors latch in 0x6B until command 06; nE follows the condition") {
+  ab::emulator enc;
+  bench b(enc);
+  CHECK(b.read1(ab::reg::error_status) == 0x03);  // power-on default
+  REQUIRE(b.write(ab::reg::command, {0x06}) == errc::ok);
+  CHECK(b.read1(ab::reg::error_status) == 0x00);
+  enc.set_error(true);
+  b.frame();
+  CHECK(b.last.error());
+  enc.set_error(false);
+  b.frame();
+  CHECK(!b.last.error());                                     // regained during operation
+  CHECK(b.read1(ab::reg::error_status) == ab::status_error);  // but latched
+  REQUIRE(b.write(ab::reg::command, {0x06}) == errc::ok);
+  CHECK(b.read1(ab::reg::error_status) == 0x00);
+  enc.set_error(true, true);  // at power-on: stays
+  enc.set_error(false);
+  b.frame();
+  CHECK(b.last.error());
+  // the user bank is free to write and read
+  REQUIRE(b.write(ab::reg::bank_select, {0x84}) == errc::ok);
+  REQUIRE(b.write(0x10, {1, 2, 3}) == errc::ok);
+  std::uint8_t u[3] = {};
+  REQUIRE(b.read(0x10, u, 3) == errc::ok);
+  CHECK(u[2] == 3);
+  CHECK(enc.user_bank()[0x11] == 2);
+}
