@@ -100,6 +100,8 @@ decode_result<frame_info> decode_string(const std::string& s,
 // 18-bit slave without status bits, a 7-bit CRC (0x97) with a start value, not inverted.
 const slave_layout mt_layout{12, 13, 2, true, false, crc_from_biss_notation(0x25)};
 const slave_layout plain_layout{0, 18, 0, false, false, crc_from_biss_notation(0x97, 0x15, false)};
+// 64 data bits and a 16-bit CRC: 82 bits, more than one 64-bit read.
+const slave_layout wide_layout{24, 40, 0, true, true, crc_from_biss_notation(0x11021, 0x1D0F)};
 
 }  // namespace
 
@@ -311,7 +313,7 @@ TEST_CASE("active nE / nW are device status, not failures") {
 }
 
 TEST_CASE("chains of 1 to 3 slaves with different layouts") {
-  const std::vector<slave_layout> layouts{absys_layout, mt_layout, plain_layout};
+  const std::vector<slave_layout> layouts{absys_layout, mt_layout, plain_layout, wide_layout};
   testutil::splitmix64 rng(99);
   for (std::size_t n = 1; n <= 3; ++n) {
     for (int rep = 0; rep < 100; ++rep) {
@@ -319,7 +321,7 @@ TEST_CASE("chains of 1 to 3 slaves with different layouts") {
       std::vector<slave_bits> vals;
       std::vector<slave_values> svals;
       for (std::size_t k = 0; k < n; ++k) {
-        const slave_layout& l = layouts[(k + static_cast<std::size_t>(rep)) % 3U];
+        const slave_layout& l = layouts[(k + static_cast<std::size_t>(rep)) % 4U];
         chain.push_back(l);
         const slave_bits b{rng.next() & ((std::uint64_t{1} << l.multi_turn_bits) - 1U),
                            rng.next() & ((std::uint64_t{1} << l.single_turn_bits) - 1U),
@@ -346,7 +348,7 @@ TEST_CASE("chains of 1 to 3 slaves with different layouts") {
         CHECK(out[k].crc_ok());
       }
       // the encoder writes the same bits
-      std::vector<std::uint16_t> words(12, 0);
+      std::vector<std::uint16_t> words(20, 0);
       line_options line;
       line.idle_bits = idle;
       line.ack_bits = ack;

@@ -26,6 +26,7 @@
 
 #include "motionbus/biss/frame.hpp"
 #include "motionbus/core/bits.hpp"
+#include "motionbus/core/config.hpp"
 #include "motionbus/core/crc.hpp"
 #include "motionbus/core/errc.hpp"
 #include "motionbus/core/result.hpp"
@@ -89,11 +90,10 @@ constexpr std::size_t checked_chain_bits(span<const slave_layout> chain, errc& e
 /// Decodes the sensor data frame of a chain from a raw SL capture of `bit_count` samples
 /// (clipped to the words given). See the file comment for the outcomes.
 template <crc_table_size Table = default_crc_table, class Word>
-constexpr decode_result<frame_info> decode_frame(span<const Word> words, std::size_t bit_count,
-                                                 span<const slave_layout> chain,
-                                                 span<slave_data> out,
-                                                 const decode_options& opt = {},
-                                                 bit_order order = bit_order::msb_first) noexcept {
+MOTIONBUS_INLINE constexpr decode_result<frame_info> decode_frame(
+    span<const Word> words, std::size_t bit_count, span<const slave_layout> chain,
+    span<slave_data> out, const decode_options& opt = {},
+    bit_order order = bit_order::msb_first) noexcept {
   if (chain.empty() || chain.size() > max_chain) {
     return decode_failure{errc::invalid_argument, 0};
   }
@@ -182,6 +182,15 @@ constexpr decode_result<frame_info> decode_frame(span<const Word> words, std::si
       d.data = take(pos, db);
       status = static_cast<std::uint32_t>(take(pos + db, sb));
       d.crc = static_cast<std::uint32_t>(take(pos + db + sb, cb));
+    } else if (l.frame_bits() <= 64U) {  // the slave's fields in one read, split by shifts
+      const unsigned fb = l.frame_bits();
+      const std::uint64_t all = field(pos, fb) << (64U - fb);
+      const auto take = [all](unsigned at, unsigned n) {
+        return n == 0U ? std::uint64_t{0} : ((all << at) >> (64U - n));
+      };
+      d.data = take(0, db);
+      status = static_cast<std::uint32_t>(take(db, sb));
+      d.crc = static_cast<std::uint32_t>(take(db + sb, cb));
     } else {
       d.data = field(pos, db);
       status = static_cast<std::uint32_t>(field(pos + db, sb));
@@ -209,10 +218,9 @@ constexpr decode_result<frame_info> decode_frame(span<const Word> words, std::si
 
 /// Single-slave form.
 template <crc_table_size Table = default_crc_table, class Word>
-constexpr decode_result<frame_info> decode_frame(span<const Word> words, std::size_t bit_count,
-                                                 const slave_layout& layout, slave_data& out,
-                                                 const decode_options& opt = {},
-                                                 bit_order order = bit_order::msb_first) noexcept {
+MOTIONBUS_INLINE constexpr decode_result<frame_info> decode_frame(
+    span<const Word> words, std::size_t bit_count, const slave_layout& layout, slave_data& out,
+    const decode_options& opt = {}, bit_order order = bit_order::msb_first) noexcept {
   return decode_frame<Table, Word>(words, bit_count, span<const slave_layout>(&layout, 1),
                                    span<slave_data>(&out, 1), opt, order);
 }
