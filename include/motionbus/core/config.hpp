@@ -39,6 +39,7 @@
 
 /// Marks the rare paths of a hot decoder (error reporting, uncommon layouts) so that the
 /// common path stays small enough for the compiler to inline at the call site.
+#ifndef MOTIONBUS_COLD
 #if defined(__GNUC__) || defined(__clang__)
 #define MOTIONBUS_COLD __attribute__((noinline, cold))
 #elif defined(_MSC_VER)
@@ -46,15 +47,19 @@
 #else
 #define MOTIONBUS_COLD
 #endif
+#endif
 
 /// Marks a small hot path (a few dozen instructions) that should be inlined into its caller
 /// even where the compiler's heuristics would not (clang does not inline the ID3 decoder).
+/// Both may be defined empty to leave every choice to the compiler (constexpr implies inline).
+#ifndef MOTIONBUS_INLINE
 #if defined(__GNUC__) || defined(__clang__)
 #define MOTIONBUS_INLINE inline __attribute__((always_inline))
 #elif defined(_MSC_VER)
 #define MOTIONBUS_INLINE __forceinline
 #else
 #define MOTIONBUS_INLINE inline
+#endif
 #endif
 
 #endif  // MOTIONBUS_CORE_CONFIG_HPP
