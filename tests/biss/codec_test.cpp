@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "../support/bit_strings.hpp"
 #include "../support/prng.hpp"
 #include "../support/reference_crc.hpp"
 
@@ -19,21 +20,8 @@ namespace {
 
 // ---- independent helpers ----------------------------------------------------------------------
 
-std::string bits_of(std::uint64_t v, unsigned n) {
-  std::string s;
-  for (unsigned i = 0; i < n; ++i) {
-    s.push_back(((v >> (n - 1U - i)) & 1U) != 0U ? '1' : '0');
-  }
-  return s;
-}
-
-std::vector<int> as_ints(const std::string& s) {
-  std::vector<int> v;
-  for (char c : s) {
-    v.push_back(c == '1' ? 1 : 0);
-  }
-  return v;
-}
+using testutil::as_ints;
+using testutil::bits_of;
 
 // The wire CRC of a bit string: long division (reference), inverted when the format says so.
 std::uint32_t ref_wire_crc(const crc_format& f, const std::string& covered) {

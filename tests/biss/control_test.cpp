@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "../support/bit_strings.hpp"
 #include "../support/reference_crc.hpp"
 
 using namespace motionbus;
@@ -75,19 +76,12 @@ struct link {
 };
 
 std::string bits(std::uint32_t v, unsigned n) {
-  std::string s;
-  for (unsigned i = 0; i < n; ++i) {
-    s.push_back(((v >> (n - 1U - i)) & 1U) != 0U ? '1' : '0');
-  }
-  return s;
+  return testutil::bits_of(v, n);
 }
 
 std::uint32_t ref_crc4(std::uint32_t v, unsigned n) {
-  std::vector<int> b;
-  for (unsigned i = 0; i < n; ++i) {
-    b.push_back(static_cast<int>((v >> (n - 1U - i)) & 1U));
-  }
-  return ref::crc_of_bits({4, 0x3, 0, false, false, 0xF}, b);
+  return ref::crc_of_bits({4, 0x3, 0, false, false, 0xF},
+                          testutil::as_ints(testutil::bits_of(v, n)));
 }
 
 }  // namespace

@@ -6,28 +6,20 @@
 #include <string>
 #include <vector>
 
+#include "../support/bit_strings.hpp"
 #include "../support/reference_crc.hpp"
 #include "run_cli.hpp"
 
 namespace {
 
-std::string bits_of(std::uint64_t v, unsigned n) {
-  std::string s;
-  for (unsigned i = 0; i < n; ++i) {
-    s.push_back(((v >> (n - 1U - i)) & 1U) != 0U ? '1' : '0');
-  }
-  return s;
-}
+using testutil::as_ints;
+using testutil::bits_of;
 
 // idle, Ack, Start, CDS, 32-bit position, nE, nW, inverted CRC6 0x43 over position + nE + nW.
 std::string absys_frame(std::size_t idle, std::size_t ack, bool cds, std::uint32_t pos, bool ne,
                         bool nw) {
   const std::string covered = bits_of(pos, 32) + (ne ? "1" : "0") + (nw ? "1" : "0");
-  std::vector<int> v;
-  for (char c : covered) {
-    v.push_back(c == '1' ? 1 : 0);
-  }
-  const std::uint32_t crc = ref::crc_of_bits({6, 0x03, 0, false, false, 0x3F}, v);
+  const std::uint32_t crc = ref::crc_of_bits({6, 0x03, 0, false, false, 0x3F}, as_ints(covered));
   return std::string(idle, '1') + std::string(ack, '0') + "1" + (cds ? "1" : "0") + covered +
          bits_of(crc, 6);
 }
@@ -91,11 +83,7 @@ TEST_CASE("decode biss csd: errors") {
 TEST_CASE("decode biss csd: other layouts through --data-bits and the CRC options") {
   // 18-bit position, nE, nW, CRC5 0x25 start 3 not inverted (long division here)
   const std::string covered = bits_of(0x2ABCD, 18) + "10";
-  std::vector<int> v;
-  for (char c : covered) {
-    v.push_back(c == '1' ? 1 : 0);
-  }
-  const std::uint32_t crc = ref::crc_of_bits({5, 0x05, 3, false, false, 0}, v);
+  const std::uint32_t crc = ref::crc_of_bits({5, 0x05, 3, false, false, 0}, as_ints(covered));
   const std::string f = "1100" + std::string("1") + "0" + covered + bits_of(crc, 5);
   CHECK(testcli::run("decode biss csd " + f +
                      " --data-bits 18 --crc-bits 5 --crc-poly 25 --crc-start 3 --no-crc-invert") ==

@@ -21,18 +21,7 @@ namespace bs = motionbus::biss;
 
 namespace {
 
-std::uint64_t option_number(const cli::options& opts, const std::string& name,
-                            std::uint64_t fallback, std::uint64_t max) {
-  const auto v = opts.get(name);
-  if (!v) {
-    return fallback;
-  }
-  const auto n = cli::parse_uint(*v);
-  if (!n || *n > max) {
-    throw cli::usage_error{"--" + name + " needs a number up to " + std::to_string(max)};
-  }
-  return *n;
-}
+using cli::option_number;
 
 // A hexadecimal number with or without 0x.
 std::optional<std::uint64_t> parse_hex_number(std::string t) {

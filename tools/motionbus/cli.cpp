@@ -304,4 +304,17 @@ int run_inputs(const std::string& input, const std::function<outcome(const std::
   return all_ok ? 0 : 1;
 }
 
+std::uint64_t option_number(const options& opts, const std::string& name, std::uint64_t fallback,
+                            std::uint64_t max) {
+  const auto v = opts.get(name);
+  if (!v) {
+    return fallback;
+  }
+  const auto n = parse_uint(*v);
+  if (!n || *n > max) {
+    throw usage_error{"--" + name + " needs a number up to " + std::to_string(max)};
+  }
+  return *n;
+}
+
 }  // namespace cli

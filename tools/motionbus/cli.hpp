@@ -55,6 +55,10 @@ struct options {
   bool has(const std::string& name) const;
   std::optional<std::string> get(const std::string& name) const;
 };
+/// The number given with `--name` (parse_uint), `fallback` when absent; a usage error when it
+/// is not a number or exceeds `max`.
+std::uint64_t option_number(const options& opts, const std::string& name, std::uint64_t fallback,
+                            std::uint64_t max);
 
 /// Thrown (inside the tool only) for a usage error: exit status 2.
 struct usage_error {

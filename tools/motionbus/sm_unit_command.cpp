@@ -26,16 +26,7 @@ namespace sm = motionbus::devices::sm_unit;
 namespace {
 
 unsigned option(const cli::options& opts, const char* name, unsigned fallback, unsigned max) {
-  const auto v = opts.get(name);
-  if (!v) {
-    return fallback;
-  }
-  const auto n = cli::parse_uint(*v);
-  if (!n || *n > max) {
-    throw cli::usage_error{std::string("--") + name + " needs a number up to " +
-                           std::to_string(max)};
-  }
-  return static_cast<unsigned>(*n);
+  return static_cast<unsigned>(cli::option_number(opts, name, fallback, max));
 }
 
 std::uint8_t slave_of(const cli::options& opts) {

@@ -29,15 +29,7 @@ std::int64_t bit(bool b) {
 
 unsigned option_uint(const cli::options& opts, const std::string& name, unsigned fallback,
                      unsigned max) {
-  const auto v = opts.get(name);
-  if (!v) {
-    return fallback;
-  }
-  const auto n = cli::parse_uint(*v);
-  if (!n || *n > max) {
-    throw cli::usage_error{"--" + name + " needs a number up to " + std::to_string(max)};
-  }
-  return static_cast<unsigned>(*n);
+  return static_cast<unsigned>(cli::option_number(opts, name, fallback, max));
 }
 
 cli::json_object response_json(const tf::response& r) {

@@ -125,6 +125,16 @@ constexpr std::uint32_t be32_at(byte_view b, std::size_t at) noexcept {
          (static_cast<std::uint32_t>(b[at + 2U]) << 8U) | b[at + 3U];
 }
 
+// A bank is written whole: zeros where nothing is defined, the checksum last.
+constexpr void clear_bank(mutable_byte_view b) noexcept {
+  for (std::size_t i = 0; i < bank_size; ++i) {
+    b[i] = 0;
+  }
+}
+constexpr void seal_bank(mutable_byte_view b) noexcept {
+  b[bank_size - 1U] = bank_checksum(byte_view(b.data(), b.size()));
+}
+
 constexpr void put_be32(mutable_byte_view b, std::size_t at, std::uint32_t v) noexcept {
   b[at] = static_cast<std::uint8_t>(v >> 24U);
   b[at + 1U] = static_cast<std::uint8_t>((v >> 16U) & 0xFFU);
@@ -215,9 +225,7 @@ constexpr errc encode_eds_common(const eds_common& e, mutable_byte_view bank) no
   if (bank.size() < bank_size) {
     return errc::buffer_too_small;
   }
-  for (std::size_t i = 0; i < bank_size; ++i) {
-    bank[i] = 0;
-  }
+  detail::clear_bank(bank);
   bank[0x00] = e.version;
   bank[0x01] = e.length;
   bank[0x02] = e.user_bank_start;
@@ -229,7 +237,7 @@ constexpr errc encode_eds_common(const eds_common& e, mutable_byte_view bank) no
   bank[0x15] = e.data_length;
   bank[0x16] = e.data_format;
   bank[0x17] = e.crc_poly;
-  bank[0x3F] = bank_checksum(bank);
+  detail::seal_bank(bank);
   return errc::ok;
 }
 
@@ -238,9 +246,7 @@ constexpr errc encode_bp3(const bp3_profile& p, mutable_byte_view bank) noexcept
   if (bank.size() < bank_size) {
     return errc::buffer_too_small;
   }
-  for (std::size_t i = 0; i < bank_size; ++i) {
-    bank[i] = 0;
-  }
+  detail::clear_bank(bank);
   bank[0x00] = p.version;
   bank[0x01] = p.length;
   bank[0x02] = static_cast<std::uint8_t>(p.profile_id >> 8U);
@@ -261,7 +267,7 @@ constexpr errc encode_bp3(const bp3_profile& p, mutable_byte_view bank) noexcept
   detail::put_be32(bank, 0x18, p.sip_resolution);
   detail::put_be32(bank, 0x1C, p.crc_poly);
   detail::put_be32(bank, 0x20, p.crc_start);
-  bank[0x3F] = bank_checksum(bank);
+  detail::seal_bank(bank);
   return errc::ok;
 }
 
