@@ -149,7 +149,7 @@ TEST_CASE("ABSYS frame: encoder output equals the frame built from the notes, de
   for (int i = 0; i < 200; ++i) {
     const slave_bits v{0, rng.next() & 0xFFFFFFFFU, rng.below(2) == 0U, rng.below(4) != 0U};
     const bool cds = rng.below(2) != 0U;
-    const std::size_t ack = 1U + rng.below(8);
+    const auto ack = static_cast<std::size_t>(1U + rng.below(8));
     const std::string want = frame_string(0, ack, cds, chain, {v});
     std::uint32_t words[4] = {};
     line_options line;
@@ -318,8 +318,8 @@ TEST_CASE("chains of 1 to 3 slaves with different layouts") {
         vals.push_back(b);
         svals.push_back({b.mt, b.st, b.ne, b.nw});
       }
-      const std::size_t idle = rng.below(10);
-      const std::size_t ack = 1U + rng.below(10);
+      const auto idle = static_cast<std::size_t>(rng.below(10));
+      const auto ack = static_cast<std::size_t>(1U + rng.below(10));
       const std::string s = frame_string(idle, ack, rep % 2 == 0, chain, vals);
       std::vector<slave_data> out;
       const auto r = decode_string<std::uint16_t>(s, chain, out);

@@ -45,8 +45,8 @@ struct test_registers {
 
 // Frame loop: master CDM -> slave, slave CDS -> master (next frame). `cdm_fault` and
 // `cds_fault` may flip a bit in a given frame. Returns the frames run.
-struct link {
-  link(control_master& master, control_slave<test_registers>& slave, test_registers& regs)
+struct frame_link {
+  frame_link(control_master& master, control_slave<test_registers>& slave, test_registers& regs)
       : m(master), s(slave), r(regs) {}
   control_master& m;
   control_slave<test_registers>& s;
@@ -105,7 +105,7 @@ TEST_CASE("read: the CDM sequence follows the slot table, the byte arrives with 
   control_slave<test_registers> s(regs, 5);
   std::uint8_t out[1] = {};
   REQUIRE(m.start_read(5, 0x42, mutable_byte_view(out, 1)) == errc::ok);
-  link l{m, s, regs};
+  frame_link l{m, s, regs};
   const std::size_t frames = l.run();
   CHECK(m.state() == control_state::done);
   CHECK(m.error() == errc::ok);
@@ -130,7 +130,7 @@ TEST_CASE("write: the data and its CRC go out, the echo confirms, the register c
   control_slave<test_registers> s(regs);
   const std::uint8_t data[1] = {0xA7};
   REQUIRE(m.start_write(0, 0x4C, byte_view(data, 1)) == errc::ok);
-  link l{m, s, regs};
+  frame_link l{m, s, regs};
   l.run();
   CHECK(m.state() == control_state::done);
   CHECK(regs.mem[0x4C] == 0xA7);
@@ -154,7 +154,7 @@ TEST_CASE("sequential reads and writes, with wait states after each write") {
   control_slave<test_registers> s(regs, 2);
   std::uint8_t out[8] = {};
   REQUIRE(m.start_read(2, 0x10, mutable_byte_view(out, 8)) == errc::ok);
-  link l{m, s, regs};
+  frame_link l{m, s, regs};
   l.run();
   REQUIRE(m.state() == control_state::done);
   for (unsigned i = 0; i < 8; ++i) {
@@ -184,7 +184,7 @@ TEST_CASE("refused, unanswered and out-of-range accesses") {
   regs.hidden[0x50] = true;
   control_master m;
   control_slave<test_registers> s(regs, 1);
-  link l{m, s, regs};
+  frame_link l{m, s, regs};
   const std::uint8_t data[1] = {9};
   REQUIRE(m.start_write(1, 0x42, byte_view(data, 1)) == errc::ok);
   l.run();
@@ -219,7 +219,7 @@ TEST_CASE("wait states beyond the bound time out; abort sends the slave back to 
   opt.max_wait_frames = 50;
   control_master m(opt);
   control_slave<test_registers> s(regs);
-  link l{m, s, regs};
+  frame_link l{m, s, regs};
   std::uint8_t out[1] = {};
   REQUIRE(m.start_read(0, 0x01, mutable_byte_view(out, 1)) == errc::ok);
   const std::size_t frames = l.run();
@@ -261,42 +261,42 @@ TEST_CASE("injected bit errors: header CRC, read data, write data, echoes") {
   std::uint8_t out[1] = {};
   // every single CDM bit flip within the header (after S) makes the access fail cleanly
   for (std::size_t slot = 1; slot < 18; ++slot) {
-    link l{m, s, regs};
+    frame_link l{m, s, regs};
     l.cdm_fault = [slot](std::size_t k, bool b) { return k == slot ? !b : b; };
     REQUIRE(m.start_read(0, 0x20, mutable_byte_view(out, 1)) == errc::ok);
     l.run();
     CAPTURE(slot);
     CHECK(m.state() == control_state::failed);
-    link quiet{m, s, regs};
+    frame_link quiet{m, s, regs};
     quiet.idle(preamble_frames);
   }
   // a flipped CDS bit in the read data or its CRC is a CRC mismatch
   for (std::size_t k = 19; k < 19 + 12; ++k) {
-    link l{m, s, regs};
+    frame_link l{m, s, regs};
     l.cds_fault = [k](std::size_t f, bool b) { return f == k ? !b : b; };
     REQUIRE(m.start_read(0, 0x20, mutable_byte_view(out, 1)) == errc::ok);
     l.run();
     CAPTURE(k);
     CHECK(m.error() == errc::crc_mismatch);
-    link quiet{m, s, regs};
+    frame_link quiet{m, s, regs};
     quiet.idle(preamble_frames);
   }
   // a flipped CDM bit in the write data or CRC: the slave refuses, the master is told
   const std::uint8_t data[1] = {0x3C};
   for (std::size_t k = 19; k < 19 + 12; ++k) {
-    link l{m, s, regs};
+    frame_link l{m, s, regs};
     l.cdm_fault = [k](std::size_t f, bool b) { return f == k ? !b : b; };
     REQUIRE(m.start_write(0, 0x21, byte_view(data, 1)) == errc::ok);
     l.run();
     CAPTURE(k);
     CHECK(m.error() == errc::biss_write_not_confirmed);
     CHECK(regs.mem[0x21] == 0);
-    link quiet{m, s, regs};
+    frame_link quiet{m, s, regs};
     quiet.idle(preamble_frames);
   }
   CHECK(s.rejected_writes() == 12);
   // a flipped echo (CDS) of the R/W bits
-  link l{m, s, regs};
+  frame_link l{m, s, regs};
   l.cds_fault = [](std::size_t f, bool b) { return f == 17 ? !b : b; };
   REQUIRE(m.start_read(0, 0x20, mutable_byte_view(out, 1)) == errc::ok);
   l.run();
