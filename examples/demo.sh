@@ -2,8 +2,10 @@
 # The motionbus demo: installs what it needs, builds the CLI and the examples, and runs
 #  - T-format: the CLI master reading the encoder emulator over a pseudo-terminal pair that
 #    the demo creates (socat), as a servo drive reads a Tamagawa encoder over RS-485;
+#  - Modbus-RTU: the CLI client reading the Tsubaki SM unit emulator over another pty pair;
+#  - BiSS-C: a master reading position, identity and the EDS from the AMO ABSYS emulator over
+#    an in-memory bit stream, and the CLI decoding a captured frame;
 #  - the shared core: the protocols' CRCs on real frames and a BiSS-style bit capture.
-# (Modbus-RTU and BiSS-C join as they land.)
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$root"
@@ -11,7 +13,8 @@ build="${MOTIONBUS_BUILD_DIR:-$root/build}/demo"
 bash tools/scripts/ensure-packages.sh cmake ninja-build g++ socat
 cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DMOTIONBUS_BUILD_TESTS=OFF \
   -DMOTIONBUS_BUILD_BENCH=OFF -DMOTIONBUS_BUILD_FUZZ=OFF >/dev/null
-cmake --build "$build" --target motionbus_cli motionbus_example_core_tour >/dev/null
+cmake --build "$build" --target motionbus_cli motionbus_example_core_tour \
+  motionbus_example_biss_demo >/dev/null
 cli="$build/tools/motionbus"
 
 echo "== T-format: master <-> encoder emulator over a pseudo-terminal pair"
@@ -63,6 +66,14 @@ echo "  overheat limit (holding 36, 0.1 degC): $("$cli" read modbus --device "$p
 echo "  write 201 % to a torque limit (max 200): $("$cli" read modbus --device "$pty_dir/master" --slave 1 --function 6 --address 0 --values 201 2>/dev/null)"
 echo "  read one address of the password block: $("$cli" read modbus --device "$pty_dir/master" --slave 1 --function 3 --address 200 --quantity 1 2>/dev/null)"
 kill "$sm_pid" "$socat2_pid" 2>/dev/null || true
+echo
+
+echo "== BiSS-C: master <-> AMO ABSYS emulator over an in-memory bit stream (examples/biss_demo.cpp)"
+"$build/examples/motionbus_example_biss_demo"
+frame="$("$cli" encode biss csd --position 123456 --ack 3 --cds 1 --idle 2 | sed -E 's/.*"bits":"([01]*)".*/\1/')"
+echo "  a frame as a logic analyzer samples it, decoded by the CLI:"
+echo "    \$ motionbus decode biss csd $frame"
+echo "    $("$cli" decode biss csd "$frame")"
 echo
 
 echo "== The shared core (examples/core_tour.cpp)"

@@ -1,0 +1,146 @@
+// The BiSS-C part of the demo: a master reads position and registers from the AMO ABSYS
+// emulator over an in-memory bit stream. Each frame, the emulator's SL samples go through
+// decode_frame exactly as an SPI capture would, the CDS bit feeds the register-access state
+// machine, and its CDM bit goes back to the emulator.
+#include <motionbus/biss.hpp>
+#include <motionbus/devices/absys.hpp>
+#include <motionbus/devices/absys_emulator.hpp>
+
+#include <cstdint>
+#include <cstdio>
+
+namespace mb = motionbus;
+namespace bs = motionbus::biss;
+namespace ab = motionbus::devices::absys;
+
+namespace {
+
+class session {
+ public:
+  explicit session(ab::emulator& e) : enc_(e) {}
+
+  // One frame; returns false when the capture does not decode.
+  bool frame() {
+    std::uint32_t words[2] = {0xFFFFFFFFU, 0xFFFFFFFFU};
+    const auto n = enc_.frame(mb::span<std::uint32_t>(words, 2), 2, 1);
+    const auto r = bs::decode_frame(mb::span<const std::uint32_t>(words, 2), 64, ab::layout, last_);
+    if (!n.ok() || !r.is_complete()) {
+      return false;
+    }
+    start_ = r->start;
+    enc_.control(master_.step(r->cds));
+    ++frames_;
+    return true;
+  }
+  // Runs frames until the running access ends; returns its result.
+  mb::errc finish() {
+    while (master_.busy()) {
+      if (!frame()) {
+        return mb::errc::no_frame;
+      }
+    }
+    return master_.error();
+  }
+  mb::errc read(std::uint8_t address, std::uint8_t* out, std::size_t n) {
+    const mb::errc e = master_.start_read(0, address, mb::mutable_byte_view(out, n));
+    return e == mb::errc::ok ? finish() : e;
+  }
+  mb::errc write(std::uint8_t address, std::uint8_t value) {
+    const std::uint8_t v[1] = {value};
+    const mb::errc e = master_.start_write(0, address, mb::byte_view(v, 1));
+    return e == mb::errc::ok ? finish() : e;
+  }
+  const bs::slave_data& last() const { return last_; }
+  std::size_t frames() const { return frames_; }
+  std::size_t start() const { return start_; }
+
+ private:
+  ab::emulator& enc_;
+  bs::control_master master_;
+  bs::slave_data last_{};
+  std::size_t frames_ = 0;
+  std::size_t start_ = 0;
+};
+
+void check(mb::errc e, const char* what) {
+  if (e != mb::errc::ok) {
+    std::printf("  %s failed: %s\n", what, mb::to_string(e));
+  }
+}
+
+}  // namespace
+
+int main() {
+  ab::emulator enc;  // WMKA-style rotary encoder: 512 periods x 2^10 = 524288 pulses per turn
+  session s(enc);
+  const double pulses = static_cast<double>(enc.pulses_per_revolution());
+
+  enc.set_position(131072);
+  for (int i = 0; i < 3; ++i) {
+    enc.set_position(enc.absolute_position() + 4096);
+    s.frame();
+    std::printf("  position %u pulses = %.3f deg, nE %d, nW %d, line delay %zu bits\n",
+                static_cast<unsigned>(s.last().single_turn),
+                360.0 * static_cast<double>(s.last().single_turn) / pulses, s.last().ne ? 1 : 0,
+                s.last().nw ? 1 : 0, s.start());
+  }
+
+  std::uint8_t id[2] = {};
+  std::uint8_t mfr[2] = {};
+  std::uint8_t serial[8] = {};
+  std::uint8_t device[8] = {};
+  std::uint8_t rev = 0;
+  check(s.read(ab::reg::manufacturer_id, mfr, 2), "manufacturer");
+  check(s.read(ab::reg::revision, &rev, 1), "revision");
+  check(s.read(ab::reg::profile_id, id, 2), "profile ID");
+  check(s.read(ab::reg::serial_number, serial, 8), "serial number");
+  check(s.read(ab::reg::device_id, device, 8), "device ID");
+  const unsigned sn = (static_cast<unsigned>(serial[2]) << 24U) | (serial[3] << 16U) |
+                      (serial[4] << 8U) | serial[5];
+  const unsigned dev = (static_cast<unsigned>(device[2]) << 24U) | (device[3] << 16U) |
+                       (device[4] << 8U) | device[5];
+  std::printf(
+      "  identity: manufacturer \"%c%c\", slave revision 0x%02X, profile 0x%02X%02X "
+      "(BP3, %u-bit data), serial %c%c %u %c%c, device ID %u\n",
+      mfr[0], mfr[1], rev, id[0], id[1], id[1], serial[0], serial[1], sn, serial[6], serial[7],
+      dev);
+
+  std::uint8_t bank[bs::bank_size] = {};
+  check(s.read(0x00, bank, bs::bank_size), "EDS common part");  // bank 0x80 after power-on
+  const auto common = bs::decode_eds_common(mb::byte_view(bank, bs::bank_size));
+  check(s.write(ab::reg::bank_select, ab::bank::eds_bp3), "bank select");
+  check(s.read(0x00, bank, bs::bank_size), "EDS BP3");
+  const auto bp3 = bs::decode_bp3(mb::byte_view(bank, bs::bank_size));
+  if (common.ok() && bp3.ok()) {
+    const bs::crc_format crc = bs::crc_from_eds(bp3->crc_poly, bp3->crc_start);
+    std::printf(
+        "  EDS: version %u, %u banks, BP3 in bank 0x%02X; %s encoder, %u x 2^%u = %llu "
+        "pulses/rev, %u data bits, CRC%u poly 0x%X start %u\n",
+        common->version, common->length, common->profile_bank,
+        bp3->type == bs::encoder_type::rotary ? "rotary" : "linear",
+        static_cast<unsigned>(bp3->sip_count), static_cast<unsigned>(bp3->sip_resolution),
+        static_cast<unsigned long long>(bp3->pulses_per_revolution()), bp3->layout().data_bits(),
+        crc.width, (1U << crc.width) | crc.poly, static_cast<unsigned>(crc.start));
+  }
+
+  std::uint8_t status = 0;
+  check(s.read(ab::reg::error_status, &status, 1), "error status");
+  check(s.write(ab::reg::command, static_cast<std::uint8_t>(ab::command::reset_errors)),
+        "reset errors");
+  std::uint8_t cleared = 0;
+  check(s.read(ab::reg::error_status, &cleared, 1), "error status");
+  std::printf("  error status 0x%02X at power-on, 0x%02X after command 06\n", status, cleared);
+
+  const std::size_t before = s.frames();
+  check(s.write(ab::reg::command, static_cast<std::uint8_t>(ab::command::set_offset_to_position)),
+        "set offset");
+  std::uint8_t off[4] = {};
+  check(s.read(ab::reg::offset, off, 4), "offset");  // waits out the 17 ms EEPROM writes
+  s.frame();
+  std::printf(
+      "  command 02 (offset := position): offset 0x%02X%02X%02X%02X, position now %u; "
+      "%zu frames of 100 us including the wait states\n",
+      off[0], off[1], off[2], off[3], static_cast<unsigned>(s.last().single_turn),
+      s.frames() - before);
+  return 0;
+}
