@@ -44,12 +44,26 @@ struct decode_options {
   std::size_t max_ack_bits = 256;
 };
 
+namespace detail {
+
+// Any CRC format, bit by bit from its run-time parameters (kept out of the inlined fast path).
+constexpr std::uint32_t dynamic_wire_crc(const crc_format& f, std::uint64_t data,
+                                         unsigned data_bits, std::uint32_t status,
+                                         unsigned status_bits) noexcept {
+  dynamic_crc c(f.parameters());
+  c.update_bits(data, data_bits).update_bits(status, status_bits);
+  return c.value();
+}
+
+}  // namespace detail
+
 /// The wire value of the CRC over `data` (data_bits) followed by `status` (status_bits), as a
 /// slave sends it. The CRC6 0x43 used by nearly every encoder takes a compile-time table of
 /// `Table` size; any other format is computed bit by bit from its run-time parameters.
 template <crc_table_size Table = default_crc_table>
-constexpr std::uint32_t wire_crc(const crc_format& f, std::uint64_t data, unsigned data_bits,
-                                 std::uint32_t status, unsigned status_bits) noexcept {
+MOTIONBUS_INLINE constexpr std::uint32_t wire_crc(const crc_format& f, std::uint64_t data,
+                                                  unsigned data_bits, std::uint32_t status,
+                                                  unsigned status_bits) noexcept {
   if (f.width == 0U) {
     return 0;
   }
@@ -63,9 +77,7 @@ constexpr std::uint32_t wire_crc(const crc_format& f, std::uint64_t data, unsign
     }
     return f.inverted ? c.value() : (c.value() ^ 0x3FU);
   }
-  dynamic_crc c(f.parameters());
-  c.update_bits(data, data_bits).update_bits(status, status_bits);
-  return c.value();
+  return detail::dynamic_wire_crc(f, data, data_bits, status, status_bits);
 }
 
 namespace detail {

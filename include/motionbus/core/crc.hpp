@@ -358,7 +358,7 @@ class crc {
 
   /// Feeds the low `count` bits of `bits` in the CRC's bit order (see the file comment).
   /// A count above 64 is treated as 64.
-  constexpr crc& update_bits(std::uint64_t bits, unsigned count) noexcept {
+  MOTIONBUS_INLINE constexpr crc& update_bits(std::uint64_t bits, unsigned count) noexcept {
     const unsigned n = count > 64U ? 64U : count;
     const std::uint64_t v = bits & detail::low_mask64(n);
     if constexpr (sliced && kernel::can_slice_bits) {
