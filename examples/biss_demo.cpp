@@ -95,10 +95,13 @@ int main() {
   check(s.read(ab::reg::profile_id, id, 2), "profile ID");
   check(s.read(ab::reg::serial_number, serial, 8), "serial number");
   check(s.read(ab::reg::device_id, device, 8), "device ID");
-  const unsigned sn = (static_cast<unsigned>(serial[2]) << 24U) | (serial[3] << 16U) |
-                      (serial[4] << 8U) | serial[5];
-  const unsigned dev = (static_cast<unsigned>(device[2]) << 24U) | (device[3] << 16U) |
-                       (device[4] << 8U) | device[5];
+  // Serial number and device ID: two ASCII bytes, a 32-bit number (big-endian), two ASCII bytes.
+  const auto be32 = [](const std::uint8_t* p) {
+    return (static_cast<unsigned>(p[0]) << 24U) | (static_cast<unsigned>(p[1]) << 16U) |
+           (static_cast<unsigned>(p[2]) << 8U) | static_cast<unsigned>(p[3]);
+  };
+  const unsigned sn = be32(serial + 2);
+  const unsigned dev = be32(device + 2);
   std::printf(
       "  identity: manufacturer \"%c%c\", slave revision 0x%02X, profile 0x%02X%02X "
       "(BP3, %u-bit data), serial %c%c %u %c%c, device ID %u\n",
