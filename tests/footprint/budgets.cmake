@@ -1,0 +1,21 @@
+# Footprint budgets: probe, target -> .text bytes, .rodata bytes (see docs/footprint.md).
+# Set at the sizes measured on 2026-11-22 plus about 10 %. A probe that grows past its budget
+# fails the test run; lower a budget when the code shrinks.
+set(footprint_budget_biss_master_cortex-m0plus 1920 608)
+set(footprint_budget_biss_master_cortex-m4 1888 608)
+set(footprint_budget_biss_master_rv32imc 4064 624)
+set(footprint_budget_biss_slave_cortex-m0plus 2720 656)
+set(footprint_budget_biss_slave_cortex-m4 2768 656)
+set(footprint_budget_biss_slave_rv32imc 4240 640)
+set(footprint_budget_modbus_client_cortex-m0plus 3488 576)
+set(footprint_budget_modbus_client_cortex-m4 3472 576)
+set(footprint_budget_modbus_client_rv32imc 4656 736)
+set(footprint_budget_modbus_server_cortex-m0plus 2720 576)
+set(footprint_budget_modbus_server_cortex-m4 2752 576)
+set(footprint_budget_modbus_server_rv32imc 3376 656)
+set(footprint_budget_tformat_encoder_cortex-m0plus 992 48)
+set(footprint_budget_tformat_encoder_cortex-m4 1008 48)
+set(footprint_budget_tformat_encoder_rv32imc 1344 448)
+set(footprint_budget_tformat_master_cortex-m0plus 1760 96)
+set(footprint_budget_tformat_master_cortex-m4 1664 96)
+set(footprint_budget_tformat_master_rv32imc 2352 64)
