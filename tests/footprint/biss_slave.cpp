@@ -1,5 +1,6 @@
-// Footprint probe: BiSS-C slave: ABSYS frame encoder and register access. Inputs arrive as parameters of the entry function (no globals), so
-// nothing folds away; the link keeps only what the entry reaches (--gc-sections).
+// Footprint probe: BiSS-C slave: ABSYS frame encoder and register access. Inputs arrive as
+// parameters of the entry function (no globals), so nothing folds away; the link keeps only what
+// the entry reaches (--gc-sections).
 
 #include <motionbus/biss/codec.hpp>
 #include <motionbus/biss/control.hpp>

@@ -1,5 +1,6 @@
-// Footprint probe: Modbus RTU client (FC03 and FC10 requests, response decoding). Inputs arrive as parameters of the entry function (no globals), so
-// nothing folds away; the link keeps only what the entry reaches (--gc-sections).
+// Footprint probe: Modbus RTU client (FC03 and FC10 requests, response decoding). Inputs arrive as
+// parameters of the entry function (no globals), so nothing folds away; the link keeps only what
+// the entry reaches (--gc-sections).
 
 #include <motionbus/modbus/pdu.hpp>
 #include <motionbus/modbus/rtu.hpp>
@@ -10,11 +11,12 @@ namespace md = motionbus::modbus;
 extern "C" unsigned probe_entry(const unsigned char* in, unsigned n, unsigned char* out) {
   unsigned char pdu[md::max_pdu_size];
   const std::uint16_t values[2] = {in[0], in[1]};
-  const auto p = (in[2] & 1U) != 0U
-                     ? md::encode_read(md::function_code::read_holding_registers, in[3], in[4],
-                                       mb::mutable_byte_view(pdu, sizeof pdu))
-                     : md::encode_write_multiple_registers(in[3], mb::span<const std::uint16_t>(values, 2),
-                                                           mb::mutable_byte_view(pdu, sizeof pdu));
+  const auto p =
+      (in[2] & 1U) != 0U
+          ? md::encode_read(md::function_code::read_holding_registers, in[3], in[4],
+                            mb::mutable_byte_view(pdu, sizeof pdu))
+          : md::encode_write_multiple_registers(in[3], mb::span<const std::uint16_t>(values, 2),
+                                                mb::mutable_byte_view(pdu, sizeof pdu));
   if (!p.ok()) {
     return 0;
   }

@@ -1,5 +1,6 @@
-// Footprint probe: Modbus RTU server with dispatch (holding registers, read and write). Inputs arrive as parameters of the entry function (no globals), so
-// nothing folds away; the link keeps only what the entry reaches (--gc-sections).
+// Footprint probe: Modbus RTU server with dispatch (holding registers, read and write). Inputs
+// arrive as parameters of the entry function (no globals), so nothing folds away; the link keeps
+// only what the entry reaches (--gc-sections).
 
 #include <motionbus/modbus/server.hpp>
 

@@ -1,5 +1,6 @@
-// Footprint probe: T-format master (request encoder, response decoder). Inputs arrive as parameters of the entry function (no globals), so
-// nothing folds away; the link keeps only what the entry reaches (--gc-sections).
+// Footprint probe: T-format master (request encoder, response decoder). Inputs arrive as parameters
+// of the entry function (no globals), so nothing folds away; the link keeps only what the entry
+// reaches (--gc-sections).
 
 #include <motionbus/tformat/codec.hpp>
 
