@@ -97,6 +97,37 @@ constexpr bool line_round_trip() {
 }
 static_assert(line_round_trip(), "line coding");
 
+// The Data IDs the protocol defines, from the spec's list (§6.2, Table 5) and no other code.
+constexpr bool known_ids_exact() {
+  constexpr std::uint8_t defined[] = {0x0, 0x1, 0x2, 0x3, 0x6, 0x7, 0x8, 0xC, 0xD};
+  unsigned known = 0;
+  for (unsigned code = 0; code < 256U; ++code) {
+    known += tf::is_known(static_cast<tf::data_id>(code)) ? 1U : 0U;
+  }
+  for (const std::uint8_t code : defined) {
+    if (!tf::is_known(static_cast<tf::data_id>(code))) {
+      return false;
+    }
+  }
+  return known == 9U;
+}
+static_assert(known_ids_exact(), "known Data IDs");
+
+// Table form of the layouts (response_fields) agrees with layout_of for every code.
+constexpr bool field_table_matches_layouts() {
+  for (std::uint8_t code = 0; code < 16U; ++code) {
+    const tf::response_layout l = tf::layout_of(static_cast<tf::data_id>(code));
+    const std::uint8_t f = tf::response_fields[code];
+    if (((f & tf::field_bit::abs) != 0) != l.abs || ((f & tf::field_bit::enid) != 0) != l.enid ||
+        ((f & tf::field_bit::abm) != 0) != l.abm || ((f & tf::field_bit::almc) != 0) != l.almc ||
+        ((f & tf::field_bit::eeprom) != 0) != l.eeprom || tf::response_sizes[code] != l.size) {
+      return false;
+    }
+  }
+  return true;
+}
+static_assert(field_table_matches_layouts(), "response_fields");
+
 // TS5700N8500 helpers.
 static_assert(ts::encode_overheat_threshold(90).value() == 0xDA, "90 °C");
 static_assert(ts::decode_temperature(0x3C) == 60 && ts::decode_temperature(0xFF) == -1, "temp");

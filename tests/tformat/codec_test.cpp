@@ -386,7 +386,7 @@ TEST_CASE("resolution: 17 bits by default, 23 and 11 selectable, ENID-driven for
 }
 
 TEST_CASE("the ID3 fast path agrees with the generic layout decoder on random frames") {
-  // decode_response takes ID3 through detail::decode_read_all (one 64-bit load); it must give
+  // The speed form takes ID3 through detail::decode_read_all (one 64-bit load); it must give
   // exactly what the generic template gives, for good frames, bad CRCs, reserved SF bits and
   // every resolution option.
   testutil::splitmix64 rng(0x1D3);
@@ -413,7 +413,7 @@ TEST_CASE("the ID3 fast path agrees with the generic layout decoder on random fr
     o.res = {static_cast<unsigned>(1U + rng.below(40)), static_cast<unsigned>(1U + rng.below(40))};
     o.check_unused_bits = rng.below(4) != 0U;
     o.resolution_from_enid = rng.below(2) != 0U;
-    const auto fast = decode_response(view(f), o);
+    const auto fast = tformat::detail::decode_response_fast(view(f), o);
     const auto generic = tformat::detail::decode_status_frame<11, true, true, true, true>(
         view(f), data_id::read_all, o);
     CAPTURE(i);
@@ -431,6 +431,67 @@ TEST_CASE("the ID3 fast path agrees with the generic layout decoder on random fr
   }
   CHECK(complete > 2000);  // both outcomes well represented
   CHECK(failed > 2000);
+}
+
+TEST_CASE("the size form of decode_response agrees with the speed form on every kind of input") {
+  // MOTIONBUS_SMALL_CODE selects decode_response_compact (one table-driven path) instead of
+  // decode_response_fast; both must give the same outcome, error, counts, evidence and value:
+  // every Data ID, truncations, bad CFs, bad CRCs, reserved SF bits, EEPROM busy, resolutions.
+  testutil::splitmix64 rng(0x5A11);
+  const auto good = valid_responses();
+  int outcomes[3] = {};
+  for (int i = 0; i < 60000; ++i) {
+    std::vector<std::uint8_t> f;
+    if (rng.below(4) == 0U) {  // anything at all
+      f.resize(rng.below(13));
+      for (auto& b : f) {
+        b = rng.byte();
+      }
+    } else {  // a valid frame, then damaged in one way or another
+      f = good[rng.below(static_cast<std::uint32_t>(good.size()))];
+      const auto mode = rng.below(6);
+      if (mode == 0U && !f.empty()) {
+        f.resize(rng.below(static_cast<std::uint32_t>(f.size())));  // truncated
+      } else if (mode == 1U) {
+        f[rng.below(static_cast<std::uint32_t>(f.size()))] ^=
+            static_cast<std::uint8_t>(1U << rng.below(8));  // one bit flipped
+      } else if (mode == 2U && f.size() > 2U) {
+        f[1] = rng.byte();  // SF / ADF anything, CRC fixed up
+        f.back() = xor_of(std::vector<std::uint8_t>(f.begin(), f.end() - 1));
+      } else if (mode == 3U && f.size() > 5U) {
+        f[4] = rng.byte();  // high ABS / ABM bits, CRC fixed up
+        f.back() = xor_of(std::vector<std::uint8_t>(f.begin(), f.end() - 1));
+      } else if (mode == 4U) {
+        f.push_back(rng.byte());  // trailing byte: not consumed
+      }
+    }
+    decode_options o;
+    o.res = {static_cast<unsigned>(1U + rng.below(40)), static_cast<unsigned>(1U + rng.below(40))};
+    o.check_unused_bits = rng.below(4) != 0U;
+    o.resolution_from_enid = rng.below(2) != 0U;
+    const auto small = tformat::detail::decode_response_compact(view(f), o);
+    const auto fast = tformat::detail::decode_response_fast(view(f), o);
+    CAPTURE(i);
+    REQUIRE(small.status() == fast.status());
+    ++outcomes[static_cast<int>(small.status())];
+    CHECK(small.error() == fast.error());
+    CHECK(small.consumed() == fast.consumed());
+    CHECK(small.needed() == fast.needed());
+    CHECK(small.expected() == fast.expected());
+    CHECK(small.received() == fast.received());
+    const auto& a = small.value();
+    const auto& b = fast.value();
+    CHECK((a.id == b.id && a.cf == b.cf && a.sf == b.sf && a.abs == b.abs && a.enid == b.enid &&
+           a.abm == b.abm && a.almc == b.almc && a.crc == b.crc && a.address == b.address &&
+           a.busy == b.busy && a.edf == b.edf));
+  }
+  CHECK(outcomes[0] > 10000);  // complete, incomplete and failed all well represented
+  CHECK(outcomes[1] > 3000);
+  CHECK(outcomes[2] > 10000);
+  // decode_response is the form the build selected.
+  const auto r = decode_response(view(good[3]));
+  CHECK(r.is_complete());
+  CHECK(r.value().abs == tformat::detail::decode_response_compact(view(good[3]), {}).value().abs);
 }
 
 TEST_CASE("every single-bit flip of every valid request is detected by the encoder side") {

@@ -62,4 +62,17 @@
 #endif
 #endif
 
+/// Selects the smallest form of the decoders that have two (the T-format response decoder,
+/// the BiSS-C frame decoder): 1 for size (one table-driven path for every layout), 0 for
+/// speed (hot layouts inlined and unrolled). Both forms return identical results, which the
+/// tests check over random input. Follows -Os (__OPTIMIZE_SIZE__) unless defined; a program
+/// built with mixed -O levels should define it once for all its translation units.
+#ifndef MOTIONBUS_SMALL_CODE
+#if defined(__OPTIMIZE_SIZE__)
+#define MOTIONBUS_SMALL_CODE 1
+#else
+#define MOTIONBUS_SMALL_CODE 0
+#endif
+#endif
+
 #endif  // MOTIONBUS_CORE_CONFIG_HPP

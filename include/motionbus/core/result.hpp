@@ -84,7 +84,8 @@ class [[nodiscard]] decode_result {
   /// the result itself (no temporary T to copy; some compilers copy it through memory).
   template <class Fill>
   static constexpr decode_result complete_with(std::size_t consumed, Fill&& fill) noexcept {
-    decode_result r(T{}, consumed);
+    decode_result r;
+    r.count_ = consumed;
     fill(r.value_);
     return r;
   }

@@ -94,7 +94,7 @@ constexpr result<std::size_t> encode_request(data_id id, mutable_byte_view out,
   if (out.size() < n) {
     return errc::buffer_too_small;
   }
-  out[0] = control_field(id);
+  out[0] = control_fields[static_cast<std::uint8_t>(id)];
   if (n > 1U) {
     out[1] = address;
     if (id == data_id::eeprom_write) {
@@ -233,14 +233,14 @@ MOTIONBUS_COLD constexpr decode_result<response> decode_other_response(
 
 }  // namespace detail
 
-/// Decodes one response from the start of `in`; the layout follows the response's CF.
-/// Complete: the response and its size in bytes (extra input is left unconsumed).
-/// Incomplete: fewer bytes than the CF's layout needs. Failed, with 1 byte to drop: CF sync
-/// code, parity or unknown Data ID; crc_mismatch (expected = computed, received = sent);
-/// reserved_bits (SF bits 0..3 set); out_of_range (ABS/ABM bits above the resolution set).
-/// A busy EEPROM is state (response::busy), not an error.
-MOTIONBUS_INLINE constexpr decode_result<response> decode_response(
-    byte_view in, const decode_options& opt = {}) noexcept {
+namespace detail {
+
+// The speed form of decode_response: the polled IDs inline, the others out of line, so that
+// the call site stays small enough to inline. Each inline branch checks its own constant size,
+// so that a compiler looking at the caller's buffer sees every read guarded (no
+// -Warray-bounds false positives on short arrays).
+MOTIONBUS_INLINE constexpr decode_result<response> decode_response_fast(
+    byte_view in, const decode_options& opt) noexcept {
   if (in.empty()) {
     return need_input{4};
   }
@@ -249,25 +249,125 @@ MOTIONBUS_INLINE constexpr decode_result<response> decode_response(
   const auto id = static_cast<data_id>(code);
   // One comparison covers sync code, parity and a defined Data ID; the slow path tells which.
   if (cf != valid_control_fields[code]) {
-    return detail::cf_failure(cf);
+    return cf_failure(cf);
   }
-  // The polled IDs inline, the others out of line: the call site stays small enough to inline.
-  // Each inline branch checks its own constant size, so that a compiler looking at the caller's
-  // buffer sees every read guarded (no -Warray-bounds false positives on short arrays).
   if (id == data_id::read_all) {
     if (in.size() < 11U) {
       return need_input{11U - in.size()};
     }
-    return detail::decode_read_all(in, opt);
+    return decode_read_all(in, opt);
   }
   if (id == data_id::read_abs) {
     if (in.size() < 6U) {
       return need_input{6U - in.size()};
     }
-    return detail::decode_status_frame<6, true, false, false, false>(in, id, opt);
+    return decode_status_frame<6, true, false, false, false>(in, id, opt);
   }
-  return detail::decode_other_response(in, id, opt);
+  return decode_other_response(in, id, opt);
 }
+
+// The size form of decode_response: one path for every layout, walking the layout's fields
+// (an unused field reads as 0, which fits any resolution: no per-field condition in the
+// unused-bit check), and one exit per outcome; the value is built in the result itself.
+// Same checks in the same order as the speed form.
+constexpr decode_result<response> decode_response_compact(byte_view in,
+                                                          const decode_options& opt) noexcept {
+  std::size_t size = 4;  // the shortest response, while no CF is known
+  std::uint8_t code = 0;
+  errc e = errc::ok;
+  if (!in.empty()) {
+    code = data_id_code(in[0]);
+    size = response_sizes[code];
+    if (in[0] != valid_control_fields[code]) {
+      e = check_cf(in[0]);
+    }
+  }
+  if (e == errc::ok && in.size() < size) {
+    return need_input{size - in.size()};
+  }
+  const std::uint8_t fields = response_fields[code];
+  std::uint8_t computed = 0;
+  std::uint8_t sent = 0;
+  std::uint32_t abs = 0;
+  std::uint32_t abm = 0;
+  std::uint8_t enid = 0;
+  std::uint8_t almc = 0;
+  if (e == errc::ok) {
+    const std::size_t last = size - 1U;
+    for (std::size_t i = 0; i < last; ++i) {
+      computed = static_cast<std::uint8_t>(computed ^ in[i]);
+    }
+    sent = in[last];
+    std::size_t at = 2;
+    if ((fields & field_bit::abs) != 0U) {
+      abs = le24(in, at);
+      at += 3U;
+    }
+    if ((fields & field_bit::enid) != 0U) {
+      enid = in[at++];
+    }
+    if ((fields & field_bit::abm) != 0U) {
+      abm = le24(in, at);
+      at += 3U;
+    }
+    if ((fields & field_bit::almc) != 0U) {
+      almc = in[at];
+    }
+    const resolution res = (fields & field_bit::abs) != 0U && (fields & field_bit::enid) != 0U &&
+                                   opt.resolution_from_enid
+                               ? resolution_for_enid(enid, opt.res)
+                               : opt.res;
+    if (computed != sent) {
+      e = errc::crc_mismatch;
+    } else if ((fields & field_bit::eeprom) == 0U && (in[1] & sf::reserved_mask) != 0U) {
+      e = errc::reserved_bits;
+    } else if (opt.check_unused_bits &&
+               (!fits(abs, res.single_turn_bits) || !fits(abm, res.multi_turn_bits))) {
+      e = errc::out_of_range;
+    }
+  }
+  if (e != errc::ok) {
+    const bool crc = e == errc::crc_mismatch;
+    return decode_failure{e, 1, crc ? computed : 0U, crc ? sent : 0U};
+  }
+  return decode_result<response>::complete_with(size, [&](response& r) {
+    r.id = static_cast<data_id>(code);
+    r.cf = in[0];
+    r.crc = sent;
+    if ((fields & field_bit::eeprom) != 0U) {
+      r.address = static_cast<std::uint8_t>(in[1] & adf_address_mask);
+      r.busy = (in[1] & adf_busy) != 0U;
+      r.edf = in[2];
+    } else {
+      r.sf = in[1];
+    }
+    r.abs = abs;
+    r.enid = enid;
+    r.abm = abm;
+    r.almc = almc;
+  });
+}
+
+}  // namespace detail
+
+/// Decodes one response from the start of `in`; the layout follows the response's CF.
+/// Complete: the response and its size in bytes (extra input is left unconsumed).
+/// Incomplete: fewer bytes than the CF's layout needs. Failed, with 1 byte to drop: CF sync
+/// code, parity or unknown Data ID; crc_mismatch (expected = computed, received = sent);
+/// reserved_bits (SF bits 0..3 set); out_of_range (ABS/ABM bits above the resolution set).
+/// A busy EEPROM is state (response::busy), not an error. MOTIONBUS_SMALL_CODE picks the
+/// form (core/config.hpp); both return the same results.
+#if MOTIONBUS_SMALL_CODE
+constexpr decode_result<response> decode_response(byte_view in,
+                                                  const decode_options& opt = {}) noexcept {
+  return detail::decode_response_compact(in, opt);
+}
+#else
+MOTIONBUS_INLINE constexpr decode_result<response> decode_response(
+    byte_view in, const decode_options& opt = {}) noexcept {
+  return detail::decode_response_fast(in, opt);
+}
+#endif
 
 /// decode_response on a buffer that must hold exactly one frame (e.g. bytes received up to
 /// the line's idle): fewer bytes are errc::truncated, more are errc::tformat_length.

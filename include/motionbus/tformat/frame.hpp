@@ -27,22 +27,6 @@ enum class data_id : std::uint8_t {
 };
 
 /// True for the nine Data IDs the spec defines.
-constexpr bool is_known(data_id id) noexcept {
-  switch (id) {
-    case data_id::read_abs:
-    case data_id::read_abm:
-    case data_id::read_enid:
-    case data_id::read_all:
-    case data_id::eeprom_write:
-    case data_id::reset_errors:
-    case data_id::reset_single_turn:
-    case data_id::reset_multi_turn:
-    case data_id::eeprom_read: return true;
-  }
-  return false;
-}
-
-/// CF bits 0..2: the sync code 010 as a UART byte (bit0 = 0, bit1 = 1, bit2 = 0).
 inline constexpr std::uint8_t sync_code = 0x02;
 inline constexpr std::uint8_t sync_mask = 0x07;
 
@@ -70,6 +54,12 @@ inline constexpr std::uint8_t control_fields[16] = {
 
 /// Bit i set when code i is a defined Data ID (0, 1, 2, 3, 6, 7, 8, C, D).
 inline constexpr std::uint16_t known_ids_mask = 0x31CF;
+
+/// True for the Data IDs the protocol defines (0, 1, 2, 3, 6, 7, 8, C, D).
+constexpr bool is_known(data_id id) noexcept {
+  const auto code = static_cast<std::uint8_t>(id);
+  return code < 16U && ((known_ids_mask >> code) & 1U) != 0U;
+}
 
 /// The control field of each defined code, and 0x00 for undefined codes: a byte whose code is
 /// c != 0 cannot be 0x00, so `cf == valid_control_fields[code]` checks sync code, parity and
@@ -99,7 +89,7 @@ constexpr bool sync_ok(std::uint8_t cf) noexcept {
   return (cf & sync_mask) == sync_code;
 }
 constexpr bool parity_ok(std::uint8_t cf) noexcept {
-  return ((cf ^ control_field(data_id_code(cf))) & 0x80U) == 0U;
+  return ((cf ^ control_fields[data_id_code(cf)]) & 0x80U) == 0U;
 }
 
 /// Status field bits (spec §6.3.2). Bits 0..3 are always 0.
@@ -196,6 +186,31 @@ inline constexpr std::uint8_t response_sizes[16] = {
     layout_of(data_id{0xF}).size};
 
 /// Size of a request frame: CF alone, CF ADF CRC (IDD), or CF ADF EDF CRC (ID6).
+/// The fields of each Data ID's response as bits (field_bit), indexed by Data ID code: the
+/// same facts as layout_of, in one byte per code for table-driven code.
+namespace field_bit {
+inline constexpr std::uint8_t abs = 0x01;
+inline constexpr std::uint8_t enid = 0x02;
+inline constexpr std::uint8_t abm = 0x04;
+inline constexpr std::uint8_t almc = 0x08;
+inline constexpr std::uint8_t eeprom = 0x10;
+}  // namespace field_bit
+
+constexpr std::uint8_t fields_of(data_id id) noexcept {
+  const response_layout l = layout_of(id);
+  return static_cast<std::uint8_t>((l.abs ? field_bit::abs : 0U) | (l.enid ? field_bit::enid : 0U) |
+                                   (l.abm ? field_bit::abm : 0U) | (l.almc ? field_bit::almc : 0U) |
+                                   (l.eeprom ? field_bit::eeprom : 0U));
+}
+
+inline constexpr std::uint8_t response_fields[16] = {
+    fields_of(data_id{0x0}), fields_of(data_id{0x1}), fields_of(data_id{0x2}),
+    fields_of(data_id{0x3}), fields_of(data_id{0x4}), fields_of(data_id{0x5}),
+    fields_of(data_id{0x6}), fields_of(data_id{0x7}), fields_of(data_id{0x8}),
+    fields_of(data_id{0x9}), fields_of(data_id{0xA}), fields_of(data_id{0xB}),
+    fields_of(data_id{0xC}), fields_of(data_id{0xD}), fields_of(data_id{0xE}),
+    fields_of(data_id{0xF})};
+
 constexpr std::size_t request_size(data_id id) noexcept {
   return id == data_id::eeprom_write ? 4U : (id == data_id::eeprom_read ? 3U : 1U);
 }
