@@ -1,6 +1,7 @@
 // Modbus response decoder (client side). The input holds a request (length in byte 0) and a
 // response. Oracles: never out of bounds; a complete normal response has data consistent with
-// the request (byte count = bits/8 rounded up, or 2 per register) and lies inside the input.
+// the request (byte count = bits/8 rounded up, or 2 per register) and lies inside the input;
+// the per-function client decoders agree with decode_response.
 #include <motionbus/modbus/pdu.hpp>
 
 #include "../fuzz_check.hpp"
@@ -21,6 +22,26 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const auto format = (data[0] & 0x80U) != 0 ? mo::report_id_format::two_bytes_no_count
                                              : mo::report_id_format::standard;
   const auto r = mo::decode_response(pdu, request, format);
+  const auto sent = mo::decode_request(request);
+  if (sent.is_complete()) {
+    const mo::request& s = sent.value();
+    const auto fc = static_cast<mo::function_code>(s.function);
+    const bool read = s.function <= 0x04U || s.function == 0x17U;
+    const bool write =
+        s.function == 0x05U || s.function == 0x06U || s.function == 0x0FU || s.function == 0x10U;
+    if (read || write) {
+      const auto one = read ? mo::decode_read_response(pdu, fc, s.quantity)
+                            : mo::decode_write_response(pdu, fc, s.address,
+                                                        s.function <= 0x06U ? s.value : s.quantity);
+      MOTIONBUS_FUZZ_CHECK(one.status() == r.status() && one.error() == r.error() &&
+                           one.consumed() == r.consumed() && one.expected() == r.expected() &&
+                           one.received() == r.received());
+      MOTIONBUS_FUZZ_CHECK(one->data.data() == r->data.data() &&
+                           one->data.size() == r->data.size() && one->quantity == r->quantity &&
+                           one->address == r->address && one->value == r->value &&
+                           one->exception == r->exception);
+    }
+  }
   if (!r.is_complete()) {
     MOTIONBUS_FUZZ_CHECK(r.is_failed() && r.consumed() == pdu.size());
     return 0;

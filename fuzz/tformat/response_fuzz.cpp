@@ -1,7 +1,8 @@
 // T-format response decoder (master side). Oracles: never reads out of bounds (ASan); a
 // complete response re-encodes to exactly the bytes consumed (a busy EEPROM response with a
 // non-zero EDF excepted: the encoder always sends 00 then); consumed counts stay within the input;
-// the exact-frame form agrees with the prefix form.
+// the exact-frame form agrees with the prefix form; the size and speed forms of the decoder
+// (MOTIONBUS_SMALL_CODE) agree on every input.
 #include <motionbus/tformat/codec.hpp>
 
 #include "../fuzz_check.hpp"
@@ -16,6 +17,16 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     opt.resolution_from_enid = true;
   }
   const auto r = tf::decode_response(in, opt);
+  const auto small = tf::detail::decode_response_compact(in, opt);
+  const auto fast = tf::detail::decode_response_fast(in, opt);
+  MOTIONBUS_FUZZ_CHECK(small.status() == fast.status() && small.error() == fast.error() &&
+                       small.consumed() == fast.consumed() && small.needed() == fast.needed() &&
+                       small.expected() == fast.expected() && small.received() == fast.received());
+  MOTIONBUS_FUZZ_CHECK(small->abs == fast->abs && small->abm == fast->abm &&
+                       small->enid == fast->enid && small->almc == fast->almc &&
+                       small->sf == fast->sf && small->edf == fast->edf &&
+                       small->address == fast->address && small->busy == fast->busy &&
+                       small->id == fast->id && small->cf == fast->cf && small->crc == fast->crc);
   if (r.is_failed()) {
     MOTIONBUS_FUZZ_CHECK(r.consumed() <= size && r.consumed() >= 1);
     return 0;

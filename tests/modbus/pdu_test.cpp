@@ -250,6 +250,89 @@ TEST_CASE("client: exceptions pass through, mismatches and counts are errors") {
         errc::invalid_argument);
 }
 
+TEST_CASE("client, one function: read and write decoders agree with decode_response") {
+  // decode_read_response / decode_write_response take what the client asked as values (no
+  // request bytes to decode); on every spec example, and on each damaged form of it, they
+  // must give what decode_response gives from the request bytes.
+  int compared = 0;
+  for (const auto& ex : spec_examples()) {
+    const auto sent = decode_request(view(ex.request));
+    REQUIRE(sent.is_complete());
+    const request& q = sent.value();
+    const std::uint8_t f = q.function;
+    const bool read = f <= 0x04U || f == 0x17U;
+    const bool write = f == 0x05U || f == 0x06U || f == 0x0FU || f == 0x10U;
+    if (!read && !write) {
+      continue;
+    }
+    std::vector<bytes> answers = {ex.response,
+                                  {static_cast<std::uint8_t>(f | 0x80U), 0x04},
+                                  {static_cast<std::uint8_t>(f | 0x80U)},
+                                  {}};
+    for (std::size_t cut = 1; cut < ex.response.size(); ++cut) {
+      answers.emplace_back(ex.response.begin(), ex.response.begin() + static_cast<long>(cut));
+    }
+    for (std::size_t at = 0; at < ex.response.size(); ++at) {
+      for (unsigned bit = 0; bit < 8U; ++bit) {
+        bytes flipped = ex.response;
+        flipped[at] = static_cast<std::uint8_t>(flipped[at] ^ (1U << bit));
+        answers.push_back(flipped);
+      }
+    }
+    bytes longer = ex.response;
+    longer.push_back(0);
+    answers.push_back(longer);
+    for (const bytes& a : answers) {
+      CAPTURE(ex.name);
+      CAPTURE(a.size());
+      const auto generic = decode_response(view(a), view(ex.request));
+      const auto one =
+          read ? decode_read_response(view(a), static_cast<function_code>(f), q.quantity)
+               : decode_write_response(view(a), static_cast<function_code>(f), q.address,
+                                       f <= 0x06U ? q.value : q.quantity);
+      REQUIRE(one.status() == generic.status());
+      CHECK(one.error() == generic.error());
+      CHECK(one.consumed() == generic.consumed());
+      CHECK(one.expected() == generic.expected());
+      CHECK(one.received() == generic.received());
+      CHECK(one->exception == generic->exception);
+      CHECK(one->exception_code == generic->exception_code);
+      CHECK(one->address == generic->address);
+      CHECK(one->quantity == generic->quantity);
+      CHECK(one->value == generic->value);
+      CHECK(one->data.size() == generic->data.size());
+      ++compared;
+    }
+  }
+  CHECK(compared > 500);
+  // The values themselves, and what only these decoders can be asked.
+  const bytes fc03 = spec_examples()[2].response;
+  const auto r = decode_read_response(view(fc03), function_code::read_holding_registers, 3);
+  REQUIRE(r.is_complete());
+  CHECK(register_at(r->data, 1) == 0x0000);
+  CHECK(register_at(r->data, 2) == 0x0064);
+  // asked for 4 registers, the byte count says 3
+  CHECK(decode_read_response(view(fc03), function_code::read_holding_registers, 4).error() ==
+        errc::modbus_byte_count);
+  CHECK(decode_read_response(view(fc03), function_code::write_single_register, 3).error() ==
+        errc::invalid_argument);
+  const auto other = decode_read_response(view(fc03), function_code::read_input_registers, 3);
+  CHECK(other.error() == errc::modbus_mismatch);
+  CHECK(other.expected() == 0x04);
+  CHECK(other.received() == 0x03);
+  CHECK(decode_write_response(view({0x10, 0x00, 0x01, 0x00, 0x02}), function_code::read_coils, 1, 2)
+            .error() == errc::invalid_argument);
+  const auto w = decode_write_response(view({0x10, 0x00, 0x01, 0x00, 0x02}),
+                                       function_code::write_multiple_registers, 1, 2);
+  REQUIRE(w.is_complete());
+  CHECK(w->address == 1);
+  CHECK(w->quantity == 2);
+  const auto echo = decode_write_response(view({0x06, 0x00, 0x01, 0x00, 0x03}),
+                                          function_code::write_single_register, 1, 4);
+  CHECK(echo.error() == errc::modbus_mismatch);
+  CHECK(echo.expected() == 0);  // an echo mismatch has no function evidence
+}
+
 TEST_CASE("client encoders refuse what a server would refuse") {
   std::uint8_t out[300] = {};
   CHECK(encode_read(function_code::read_coils, 0, 0, out).error() == errc::modbus_quantity);

@@ -752,6 +752,124 @@ constexpr result<std::size_t> encode_device_identification_response(
 // ---------------------------------------------------------------------------------------------
 // Client: responses in
 
+namespace detail {
+
+// The checks every response shares, in order: PDU length (modbus_pdu_length), the function
+// echo (modbus_mismatch, evidence: sent and received function), and an exception response
+// (exactly function | 0x80 and a code: complete with r.exception set). Returns true when they
+// settle the outcome: `error` (with evidence), or ok for an exception response.
+constexpr bool response_head(byte_view pdu, std::uint8_t function, response& r, errc& error,
+                             std::uint32_t& expected, std::uint32_t& received) noexcept {
+  const std::size_t n = pdu.size();
+  if (n < 1U || n > max_pdu_size) {
+    error = errc::modbus_pdu_length;
+    return true;
+  }
+  r.function = static_cast<std::uint8_t>(pdu[0] & static_cast<std::uint8_t>(~exception_flag));
+  if (r.function != function) {
+    error = errc::modbus_mismatch;
+    expected = function;
+    received = r.function;
+    return true;
+  }
+  if ((pdu[0] & exception_flag) != 0U) {
+    if (n != 2U) {
+      error = n < 2U ? errc::truncated : errc::modbus_byte_count;
+    } else {
+      r.exception = true;
+      r.exception_code = pdu[1];
+    }
+    return true;
+  }
+  return false;
+}
+
+}  // namespace detail
+
+/// Client, one function: decodes the response PDU to a read of `quantity` bits (FC01, FC02)
+/// or registers (FC03, FC04, and the read part of FC17) by `function`. Complete: r.data holds
+/// the packed bits or register bytes, r.byte_count and r.quantity are set; an exception
+/// response is complete with r.exception set. Failed (consumed = PDU size): modbus_pdu_length,
+/// invalid_argument (`function` is not a read), modbus_mismatch (another function; expected =
+/// sent, received = received function), truncated, modbus_byte_count (byte count vs quantity
+/// vs bytes present), reserved_bits (unused high bits of the last bit byte set).
+/// Links only what a client of these functions needs (decode_response handles every function
+/// from the request bytes).
+constexpr decode_result<response> decode_read_response(byte_view pdu, function_code function,
+                                                       std::uint16_t quantity) noexcept {
+  const auto f = static_cast<std::uint8_t>(function);
+  const std::size_t n = pdu.size();
+  if (!detail::is_read_bits(f) && !detail::is_read_registers(f) && f != 0x17U) {
+    return decode_failure{errc::invalid_argument, n};
+  }
+  response r;
+  errc e = errc::ok;
+  std::uint32_t want = 0;
+  std::uint32_t got = 0;
+  if (!detail::response_head(pdu, f, r, e, want, got)) {
+    const std::size_t bytes =
+        detail::is_read_bits(f) ? detail::bytes_for_bits(quantity) : 2U * quantity;
+    if (n < 2U) {
+      e = errc::truncated;
+    } else if (pdu[1] != bytes || n != 2U + bytes) {
+      e = n < 2U + bytes && pdu[1] == bytes ? errc::truncated : errc::modbus_byte_count;
+    } else {
+      r.byte_count = pdu[1];
+      r.data = pdu.subspan(2, bytes);
+      r.quantity = quantity;
+      const unsigned spare = static_cast<unsigned>(bytes * 8U - quantity);
+      if (detail::is_read_bits(f) && spare > 0U &&
+          (r.data[bytes - 1U] & static_cast<std::uint8_t>(0xFFU << (8U - spare))) != 0U) {
+        e = errc::reserved_bits;
+      }
+    }
+  }
+  if (e != errc::ok) {
+    return decode_failure{e, n, want, got};
+  }
+  return decode_result<response>::complete(r, n);
+}
+
+/// Client, one function: decodes the response PDU to a write (FC05, FC06, FC0F, FC10) at
+/// `address` of `second` (the value for FC05/06, the quantity for FC0F/10), which the response
+/// must echo. Complete: r.address and r.value or r.quantity; an exception response is complete
+/// with r.exception set. Failed (consumed = PDU size): modbus_pdu_length, invalid_argument
+/// (`function` is not one of these), modbus_mismatch (another function, or an echo that
+/// differs), truncated, modbus_byte_count (not 5 bytes).
+constexpr decode_result<response> decode_write_response(byte_view pdu, function_code function,
+                                                        std::uint16_t address,
+                                                        std::uint16_t second) noexcept {
+  const auto f = static_cast<std::uint8_t>(function);
+  const std::size_t n = pdu.size();
+  if (f != 0x05U && f != 0x06U && f != 0x0FU && f != 0x10U) {
+    return decode_failure{errc::invalid_argument, n};
+  }
+  response r;
+  errc e = errc::ok;
+  std::uint32_t want = 0;
+  std::uint32_t got = 0;
+  if (!detail::response_head(pdu, f, r, e, want, got)) {
+    if (n != 5U) {
+      e = n < 5U ? errc::truncated : errc::modbus_byte_count;
+    } else {
+      r.address = detail::be16(pdu, 1);
+      const std::uint16_t echoed = detail::be16(pdu, 3);
+      if (f == 0x05U || f == 0x06U) {
+        r.value = echoed;
+      } else {
+        r.quantity = echoed;
+      }
+      if (r.address != address || echoed != second) {
+        e = errc::modbus_mismatch;
+      }
+    }
+  }
+  if (e != errc::ok) {
+    return decode_failure{e, n, want, got};
+  }
+  return decode_result<response>::complete(r, n);
+}
+
 /// Decodes a complete response PDU to `sent` (the request as encoded, itself decodable).
 /// Complete: the response; an exception response (function | 0x80, any code) is a complete
 /// response with `exception` set. Failed (consumed = PDU size): modbus_pdu_length,
@@ -769,56 +887,26 @@ constexpr decode_result<response> decode_response(
     return decode_failure{errc::invalid_argument, n};
   }
   const request& q = dq.value();
-  response r;
-  r.function = static_cast<std::uint8_t>(pdu[0] & static_cast<std::uint8_t>(~exception_flag));
-  if (r.function != q.function) {
-    return decode_failure{errc::modbus_mismatch, n, q.function, r.function};
+  const std::uint8_t f = q.function;
+  if (detail::is_read_bits(f) || detail::is_read_registers(f) || f == 0x17U) {
+    return decode_read_response(pdu, static_cast<function_code>(f), q.quantity);
   }
-  if ((pdu[0] & exception_flag) != 0U) {
-    if (n != 2U) {
-      return decode_failure{n < 2U ? errc::truncated : errc::modbus_byte_count, n};
+  if (f == 0x05U || f == 0x06U || f == 0x0FU || f == 0x10U) {
+    const bool single = f == 0x05U || f == 0x06U;
+    return decode_write_response(pdu, static_cast<function_code>(f), q.address,
+                                 single ? q.value : q.quantity);
+  }
+  response r;
+  errc e = errc::ok;
+  std::uint32_t want = 0;
+  std::uint32_t got = 0;
+  if (detail::response_head(pdu, f, r, e, want, got)) {
+    if (e != errc::ok) {
+      return decode_failure{e, n, want, got};
     }
-    r.exception = true;
-    r.exception_code = pdu[1];
     return decode_result<response>::complete(r, n);
   }
-  const std::uint8_t f = q.function;
-  errc e = errc::ok;
-  if (detail::is_read_bits(f) || detail::is_read_registers(f) || f == 0x17) {
-    const std::uint16_t quantity = q.quantity;
-    const std::size_t want =
-        detail::is_read_bits(f) ? detail::bytes_for_bits(quantity) : 2U * quantity;
-    if (n < 2U) {
-      e = errc::truncated;
-    } else if (pdu[1] != want || n != 2U + want) {
-      e = n < 2U + want && pdu[1] == want ? errc::truncated : errc::modbus_byte_count;
-    } else {
-      r.byte_count = pdu[1];
-      r.data = pdu.subspan(2, want);
-      r.quantity = quantity;
-      const unsigned spare = static_cast<unsigned>(want * 8U - quantity);
-      if (detail::is_read_bits(f) && spare > 0U &&
-          (r.data[want - 1U] & static_cast<std::uint8_t>(0xFFU << (8U - spare))) != 0U) {
-        e = errc::reserved_bits;
-      }
-    }
-  } else if (f == 0x05 || f == 0x06 || f == 0x0F || f == 0x10) {
-    if (n != 5U) {
-      e = n < 5U ? errc::truncated : errc::modbus_byte_count;
-    } else {
-      r.address = detail::be16(pdu, 1);
-      const std::uint16_t second = detail::be16(pdu, 3);
-      const bool single = f == 0x05 || f == 0x06;
-      if (single) {
-        r.value = second;
-      } else {
-        r.quantity = second;
-      }
-      if (r.address != q.address || second != (single ? q.value : q.quantity)) {
-        e = errc::modbus_mismatch;
-      }
-    }
-  } else if (f == 0x16) {
+  if (f == 0x16) {
     if (n != 7U) {
       e = n < 7U ? errc::truncated : errc::modbus_byte_count;
     } else {
