@@ -13,12 +13,23 @@ endif()
 set(MOTIONBUS_SANITIZER_FLAGS -fsanitize=address,undefined -fno-sanitize-recover=all
   -fno-omit-frame-pointer)
 
-# motionbus_project_target(<target>): strict warnings (and sanitizers when enabled).
+# Coverage: gcov counters, no optimisation (lines map one to one), constexpr code evaluated at
+# run time where the tests call it so (the static suite's compile-time calls are not counted).
+set(MOTIONBUS_COVERAGE_FLAGS --coverage -O0 -fno-inline)
+if(MOTIONBUS_COVERAGE AND NOT CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
+  message(FATAL_ERROR "MOTIONBUS_COVERAGE needs GCC (gcov)")
+endif()
+
+# motionbus_project_target(<target>): strict warnings (and sanitizers or coverage when enabled).
 function(motionbus_project_target target)
   target_compile_options(${target} PRIVATE ${MOTIONBUS_STRICT_WARNINGS})
   if(MOTIONBUS_SANITIZE)
     target_compile_options(${target} PRIVATE ${MOTIONBUS_SANITIZER_FLAGS})
     target_link_options(${target} PRIVATE ${MOTIONBUS_SANITIZER_FLAGS})
+  endif()
+  if(MOTIONBUS_COVERAGE)
+    target_compile_options(${target} PRIVATE ${MOTIONBUS_COVERAGE_FLAGS})
+    target_link_options(${target} PRIVATE --coverage)
   endif()
 endfunction()
 

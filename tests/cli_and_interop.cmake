@@ -1,0 +1,54 @@
+# Included by tests/CMakeLists.txt: the CLI tests and the third-party Modbus peers (run by the
+# plain builds and by the coverage build).
+# --- the CLI -------------------------------------------------------------------------------
+if(TARGET motionbus_cli)
+  file(GLOB MOTIONBUS_CLI_TEST_SOURCES CONFIGURE_DEPENDS "${CMAKE_CURRENT_SOURCE_DIR}/cli/*.cpp")
+  find_package(Threads REQUIRED)
+  add_executable(motionbus_cli_tests main.cpp ${MOTIONBUS_CLI_TEST_SOURCES})
+  target_link_libraries(motionbus_cli_tests PRIVATE motionbus::motionbus motionbus_doctest
+    Threads::Threads)
+  target_compile_definitions(motionbus_cli_tests PRIVATE
+    "MOTIONBUS_CLI_PATH=\"$<TARGET_FILE:motionbus_cli>\"")
+  motionbus_project_target(motionbus_cli_tests)
+  add_test(NAME cli COMMAND motionbus_cli_tests --no-version)
+  set_tests_properties(cli PROPERTIES LABELS "cli" TIMEOUT 120)
+endif()
+
+# --- interoperability: third-party Modbus masters against the SM unit emulator ------------
+if(TARGET motionbus_cli)
+  find_package(PkgConfig QUIET)
+  if(PKG_CONFIG_FOUND)
+    pkg_check_modules(MOTIONBUS_LIBMODBUS QUIET libmodbus)
+  endif()
+  find_program(MOTIONBUS_SOCAT socat)
+  set(MOTIONBUS_DEBIAN_PYTHON /usr/bin/python3)
+  set(pymodbus_ok FALSE)
+  if(EXISTS "${MOTIONBUS_DEBIAN_PYTHON}")
+    execute_process(COMMAND "${MOTIONBUS_DEBIAN_PYTHON}" -c "import pymodbus, serial, serial_asyncio"
+      RESULT_VARIABLE pymodbus_rc OUTPUT_QUIET ERROR_QUIET)
+    if(pymodbus_rc EQUAL 0)
+      set(pymodbus_ok TRUE)
+    endif()
+  endif()
+  if(MOTIONBUS_LIBMODBUS_FOUND AND MOTIONBUS_SOCAT AND pymodbus_ok)
+    enable_language(C)
+    foreach(peer client server)
+      add_executable(motionbus_libmodbus_${peer} interop/libmodbus_${peer}.c)
+      target_include_directories(motionbus_libmodbus_${peer} SYSTEM PRIVATE
+        ${MOTIONBUS_LIBMODBUS_INCLUDE_DIRS})
+      target_link_libraries(motionbus_libmodbus_${peer} PRIVATE ${MOTIONBUS_LIBMODBUS_LINK_LIBRARIES})
+      target_compile_options(motionbus_libmodbus_${peer} PRIVATE -Wall -Wextra -Werror)
+    endforeach()
+    add_test(NAME interop.sm_unit
+      COMMAND bash "${CMAKE_CURRENT_SOURCE_DIR}/interop/run_interop.sh"
+              "$<TARGET_FILE:motionbus_cli>" "$<TARGET_FILE:motionbus_libmodbus_client>")
+    set_tests_properties(interop.sm_unit PROPERTIES LABELS "interop" TIMEOUT 120)
+    add_test(NAME interop.client
+      COMMAND bash "${CMAKE_CURRENT_SOURCE_DIR}/interop/run_client_interop.sh"
+              "$<TARGET_FILE:motionbus_cli>" "$<TARGET_FILE:motionbus_libmodbus_server>")
+    set_tests_properties(interop.client PROPERTIES LABELS "interop" TIMEOUT 180)
+  elseif(MOTIONBUS_REQUIRE_ALL_CHECKS)
+    message(FATAL_ERROR "interop tests need libmodbus-dev, socat, python3-pymodbus, python3-serial and python3-serial-asyncio")
+  endif()
+endif()
+
