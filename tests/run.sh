@@ -8,6 +8,9 @@
 #   clang C++20 with ASan + UBSan: the same suites, plus each libFuzzer target for
 #         MOTIONBUS_FUZZ_SECONDS (default 20) seconds
 #   s390x (big-endian) and armhf (32-bit ARM): doctest, static and replay suites under qemu-user
+#   coverage: gcc at -O0 with gcov; every test that executes library code, then the line and
+#         branch coverage of include/ (tools/scripts/coverage_check.py): fails when a line no
+#         test executes is not justified in the header; report in <build>/coverage/
 # Environment: MOTIONBUS_BUILD_DIR (default ./build), MOTIONBUS_FUZZ_SECONDS.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -20,7 +23,7 @@ bash tools/scripts/ensure-packages.sh \
   cmake ninja-build gcc g++ git clang llvm libclang-rt-14-dev clang-format doctest-dev \
   libbenchmark-dev gcc-arm-none-eabi libstdc++-arm-none-eabi-newlib binutils-riscv64-unknown-elf \
   g++-s390x-linux-gnu g++-arm-linux-gnueabihf qemu-user \
-  socat pkg-config libmodbus-dev python3-pymodbus python3-serial python3-serial-asyncio
+  socat pkg-config libmodbus-dev python3-pymodbus python3-serial python3-serial-asyncio gcovr
 
 passed=0
 failed=0
@@ -66,6 +69,25 @@ for target in s390x-linux-gnu arm-linux-gnueabihf; do
     -DMOTIONBUS_BUILD_TOOLS=OFF -DMOTIONBUS_BUILD_BENCH=OFF -DMOTIONBUS_BUILD_EXAMPLES=OFF \
     -DMOTIONBUS_BUILD_FUZZ=OFF || status=1
 done
+
+# Coverage: counters from this run only.
+if [ -d "$build/coverage" ]; then
+  find "$build/coverage" -name '*.gcda' -delete
+fi
+if run_config coverage -DCMAKE_CXX_COMPILER=g++ -DMOTIONBUS_COVERAGE=ON \
+  -DMOTIONBUS_BUILD_BENCH=OFF -DMOTIONBUS_BUILD_FUZZ=OFF; then
+  echo "=== coverage: report"
+  if /usr/bin/python3 tools/scripts/coverage_check.py "$root" "$build/coverage"; then
+    passed=$((passed + 1))
+    summary+="  coverage report: passed"$'\n'
+  else
+    failed=$((failed + 1))
+    summary+="  coverage report: FAILED"$'\n'
+    status=1
+  fi
+else
+  status=1
+fi
 
 echo "=== summary"
 printf '%s' "$summary"
