@@ -302,3 +302,39 @@ TEST_CASE("injected bit errors: header CRC, read data, write data, echoes") {
   l.run();
   CHECK(m.error() == errc::biss_access_denied);  // 10 became 11
 }
+
+TEST_CASE("sequential read past a hidden register: the slave stops answering, the master fails") {
+  test_registers regs;
+  regs.mem[0x10] = 0x11;
+  regs.hidden[0x11] = true;  // the next address may not be read
+  control_master m;
+  control_slave<test_registers> s(regs, 0);
+  std::uint8_t out[2] = {};
+  REQUIRE(m.start_read(0, 0x10, mutable_byte_view(out, 2)) == errc::ok);
+  frame_link l{m, s, regs};
+  l.run();
+  CHECK(m.state() == control_state::failed);
+  CHECK(m.error() != errc::ok);
+  CHECK(out[0] == 0x11);  // the first byte arrived
+  CHECK(s.accesses() == 1);
+}
+
+TEST_CASE("after a complete access the master's 0 ends it at the slave") {
+  test_registers regs;
+  regs.mem[0x20] = 0x5A;
+  control_master m;
+  control_slave<test_registers> s(regs, 0);
+  std::uint8_t out[1] = {};
+  REQUIRE(m.start_read(0, 0x20, mutable_byte_view(out, 1)) == errc::ok);
+  frame_link l{m, s, regs};
+  l.run();
+  REQUIRE(m.state() == control_state::done);
+  CHECK(!s.step(false));  // the frame after P carries 0: the slave ends the access
+  l.idle(preamble_frames);
+  // a new access after the preamble still works
+  REQUIRE(m.start_read(0, 0x20, mutable_byte_view(out, 1)) == errc::ok);
+  out[0] = 0;
+  l.run();
+  CHECK(m.state() == control_state::done);
+  CHECK(out[0] == 0x5A);
+}

@@ -6,6 +6,7 @@
 #include <cstdint>
 
 #include "motionbus/biss/codec.hpp"
+#include "motionbus/biss/eds.hpp"
 #include "motionbus/devices/absys_emulator.hpp"
 
 using namespace motionbus;
@@ -80,4 +81,17 @@ TEST_CASE("ABSYS emulator registers: banks, command, preset, reserve, undefined 
   CHECK(regs.read(0x50) == 0);         // no register there
   regs.write(ab::reg::command, 0x77);  // no such command: nothing happens
   CHECK(e.offset() == 0);
+}
+
+TEST_CASE("EDS common part: a checksum that does not match, when asked to verify; a short bank") {
+  std::uint8_t bank[bank_size] = {};
+  REQUIRE(encode_eds_common(eds_common{}, mutable_byte_view(bank, bank_size)) == errc::ok);
+  eds_options verify;
+  verify.verify_checksum = true;
+  CHECK(decode_eds_common(byte_view(bank, bank_size), verify).ok());
+  bank[0x3F] = static_cast<std::uint8_t>(bank[0x3F] + 1U);
+  CHECK(decode_eds_common(byte_view(bank, bank_size), verify).error() == errc::biss_eds);
+  CHECK(decode_eds_common(byte_view(bank, bank_size)).ok());  // not verified by default
+  CHECK(encode_eds_common(eds_common{}, mutable_byte_view(bank, bank_size - 1U)) ==
+        errc::buffer_too_small);
 }

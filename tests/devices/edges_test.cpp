@@ -112,6 +112,31 @@ TEST_CASE("SM unit emulator: coils, short requests, state registers, login block
   CHECK(ask(unit, {0x10, 0x00, 0x24, 0x00, 0x01, 0x02, 0x02, 0x58}) == bytes{0x90, 0x04});
 }
 
+TEST_CASE("unit and alarm tables: a value outside the enumeration has a neutral entry") {
+  volatile int undefined = 99;  // run time, not a constant initialiser
+  const sm::unit_info u = sm::unit_of(static_cast<sm::channel>(undefined));
+  CHECK(std::strcmp(u.unit, "") == 0);
+  CHECK(u.numerator == 1);
+  CHECK(u.denominator == 1);
+  // an undefined ALMC bit pattern gets the table's first row (the caller passes single bits)
+  CHECK(&ts::info(static_cast<tf::almc_bit>(0x03)) == &ts::alarm_table[0]);
+}
+
+TEST_CASE("SM unit emulator: changing the password while logged out is a login error") {
+  sm::emulator unit;
+  std::uint8_t out[256] = {};
+  auto send = [&](result<std::size_t> n) {
+    REQUIRE(n.ok());
+    const auto f = mo::decode_rtu(byte_view(out, n.value()));
+    REQUIRE(f.is_complete());
+    return ask(unit, bytes(f->pdu.begin(), f->pdu.end()));
+  };
+  send(sm::login(1, text("password"), mutable_byte_view(out, sizeof out)));
+  REQUIRE(!unit.logged_in());
+  CHECK(send(sm::change_password(1, text("other-pass"), mutable_byte_view(out, sizeof out))) ==
+        bytes{0x90, 0x04});
+}
+
 TEST_CASE("TS5700N8500 plans built at run time") {
   for (const tf::data_id id :
        {tf::data_id::reset_errors, tf::data_id::reset_single_turn, tf::data_id::reset_multi_turn}) {

@@ -53,6 +53,9 @@ TEST_CASE("request line: too few bits, a CF with bad parity, a corrupted EEPROM 
   const auto r3 = decode_request_line(span<const std::uint8_t>(bad_crc.data(), bad_crc.size()));
   CHECK(r3.error() == errc::crc_mismatch);
   CHECK(r3.expected() == (0xEAU ^ 0x05U));
+  // nothing but idle ones: no frame
+  const std::uint8_t idle[2] = {0xFF, 0xFF};
+  CHECK(decode_request_line(span<const std::uint8_t>(idle, 2)).error() == errc::no_frame);
   // the first two fields of an EEPROM write only: incomplete
   const auto part = line_of({0x32, 0x05}, 2);
   const auto r4 = decode_request_line(span<const std::uint8_t>(part.data(), part.size() - 1U));

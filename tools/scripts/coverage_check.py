@@ -121,11 +121,12 @@ def main():
     with open(os.path.join(build, "coverage-report.txt"), "w", encoding="utf-8") as f:
         f.write("\n".join(report) + "\n")
     print("\n".join(report[:3]))
-    print(f"coverage: {len(justified)} uncovered lines, each justified; report in "
-          f"{os.path.join(build, 'coverage-report.txt')}")
+    where = os.path.join(build, "coverage-report.txt")
     if problems:
+        print(f"coverage: {len(problems)} problems (below); report in {where}")
         print("\n".join(problems), file=sys.stderr)
         return 1
+    print(f"coverage: {len(justified)} uncovered lines, each justified; report in {where}")
     return 0
 
 

@@ -250,7 +250,7 @@ class emulator {
         return within(address, quantity, holding::settings, holding::setting_count) ||
                whole_block(address, quantity, holding::login, holding::password_registers) ||
                whole_block(address, quantity, holding::password, holding::password_registers);
-      default: return false;
+      default: return false;  // coverage: admit() lets only the functions above get here
     }
   }
 
@@ -307,6 +307,7 @@ class emulator {
   static constexpr bool unpack_password(span<const std::uint16_t> values, std::uint8_t (&text)[16],
                                         std::size_t& length) noexcept {
     if (values.size() != holding::password_registers) {
+      // coverage: admit() takes the password blocks only whole (8 registers); kept for callers
       return false;
     }
     length = 0;
