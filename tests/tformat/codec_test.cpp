@@ -443,17 +443,17 @@ TEST_CASE("the size form of decode_response agrees with the speed form on every 
   for (int i = 0; i < 60000; ++i) {
     std::vector<std::uint8_t> f;
     if (rng.below(4) == 0U) {  // anything at all
-      f.resize(rng.below(13));
+      f.resize(static_cast<std::size_t>(rng.below(13)));
       for (auto& b : f) {
         b = rng.byte();
       }
     } else {  // a valid frame, then damaged in one way or another
-      f = good[rng.below(static_cast<std::uint32_t>(good.size()))];
+      f = good[static_cast<std::size_t>(rng.below(static_cast<std::uint32_t>(good.size())))];
       const auto mode = rng.below(6);
       if (mode == 0U && !f.empty()) {
-        f.resize(rng.below(static_cast<std::uint32_t>(f.size())));  // truncated
+        f.resize(static_cast<std::size_t>(rng.below(static_cast<std::uint32_t>(f.size()))));
       } else if (mode == 1U) {
-        f[rng.below(static_cast<std::uint32_t>(f.size()))] ^=
+        f[static_cast<std::size_t>(rng.below(static_cast<std::uint32_t>(f.size())))] ^=
             static_cast<std::uint8_t>(1U << rng.below(8));  // one bit flipped
       } else if (mode == 2U && f.size() > 2U) {
         f[1] = rng.byte();  // SF / ADF anything, CRC fixed up
