@@ -97,45 +97,25 @@ constexpr std::size_t checked_chain_bits(span<const slave_layout> chain, errc& e
   return bits;
 }
 
-// The checks decode_frame makes before reading a bit: ok (with the chain's bits
-// after CDS in `bits`), invalid_argument, buffer_too_small or biss_layout.
-constexpr errc check_decode_args(span<const slave_layout> chain, span<slave_data> out,
-                                 std::size_t& bits) noexcept {
-  if (chain.empty() || chain.size() > max_chain) {
-    return errc::invalid_argument;
-  }
-  if (out.size() < chain.size()) {
-    return errc::buffer_too_small;
-  }
-  errc e = errc::ok;
-  bits = checked_chain_bits(chain, e);
-  return e;
-}
-
-// What a decoder derives from a slave's data and status fields: nE, nW and the positions.
-constexpr void finish_slave(const slave_layout& l, std::uint32_t status, slave_data& d) noexcept {
-  d.ne = l.has_error ? (((status >> (l.has_warning ? 1U : 0U)) & 1U) != 0U) : true;
-  d.nw = l.has_warning ? ((status & 1U) != 0U) : true;
-  const std::uint64_t value = l.alignment_bits >= 64U ? 0U : (d.data >> l.alignment_bits);
-  d.single_turn =
-      l.single_turn_bits >= 64U ? value : value & motionbus::detail::low_mask64(l.single_turn_bits);
-  d.multi_turn = l.single_turn_bits >= 64U ? 0U : (value >> l.single_turn_bits);
-}
-
 }  // namespace detail
 
-namespace detail {
-
-// decode_frame: the first 64 samples in one word, the Ack and Start found with leading-zero
-// counts, fields cut out with shifts, the CRC through `Table`.
-template <crc_table_size Table, class Word>
-MOTIONBUS_INLINE constexpr decode_result<frame_info> decode_frame_window(
+/// Decodes the sensor data frame of a chain from a raw SL capture of `bit_count` samples
+/// (clipped to the words given). See the file comment for the outcomes.
+template <crc_table_size Table = default_crc_table, class Word>
+MOTIONBUS_INLINE constexpr decode_result<frame_info> decode_frame(
     span<const Word> words, std::size_t bit_count, span<const slave_layout> chain,
-    span<slave_data> out, const decode_options& opt, bit_order order) noexcept {
-  std::size_t frame_bits = 0;
-  const errc args_error = check_decode_args(chain, out, frame_bits);
-  if (args_error != errc::ok) {
-    return decode_failure{args_error, 0};
+    span<slave_data> out, const decode_options& opt = {},
+    bit_order order = bit_order::msb_first) noexcept {
+  if (chain.empty() || chain.size() > max_chain) {
+    return decode_failure{errc::invalid_argument, 0};
+  }
+  if (out.size() < chain.size()) {
+    return decode_failure{errc::buffer_too_small, 0};
+  }
+  errc layout_error = errc::ok;
+  const std::size_t frame_bits = detail::checked_chain_bits(chain, layout_error);
+  if (layout_error != errc::ok) {
+    return decode_failure{layout_error, 0};
   }
   const basic_bit_reader<Word> r(words, order, 0, bit_count);
   const std::size_t size = r.size();
@@ -149,11 +129,15 @@ MOTIONBUS_INLINE constexpr decode_result<frame_info> decode_frame_window(
   const unsigned n0 = size >= 64U ? 64U : static_cast<unsigned>(size);
   std::uint64_t win = 0;
   constexpr unsigned word_bits = basic_bit_reader<Word>::bits_per_word;
-  if (order == bit_order::msb_first && word_bits <= 32U) {
+  if (order == bit_order::msb_first && n0 == 64U && word_bits <= 32U) {
     for (unsigned k = 0; k < 64U / word_bits; ++k) {  // whole words: no per-bit work
+      win = (win << word_bits) | words[k];
+    }
+  } else if (order == bit_order::msb_first && word_bits <= 32U) {  // a shorter capture
+    for (unsigned k = 0; k < 64U / word_bits; ++k) {
       win = (win << word_bits) | (k < words.size() ? static_cast<std::uint64_t>(words[k]) : 0U);
     }
-    win = n0 == 64U ? win : (win & ~(~std::uint64_t{0} >> n0));  // nothing past the capture
+    win = n0 == 0U ? 0U : (win & ~(~std::uint64_t{0} >> n0));  // nothing past the capture
   } else if (n0 != 0U) {
     win = field(0, n0) << (64U - n0);
   }
@@ -230,8 +214,14 @@ MOTIONBUS_INLINE constexpr decode_result<frame_info> decode_frame_window(
       d.crc = static_cast<std::uint32_t>(field(pos + db + sb, cb));
     }
     pos += l.frame_bits();
+    d.ne = l.has_error ? (((status >> (l.has_warning ? 1U : 0U)) & 1U) != 0U) : true;
+    d.nw = l.has_warning ? ((status & 1U) != 0U) : true;
     d.crc_computed = wire_crc<Table>(l.crc, d.data, db, status, sb);
-    finish_slave(l, status, d);
+    const std::uint64_t value = l.alignment_bits >= 64U ? 0U : (d.data >> l.alignment_bits);
+    d.single_turn = l.single_turn_bits >= 64U
+                        ? value
+                        : value & motionbus::detail::low_mask64(l.single_turn_bits);
+    d.multi_turn = l.single_turn_bits >= 64U ? 0U : (value >> l.single_turn_bits);
     if (!d.crc_ok() && !bad) {
       bad = true;
       first_bad = decode_failure{errc::crc_mismatch, end, d.crc_computed, d.crc};
@@ -241,18 +231,6 @@ MOTIONBUS_INLINE constexpr decode_result<frame_info> decode_frame_window(
     return first_bad;
   }
   return decode_result<frame_info>::complete(info, end);
-}
-
-}  // namespace detail
-
-/// Decodes the sensor data frame of a chain from a raw SL capture of `bit_count` samples
-/// (clipped to the words given). See the file comment for the outcomes.
-template <crc_table_size Table = default_crc_table, class Word>
-MOTIONBUS_INLINE constexpr decode_result<frame_info> decode_frame(
-    span<const Word> words, std::size_t bit_count, span<const slave_layout> chain,
-    span<slave_data> out, const decode_options& opt = {},
-    bit_order order = bit_order::msb_first) noexcept {
-  return detail::decode_frame_window<Table, Word>(words, bit_count, chain, out, opt, order);
 }
 
 /// Single-slave form.
