@@ -27,12 +27,15 @@ END = re.compile(r"//\s*coverage-end\b")
 
 
 def justifications(lines):
-    """Line number -> reason, for every line a justification covers."""
+    """Line number -> reason for every line a justification covers, and the single-line
+    markers as (marker line, line it justifies) pairs (for the stale check)."""
     out = {}
+    marks = []
     region = None
     for i, text in enumerate(lines, start=1):
-        if BEGIN.search(text):
-            region = BEGIN.search(text).group(1)
+        begin = BEGIN.search(text)
+        if begin:
+            region = begin.group(1)
             continue
         if END.search(text):
             region = None
@@ -41,21 +44,11 @@ def justifications(lines):
             out[i] = region
         m = MARK.search(text)
         if m:
-            if text.strip().startswith("//"):  # a comment line: applies to the next line
-                out[i + 1] = m.group(1)
-            else:
-                out[i] = m.group(1)
-    return out
-
-
-def own_markers(lines):
-    """Line numbers that carry a single-line marker, and the line each one justifies."""
-    marks = []
-    for i, text in enumerate(lines, start=1):
-        m = MARK.search(text)
-        if m:
-            marks.append((i, i + 1 if text.strip().startswith("//") else i))
-    return marks
+            # a comment line of its own applies to the next line
+            target = i + 1 if text.strip().startswith("//") else i
+            out[target] = m.group(1)
+            marks.append((i, target))
+    return out, marks
 
 
 def main():
@@ -84,7 +77,7 @@ def main():
         path = entry["file"]
         with open(os.path.join(root, path), encoding="utf-8") as f:
             src = f.read().splitlines()
-        why = justifications(src)
+        why, marks = justifications(src)
         lines = [l for l in entry["lines"] if not l.get("gcovr/noncode")]
         executed = {l["line_number"] for l in lines if l["count"] > 0}
         missed = sorted(l["line_number"] for l in lines if l["count"] == 0)
@@ -101,7 +94,7 @@ def main():
             else:
                 problems.append(f"{path}:{n}: not executed by any test and not justified: "
                                 f"{src[n - 1].strip()}")
-        for at, target in own_markers(src):
+        for at, target in marks:
             if target in executed:
                 problems.append(f"{path}:{at}: stale justification (line {target} is executed)")
 

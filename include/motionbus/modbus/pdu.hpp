@@ -901,12 +901,8 @@ constexpr decode_result<response> decode_response(
   std::uint32_t want = 0;
   std::uint32_t got = 0;
   if (detail::response_head(pdu, f, r, e, want, got)) {
-    if (e != errc::ok) {
-      return decode_failure{e, n, want, got};
-    }
-    return decode_result<response>::complete(r, n);
-  }
-  if (f == 0x16) {
+    // settled: an error, or an exception response (complete)
+  } else if (f == 0x16) {
     if (n != 7U) {
       e = n < 7U ? errc::truncated : errc::modbus_byte_count;
     } else {
@@ -1021,7 +1017,7 @@ constexpr decode_result<response> decode_response(
     r.data = pdu.subspan(1);  // raw
   }
   if (e != errc::ok) {
-    return decode_failure{e, n};
+    return decode_failure{e, n, want, got};
   }
   return decode_result<response>::complete(r, n);
 }
