@@ -266,6 +266,19 @@ MOTIONBUS_INLINE constexpr decode_result<response> decode_response_fast(
   return decode_other_response(in, id, opt);
 }
 
+// The error of a CF byte that is not its code's valid CF: check_cf without the ok case. The
+// three codes are consecutive, so the count of checks passed selects the code.
+constexpr errc cf_error(std::uint8_t cf) noexcept {
+  static_assert(static_cast<int>(errc::tformat_parity) ==
+                        static_cast<int>(errc::tformat_sync_code) + 1 &&
+                    static_cast<int>(errc::tformat_unknown_data_id) ==
+                        static_cast<int>(errc::tformat_sync_code) + 2,
+                "cf_error counts on consecutive CF error codes");
+  const unsigned sync = sync_ok(cf) ? 1U : 0U;
+  const unsigned parity = sync & (parity_ok(cf) ? 1U : 0U);
+  return static_cast<errc>(static_cast<unsigned>(errc::tformat_sync_code) + sync + parity);
+}
+
 // The size form of decode_response: one path for every layout, walking the layout's fields
 // (an unused field reads as 0, which fits any resolution: no per-field condition in the
 // unused-bit check), and one exit per outcome; the value is built in the result itself.
@@ -279,7 +292,7 @@ constexpr decode_result<response> decode_response_compact(byte_view in,
     code = data_id_code(in[0]);
     size = response_sizes[code];
     if (in[0] != valid_control_fields[code]) {
-      e = check_cf(in[0]);
+      e = cf_error(in[0]);
     }
   }
   if (e == errc::ok && in.size() < size) {

@@ -218,8 +218,8 @@ constexpr std::size_t request_size(data_id id) noexcept {
 /// Single-turn resolution: valid bits of the 24-bit ABS field. The TS5700N8500 has 17 (ENID
 /// 0x11); 23-bit (ENID 0x17) and 11-bit (ENID 0x0B) encoders exist.
 struct resolution {
-  unsigned single_turn_bits = 17;  ///< 1..24
-  unsigned multi_turn_bits = 16;   ///< 1..24
+  std::uint8_t single_turn_bits = 17;  ///< 1..24
+  std::uint8_t multi_turn_bits = 16;   ///< 1..24
 };
 
 /// The resolution an ENID announces, or `fallback` when the ENID is not a known code.
