@@ -33,7 +33,59 @@ decode_result<frame> toy_decode(byte_view in) {
   return decode_result<frame>::complete(frame{in[1], 7}, 2);
 }
 
+// The same toy decoder, its result built in place.
+decode_result<frame> toy_build(byte_view in) {
+  return decode_result<frame>::build([in](decode_result<frame>::outcome o) {
+    if (in.empty()) {
+      return o.need(2);
+    }
+    if (in[0] != 0x55) {
+      return o.fail(errc::no_frame, 1);
+    }
+    if (in.size() < 2) {
+      return o.need(1);
+    }
+    o.complete(2, [&](frame& f) { f.id = in[1]; });
+  });
+}
+
 }  // namespace
+
+TEST_CASE("decode_result built in place: the same outcomes as the converting constructors") {
+  const std::uint8_t inputs[][3] = {{0x55, 0x09, 0xEE}, {0x00, 0x09, 0xEE}};
+  for (const auto& in : inputs) {
+    for (std::size_t n = 0; n <= 3; ++n) {
+      CAPTURE(n);
+      const auto a = toy_decode(byte_view(in, n));
+      const auto b = toy_build(byte_view(in, n));
+      CHECK(a.status() == b.status());
+      CHECK(a.error() == b.error());
+      CHECK(a.consumed() == b.consumed());
+      CHECK(a.needed() == b.needed());
+      CHECK(a->id == b->id);
+      CHECK(b->position == 0);  // fields the fill does not set stay value-initialised
+    }
+  }
+  // Steps that settle nothing: complete, value-initialised, nothing consumed.
+  const auto idle = decode_result<frame>::build([](decode_result<frame>::outcome) {});
+  CHECK(idle.is_complete());
+  CHECK(idle.consumed() == 0);
+  CHECK(idle->id == 0);
+  // fail carries evidence; an ok code is never reported as success; need(0) needs 1.
+  const auto crc = decode_result<int>::build(
+      [](decode_result<int>::outcome o) { o.fail(errc::crc_mismatch, 4, 0x4B, 0x12); });
+  CHECK(crc.is_failed());
+  CHECK(crc.expected() == 0x4B);
+  CHECK(crc.received() == 0x12);
+  CHECK(crc.consumed() == 4);
+  const auto odd =
+      decode_result<int>::build([](decode_result<int>::outcome o) { o.fail(errc::ok, 0); });
+  CHECK(odd.is_failed());
+  CHECK(odd.error() == errc::invalid_argument);
+  const auto zero = decode_result<int>::build([](decode_result<int>::outcome o) { o.need(0); });
+  CHECK(zero.is_incomplete());
+  CHECK(zero.needed() == 1);
+}
 
 TEST_CASE("decode_result: complete, incomplete and failed") {
   constexpr std::uint8_t good[] = {0x55, 0x09, 0xEE};

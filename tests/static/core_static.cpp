@@ -139,6 +139,23 @@ static_assert(fail().is_failed() && fail().error() == mb::errc::crc_mismatch &&
                   fail().consumed() == 2,
               "failed");
 static_assert(mb::decode_result<int>::complete(5, 4).value() == 5, "complete");
+constexpr mb::decode_result<int> built(int step) {
+  return mb::decode_result<int>::build([step](mb::decode_result<int>::outcome o) {
+    if (step == 0) {
+      return o.need(3);
+    }
+    if (step == 1) {
+      return o.fail(mb::errc::crc_mismatch, 2, 1, 2);
+    }
+    o.complete(4, [](int& v) { v = 5; });
+  });
+}
+static_assert(built(0).is_incomplete() && built(0).needed() == 3, "built in place: incomplete");
+static_assert(built(1).is_failed() && built(1).error() == mb::errc::crc_mismatch &&
+                  built(1).consumed() == 2 && built(1).received() == 2,
+              "built in place: failed");
+static_assert(built(2).is_complete() && built(2).value() == 5 && built(2).consumed() == 4,
+              "built in place: complete");
 static_assert(mb::result<int>(mb::errc::truncated).error() == mb::errc::truncated, "result error");
 static_assert(mb::to_string(mb::errc::crc_mismatch)[0] == 'c', "error names");
 

@@ -410,7 +410,8 @@ TEST_CASE("the ID3 fast path agrees with the generic layout decoder on random fr
     }
     f[10] = rng.below(8) == 0U ? rng.byte() : x;
     decode_options o;
-    o.res = {static_cast<unsigned>(1U + rng.below(40)), static_cast<unsigned>(1U + rng.below(40))};
+    o.res = {static_cast<std::uint8_t>(1U + rng.below(40)),
+             static_cast<std::uint8_t>(1U + rng.below(40))};
     o.check_unused_bits = rng.below(4) != 0U;
     o.resolution_from_enid = rng.below(2) != 0U;
     const auto fast = tformat::detail::decode_response_fast(view(f), o);
@@ -466,7 +467,8 @@ TEST_CASE("the size form of decode_response agrees with the speed form on every 
       }
     }
     decode_options o;
-    o.res = {static_cast<unsigned>(1U + rng.below(40)), static_cast<unsigned>(1U + rng.below(40))};
+    o.res = {static_cast<std::uint8_t>(1U + rng.below(40)),
+             static_cast<std::uint8_t>(1U + rng.below(40))};
     o.check_unused_bits = rng.below(4) != 0U;
     o.resolution_from_enid = rng.below(2) != 0U;
     const auto small = tformat::detail::decode_response_compact(view(f), o);

@@ -75,7 +75,7 @@ cli::json_object response_json(const tf::response& r) {
 tf::decode_options options_for(const cli::options& opts) {
   tf::decode_options o;
   if (opts.get("resolution")) {
-    o.res.single_turn_bits = option_uint(opts, "resolution", 17, 24);
+    o.res.single_turn_bits = static_cast<std::uint8_t>(option_uint(opts, "resolution", 17, 24));
     if (o.res.single_turn_bits == 0) {
       throw cli::usage_error{"--resolution must be 1..24"};
     }

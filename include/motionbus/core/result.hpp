@@ -89,6 +89,44 @@ class [[nodiscard]] decode_result {
     fill(r.value_);
     return r;
   }
+  /// The outcome of a decode_result being built in place by build(): call one of need, fail
+  /// or complete once (none: complete, value-initialised, 0 units consumed).
+  class outcome {
+   public:
+    constexpr explicit outcome(decode_result& r) noexcept : r_(r) {}
+    /// Incomplete: at least `at_least` more units (1 if 0).
+    constexpr void need(std::size_t at_least) noexcept {
+      r_.status_ = decode_status::incomplete;
+      r_.count_ = at_least == 0 ? 1 : at_least;
+    }
+    /// Failed as decode_failure{e, consumed, expected, received} (an ok `e`: invalid_argument).
+    constexpr void fail(errc e, std::size_t consumed, std::uint32_t expected = 0,
+                        std::uint32_t received = 0) noexcept {
+      r_.status_ = decode_status::failed;
+      r_.error_ = e == errc::ok ? errc::invalid_argument : e;
+      r_.count_ = consumed;
+      r_.expected_ = expected;
+      r_.received_ = received;
+    }
+    /// Complete using `consumed` units: `fill(T&)` sets the fields of the value-initialised T.
+    template <class Fill>
+    constexpr void complete(std::size_t consumed, Fill&& fill) noexcept {
+      r_.count_ = consumed;
+      fill(r_.value_);
+    }
+
+   private:
+    decode_result& r_;
+  };
+  /// A result built in place: `steps(outcome)` decodes and settles the outcome through it, so
+  /// that every way out writes only its own fields into the one object returned (a decoder
+  /// with several exits then needs no copy of T or of the result for any of them).
+  template <class Steps>
+  static constexpr decode_result build(Steps&& steps) noexcept {
+    decode_result r;
+    steps(outcome(r));
+    return r;
+  }
   constexpr decode_result(need_input n) noexcept  // NOLINT(google-explicit-constructor)
       : status_(decode_status::incomplete), count_(n.at_least == 0 ? 1 : n.at_least) {}
   constexpr decode_result(decode_failure f) noexcept  // NOLINT(google-explicit-constructor)
