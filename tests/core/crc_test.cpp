@@ -169,6 +169,40 @@ TEST_CASE("BiSS CRC6 of a sensor frame's bits, inverted on the wire") {
   CHECK((raw6::compute_bits(bits, 34) ^ 0x3FU) == expected);
 }
 
+namespace {
+
+// update_bits with a count that is a compile-time constant once inlined (the byte-step path
+// of the MSB-first 8-bit-register kernels, at -O1 and above) after a first field that leaves
+// the register non-zero, against the reference fed the same bits.
+template <class Spec, unsigned Count>
+void constant_count_matches_reference(std::uint64_t first, std::uint64_t second) {
+  using engine = crc<Spec, crc_table_size::byte>;
+  const std::uint32_t got = engine().update_bits(first, 13).update_bits(second, Count).value();
+  std::vector<int> bits = fed_order<Spec>(first, 13);
+  const std::vector<int> more = fed_order<Spec>(second, Count);
+  bits.insert(bits.end(), more.begin(), more.end());
+  CHECK(got == ref::crc_of_bits(model_of<Spec>(), bits));
+  CHECK(engine::compute_bits(second, Count) ==
+        ref::crc_of_bits(model_of<Spec>(), fed_order<Spec>(second, Count)));
+}
+
+template <class Spec, unsigned... Counts>
+void every_constant_count(std::integer_sequence<unsigned, Counts...>) {
+  testutil::splitmix64 rng(Spec::width);
+  for (int round = 0; round < 20; ++round) {
+    const std::uint64_t first = rng.next();
+    const std::uint64_t second = rng.next();
+    (constant_count_matches_reference<Spec, Counts + 8U>(first, second), ...);
+  }
+}
+
+}  // namespace
+
+TEST_CASE("update_bits with a compile-time count of 8..64 bits: byte steps vs the reference") {
+  every_constant_count<crc6_biss_spec>(std::make_integer_sequence<unsigned, 57>());
+  every_constant_count<crc4_biss_spec>(std::make_integer_sequence<unsigned, 57>());
+}
+
 TEST_CASE("exhaustive: every input up to 16 bits, all table sizes vs the reference") {
   SUBCASE("T-format") {
     exhaustive_up_to_16_bits<crc8_tformat_spec>();

@@ -35,6 +35,21 @@ static_assert(mb::crc<mb::crc_spec<32, 0x04C11DB7, 0xFFFFFFFF, true, true, 0xFFF
                       mb::crc_table_size::slice4>::compute(check_input) == 0xCBF43926U,
               "CRC-32, slice-by-4");
 
+// A BiSS-C sensor frame's CRC6 (34 bits: position, nE, nW) and bit fields of other lengths:
+// the byte table (byte steps, whatever path the count selects) agrees with the bitwise engine,
+// also after a first field that leaves the register non-zero.
+constexpr bool byte_steps_agree(std::uint64_t v, unsigned n) {
+  using byte = mb::crc6_biss<mb::crc_table_size::byte>;
+  using bitwise = mb::crc6_biss<mb::crc_table_size::bitwise>;
+  return byte::compute_bits(v, n) == bitwise::compute_bits(v, n) &&
+         byte().update_bits(0x1A5, 9).update_bits(v, n).value() ==
+             bitwise().update_bits(0x1A5, 9).update_bits(v, n).value();
+}
+static_assert(byte_steps_agree((0x12345678ULL << 2U) | 3U, 34), "BiSS CRC6, 34 bits");
+static_assert(byte_steps_agree(0xFEDCBA9876543210ULL, 64) && byte_steps_agree(0xA5, 8) &&
+                  byte_steps_agree(0x1FFFF, 17) && byte_steps_agree(0x5, 3),
+              "BiSS CRC6, 64, 8, 17 and 3 bits");
+
 // A frame with its CRC appended (low byte first) has residue 0 for CRC-16/MODBUS.
 constexpr std::uint8_t modbus_with_crc[] = {0x11, 0x03, 0x00, 0x6B, 0x00, 0x03, 0x76, 0x87};
 static_assert(mb::crc16_modbus<>::compute(modbus_with_crc) == 0x0000, "Modbus residue");

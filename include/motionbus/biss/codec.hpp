@@ -192,13 +192,15 @@ MOTIONBUS_INLINE constexpr decode_result<frame_info> decode_frame(
     const unsigned sb = l.status_bits();
     const unsigned cb = l.crc.width;
     std::uint32_t status = 0;
-    if (in_window) {  // 0 < n <= 64 and pos + n <= 64 for every field here
-      const auto take = [win](std::size_t at, unsigned n) {
-        return n == 0U ? std::uint64_t{0} : ((win << at) >> (64U - n));
+    if (in_window) {  // pos < 64 and pos + n <= 64 for every field here
+      // The slave's fields left-aligned by one shift, then split at the layout's offsets.
+      const std::uint64_t fields = win << pos;
+      const auto take = [fields](unsigned at, unsigned n) {
+        return n == 0U ? std::uint64_t{0} : ((fields << at) >> (64U - n));
       };
-      d.data = take(pos, db);
-      status = static_cast<std::uint32_t>(take(pos + db, sb));
-      d.crc = static_cast<std::uint32_t>(take(pos + db + sb, cb));
+      d.data = take(0, db);
+      status = static_cast<std::uint32_t>(take(db, sb));
+      d.crc = static_cast<std::uint32_t>(take(db + sb, cb));
     } else if (l.frame_bits() <= 64U) {  // the slave's fields in one read, split by shifts
       const unsigned fb = l.frame_bits();
       const std::uint64_t all = field(pos, fb) << (64U - fb);

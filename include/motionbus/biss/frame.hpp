@@ -17,6 +17,7 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "motionbus/core/config.hpp"
 #include "motionbus/core/crc.hpp"
 #include "motionbus/core/errc.hpp"
 
@@ -93,7 +94,9 @@ struct slave_layout {
     return (has_error ? 1U : 0U) + (has_warning ? 1U : 0U);
   }
   /// Bits this slave puts on SL after the CDS bit (data, nE, nW, CRC).
-  constexpr unsigned frame_bits() const noexcept { return data_bits() + status_bits() + crc.width; }
+  MOTIONBUS_INLINE constexpr unsigned frame_bits() const noexcept {
+    return data_bits() + status_bits() + crc.width;
+  }
   /// ok, or errc::biss_layout: 1..64 data bits, a CRC of at most 16 bits whose polynomial,
   /// start value fit its width (the widths are checked one by one first: no overflow).
   constexpr errc validate() const noexcept {

@@ -62,6 +62,14 @@
 #endif
 #endif
 
+/// True where the compiler sees `x` as a compile-time constant (after inlining), for code
+/// that specialises a step only when it then folds to a few instructions; 0 elsewhere.
+#if defined(__GNUC__) || defined(__clang__)
+#define MOTIONBUS_CONSTANT_P(x) __builtin_constant_p(x)
+#else
+#define MOTIONBUS_CONSTANT_P(x) 0
+#endif
+
 /// Selects the smallest form of the decoders that have two (the T-format response decoder,
 /// the BiSS-C frame decoder): 1 for size (one table-driven path for every layout), 0 for
 /// speed (hot layouts inlined and unrolled). Both forms return identical results, which the

@@ -368,6 +368,30 @@ class crc {
         return *this;
       }
     }
+    if constexpr (chunk_bits == 8U && kernel::can_slice_bits) {
+      if (MOTIONBUS_CONSTANT_P(n) && n >= 8U) {
+        // A count known at compile time (a BiSS-C frame's CRC): as in feed_sliced_bits, the
+        // register folded into the field's top byte, then fed from a zero register, which
+        // leading zero bits leave at zero, so the field rounded up to whole bytes is the same
+        // message: a few byte steps inline, no bit-by-bit tail. The message is kept
+        // left-aligned, so that each step takes its top byte (constant shifts only). A count
+        // known only at run time calls the shared kernel instead (smaller where inlined often).
+        // coverage-begin: taken where the optimiser folds the count (-O1 and up, constant
+        // evaluation), never at the coverage build's -O0; tests/core/crc_test.cpp checks it at
+        // -O2 for every count 8..64 and tests/static/core_static.cpp in constant evaluation
+        const unsigned bytes = (n + 7U) / 8U;
+        std::uint64_t m = (v ^ (static_cast<std::uint64_t>(reg_) << (n - 8U)))
+                          << (64U - 8U * bytes);
+        std::uint32_t reg = 0;
+        for (unsigned k = 0; k < bytes; ++k) {
+          reg = kernel::template step_chunk<8>(reg, static_cast<std::uint32_t>(m >> 56U));
+          m <<= 8U;
+        }
+        reg_ = reg;
+        return *this;
+        // coverage-end
+      }
+    }
     reg_ = kernel::template feed<chunk_bits>(reg_, v, n);
     return *this;
   }
