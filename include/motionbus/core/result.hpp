@@ -99,12 +99,16 @@ class [[nodiscard]] decode_result {
       r_.status_ = decode_status::incomplete;
       r_.count_ = at_least == 0 ? 1 : at_least;
     }
-    /// Failed as decode_failure{e, consumed, expected, received} (an ok `e`: invalid_argument).
-    constexpr void fail(errc e, std::size_t consumed, std::uint32_t expected = 0,
-                        std::uint32_t received = 0) noexcept {
+    /// Failed as decode_failure{e, consumed} (an ok `e`: invalid_argument).
+    constexpr void fail(errc e, std::size_t consumed) noexcept {
       r_.status_ = decode_status::failed;
       r_.error_ = e == errc::ok ? errc::invalid_argument : e;
-      r_.count_ = consumed;
+      r_.count_ = consumed;  // the evidence stays 0, as built
+    }
+    /// Failed as decode_failure{e, consumed, expected, received}.
+    constexpr void fail(errc e, std::size_t consumed, std::uint32_t expected,
+                        std::uint32_t received) noexcept {
+      fail(e, consumed);
       r_.expected_ = expected;
       r_.received_ = received;
     }
