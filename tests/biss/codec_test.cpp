@@ -214,6 +214,67 @@ TEST_CASE("start search at every line delay and Ack length, CDS 0 and 1, 8/16/32
   }
 }
 
+namespace {
+
+// Decodes the first n samples of `s` packed in Word, the samples from n on set to `fill`.
+template <class Word>
+decode_result<frame_info> decode_prefix(const std::string& s, std::size_t n,
+                                        const std::vector<slave_layout>& chain,
+                                        std::vector<slave_data>& out, const std::string& fill) {
+  const std::vector<Word> words = pack<Word>(s.substr(0, n) + fill);
+  out.assign(chain.size(), slave_data{});
+  return decode_frame(span<const Word>(words.data(), words.size()), n,
+                      span<const slave_layout>(chain.data(), chain.size()),
+                      span<slave_data>(out.data(), out.size()));
+}
+
+template <class Word>
+void samples_past_the_count_are_ignored(testutil::splitmix64& rng) {
+  const std::vector<std::vector<slave_layout>> chains{{absys_layout}, {plain_layout}};
+  for (int round = 0; round < 60; ++round) {
+    const auto& chain = chains[static_cast<std::size_t>(rng.below(2))];
+    const slave_bits v{0, rng.next() & 0x3FFFFU, rng.below(2) == 0U, rng.below(2) == 0U};
+    const std::string s =
+        frame_string(static_cast<std::size_t>(rng.below(12)),
+                     static_cast<std::size_t>(1U + rng.below(6)), rng.below(2) == 0U, chain, {v});
+    std::string noise;
+    for (int k = 0; k < 96; ++k) {
+      noise.push_back(rng.below(2) == 0U ? '0' : '1');
+    }
+    for (std::size_t n = 0; n <= s.size() && n <= 64U; ++n) {
+      std::vector<slave_data> clean;
+      std::vector<slave_data> noisy;
+      const auto a = decode_prefix<Word>(s, n, chain, clean, std::string(96, '0'));
+      const auto b = decode_prefix<Word>(s, n, chain, noisy, noise);
+      CAPTURE(s);
+      CAPTURE(n);
+      REQUIRE(a.status() == b.status());
+      CHECK(a.error() == b.error());
+      CHECK(a.consumed() == b.consumed());
+      CHECK(a.needed() == b.needed());
+      CHECK(a->start == b->start);
+      CHECK(a->ack == b->ack);
+      CHECK(a->cds == b->cds);
+      CHECK(clean[0].data == noisy[0].data);
+      CHECK(clean[0].crc == noisy[0].crc);
+      CHECK(clean[0].ne == noisy[0].ne);
+      if (n == s.size()) {
+        CHECK(b.is_complete());
+        CHECK(noisy[0].single_turn == v.st % (std::uint64_t{1} << chain[0].single_turn_bits));
+      }
+    }
+  }
+}
+
+}  // namespace
+
+TEST_CASE("samples past the bit count never change the outcome (short captures, any words)") {
+  testutil::splitmix64 rng(64);
+  samples_past_the_count_are_ignored<std::uint8_t>(rng);
+  samples_past_the_count_are_ignored<std::uint16_t>(rng);
+  samples_past_the_count_are_ignored<std::uint32_t>(rng);
+}
+
 TEST_CASE("LSB-first captures decode the same frame") {
   const std::string s = frame_string(3, 2, true, {absys_layout}, {{0, 0x1234567U, true, false}});
   std::vector<std::uint8_t> words((s.size() + 7U) / 8U, 0);

@@ -134,10 +134,12 @@ MOTIONBUS_INLINE constexpr decode_result<frame_info> decode_frame(
       win = (win << word_bits) | words[k];
     }
   } else if (order == bit_order::msb_first && word_bits <= 32U) {  // a shorter capture
+    // The samples past the capture stay in the window: every use below is bounded by n0 (an
+    // Ack or Start found at or past n0 is none, fields are taken from it only when the frame
+    // ends within n0).
     for (unsigned k = 0; k < 64U / word_bits; ++k) {
       win = (win << word_bits) | (k < words.size() ? static_cast<std::uint64_t>(words[k]) : 0U);
     }
-    win = n0 == 0U ? 0U : (win & ~(~std::uint64_t{0} >> n0));  // nothing past the capture
   } else if (n0 != 0U) {
     win = field(0, n0) << (64U - n0);
   }
