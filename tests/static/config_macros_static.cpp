@@ -1,7 +1,9 @@
 // The configuration macros may be overridden: with MOTIONBUS_COLD and MOTIONBUS_INLINE defined
-// empty, and bitwise CRCs by default, every header still compiles and computes the same.
+// empty, no compile-time specialisation (MOTIONBUS_CONSTANT_P 0) and bitwise CRCs by default,
+// every header still compiles and computes the same.
 #define MOTIONBUS_COLD
 #define MOTIONBUS_INLINE
+#define MOTIONBUS_CONSTANT_P(x) 0
 #define MOTIONBUS_CRC_DEFAULT_TABLE 0
 
 #include <cstdint>
@@ -30,6 +32,8 @@ constexpr bool decodes() {
 static_assert(decodes(), "T-format decode with the macros overridden");
 static_assert(motionbus::crc6_biss<>::table_entries() == 0, "bitwise by default");
 static_assert(motionbus::crc6_biss<>::compute_bits(0x3, 34) == 0x3A, "same CRC6 bitwise");
+static_assert(motionbus::crc6_biss<motionbus::crc_table_size::byte>::compute_bits(0x3, 34) == 0x3A,
+              "same CRC6 with the byte table and no constant-count steps");
 
 }  // namespace
 

@@ -63,11 +63,14 @@
 #endif
 
 /// True where the compiler sees `x` as a compile-time constant (after inlining), for code
-/// that specialises a step only when it then folds to a few instructions; 0 elsewhere.
+/// that specialises a step only when it then folds to a few instructions (a BiSS-C CRC6 of a
+/// fixed layout); 0 elsewhere. Define it as 0 to keep every such step in the shared kernels.
+#ifndef MOTIONBUS_CONSTANT_P
 #if defined(__GNUC__) || defined(__clang__)
 #define MOTIONBUS_CONSTANT_P(x) __builtin_constant_p(x)
 #else
 #define MOTIONBUS_CONSTANT_P(x) 0
+#endif
 #endif
 
 /// Selects the smallest form of the decoders that have two (the T-format response decoder,
