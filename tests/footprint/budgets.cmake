@@ -19,8 +19,8 @@ set(footprint_budget_modbus_client_rv32imc 2224 576)
 set(footprint_budget_modbus_server_cortex-m0plus 2720 576)
 set(footprint_budget_modbus_server_cortex-m4 2560 576)  # the project target
 set(footprint_budget_modbus_server_rv32imc 3376 656)
-set(footprint_budget_tformat_encoder_cortex-m0plus 944 64)
-set(footprint_budget_tformat_encoder_cortex-m4 944 64)
+set(footprint_budget_tformat_encoder_cortex-m0plus 944 80)
+set(footprint_budget_tformat_encoder_cortex-m4 944 80)
 set(footprint_budget_tformat_encoder_rv32imc 1312 464)
 set(footprint_budget_tformat_master_cortex-m0plus 736 80)
 set(footprint_budget_tformat_master_cortex-m4 600 80)  # the project target

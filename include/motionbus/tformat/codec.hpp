@@ -59,18 +59,23 @@ constexpr bool fits(std::uint32_t value, unsigned bits) noexcept {
   return bits >= 32U || (value >> bits) == 0U;
 }
 
-/// Checks a CF byte: sync code first (no reply is possible without it), then parity, then ID.
+// The error of a CF byte that is not its code's valid CF: sync code first (no reply is
+// possible without it), then parity, then an undefined ID. The three codes are consecutive,
+// so the count of checks passed selects the code.
+constexpr errc cf_error(std::uint8_t cf) noexcept {
+  static_assert(
+      static_cast<int>(errc::tformat_parity) == static_cast<int>(errc::tformat_sync_code) + 1 &&
+          static_cast<int>(errc::tformat_unknown_data_id) ==
+              static_cast<int>(errc::tformat_sync_code) + 2,
+      "cf_error counts on consecutive CF error codes");
+  const unsigned sync = sync_ok(cf) ? 1U : 0U;
+  const unsigned parity = sync & (parity_ok(cf) ? 1U : 0U);
+  return static_cast<errc>(static_cast<unsigned>(errc::tformat_sync_code) + sync + parity);
+}
+
+/// Checks a CF byte: errc::ok, or its error as cf_error says (one comparison for a valid CF).
 constexpr errc check_cf(std::uint8_t cf) noexcept {
-  if (!sync_ok(cf)) {
-    return errc::tformat_sync_code;
-  }
-  if (!parity_ok(cf)) {
-    return errc::tformat_parity;
-  }
-  if (!is_known(static_cast<data_id>(data_id_code(cf)))) {
-    return errc::tformat_unknown_data_id;
-  }
-  return errc::ok;
+  return cf == valid_control_fields[data_id_code(cf)] ? errc::ok : cf_error(cf);
 }
 
 }  // namespace detail
@@ -97,7 +102,8 @@ constexpr result<std::size_t> encode_request(data_id id, mutable_byte_view out,
   const std::uint8_t cf = control_fields[static_cast<std::uint8_t>(id)];
   out[0] = cf;
   if (n > 1U) {
-    // The CRC (the XOR of the fields before it) accumulated as the fields are written.
+    // The CRC (crc_of: the XOR of the fields before it) accumulated as the fields are written,
+    // which saves a pass over the output on small cores.
     out[1] = address;
     std::uint8_t crc = static_cast<std::uint8_t>(cf ^ address);
     if (id == data_id::eeprom_write) {
@@ -268,19 +274,6 @@ MOTIONBUS_INLINE constexpr decode_result<response> decode_response_fast(
     return decode_status_frame<6, true, false, false, false>(in, id, opt);
   }
   return decode_other_response(in, id, opt);
-}
-
-// The error of a CF byte that is not its code's valid CF: check_cf without the ok case. The
-// three codes are consecutive, so the count of checks passed selects the code.
-constexpr errc cf_error(std::uint8_t cf) noexcept {
-  static_assert(
-      static_cast<int>(errc::tformat_parity) == static_cast<int>(errc::tformat_sync_code) + 1 &&
-          static_cast<int>(errc::tformat_unknown_data_id) ==
-              static_cast<int>(errc::tformat_sync_code) + 2,
-      "cf_error counts on consecutive CF error codes");
-  const unsigned sync = sync_ok(cf) ? 1U : 0U;
-  const unsigned parity = sync & (parity_ok(cf) ? 1U : 0U);
-  return static_cast<errc>(static_cast<unsigned>(errc::tformat_sync_code) + sync + parity);
 }
 
 // The size form of decode_response: one path for every layout. The fields before the CRC are
