@@ -45,10 +45,19 @@ class session {
     const mb::errc e = master_.start_read(0, address, mb::mutable_byte_view(out, n));
     return e == mb::errc::ok ? finish() : e;
   }
+  // Writes one register, then lets the frames run while the encoder completes the write: it
+  // refuses any access that arrives before (ABSYS §3.2, write_time_us).
   mb::errc write(std::uint8_t address, std::uint8_t value) {
     const std::uint8_t v[1] = {value};
-    const mb::errc e = master_.start_write(0, address, mb::byte_view(v, 1));
-    return e == mb::errc::ok ? finish() : e;
+    mb::errc e = master_.start_write(0, address, mb::byte_view(v, 1));
+    e = e == mb::errc::ok ? finish() : e;
+    for (std::uint32_t t = 0; e == mb::errc::ok && t < ab::write_time_us(address, value);
+         t += enc_.frame_period_us()) {
+      if (!frame()) {
+        return mb::errc::no_frame;
+      }
+    }
+    return e;
   }
   const bs::slave_data& last() const { return last_; }
   std::size_t frames() const { return frames_; }
@@ -138,11 +147,11 @@ int main() {
   check(s.write(ab::reg::command, static_cast<std::uint8_t>(ab::command::set_offset_to_position)),
         "set offset");
   std::uint8_t off[4] = {};
-  check(s.read(ab::reg::offset, off, 4), "offset");  // waits out the 17 ms EEPROM writes
+  check(s.read(ab::reg::offset, off, 4), "offset");  // after the 17 ms EEPROM writes
   s.frame();
   std::printf(
       "  command 02 (offset := position): offset 0x%02X%02X%02X%02X, position now %u; "
-      "%zu frames of 100 us including the wait states\n",
+      "%zu frames of 100 us including the 17 ms the encoder is busy\n",
       off[0], off[1], off[2], off[3], static_cast<unsigned>(s.last().single_turn),
       s.frames() - before);
   return 0;

@@ -97,7 +97,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     for (unsigned a = 0; a < 128; ++a) {
       regs.mem[a] = static_cast<std::uint8_t>(a ^ 0x5AU);
     }
-    bs::control_slave<registers> s(regs, id);
+    bs::control_slave<registers> s(regs, {id, false});
     bits in(data + 4, size - 4);
     while (in.more()) {
       (void)s.step(in.next());

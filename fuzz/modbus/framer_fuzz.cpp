@@ -30,10 +30,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const bool server = (data[0] & 1U) != 0;
   const std::uint8_t address = static_cast<std::uint8_t>(1U + data[1] % 247U);
   const std::size_t chunk = 1U + data[2] % 32U;
-  mo::rtu_framer f(server ? mo::framer_role::server : mo::framer_role::client, address,
-                   (data[0] & 2U) != 0 ? mo::report_id_format::two_bytes_no_count
-                                       : mo::report_id_format::standard,
-                   (data[0] & 4U) != 0);
+  mo::framer_options options;
+  options.fc11 = (data[0] & 2U) != 0 ? mo::report_id_format::two_bytes_no_count
+                                     : mo::report_id_format::standard;
+  options.ends = (data[0] & 4U) != 0 ? mo::frame_end::silence : mo::frame_end::length;
+  mo::rtu_framer f(server ? mo::framer_role::server : mo::framer_role::client, address, options);
   if (!server) {
     f.sent(address, data[0] >> 3U);
   }
@@ -58,7 +59,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       }
     }
   }
-  (void)f.end_of_frame();
+  const auto last = f.idle();  // the silence ends what is held: a frame only if it is one
+  if (last.is_complete()) {
+    std::uint8_t out[mo::max_rtu_size] = {};
+    const auto k = mo::encode_rtu(last.value().slave, last.value().pdu, out);
+    MOTIONBUS_FUZZ_CHECK(k.ok() && occurs_in(stream, n, out, k.value()));
+    MOTIONBUS_FUZZ_CHECK(last.value().slave == address || (server && last.value().slave == 0));
+  }
   MOTIONBUS_FUZZ_CHECK(f.pending() == 0);
   // a clean frame after the silence
   std::uint8_t frame[16] = {};

@@ -102,7 +102,7 @@ TEST_CASE("read: the CDM sequence follows the slot table, the byte arrives with 
   test_registers regs;
   regs.mem[0x42] = 0x63;
   control_master m;
-  control_slave<test_registers> s(regs, 5);
+  control_slave<test_registers> s(regs, {5});
   std::uint8_t out[1] = {};
   REQUIRE(m.start_read(5, 0x42, mutable_byte_view(out, 1)) == errc::ok);
   frame_link l{m, s, regs};
@@ -151,7 +151,7 @@ TEST_CASE("sequential reads and writes, with wait states after each write") {
   }
   regs.write_delay = 25;
   control_master m;
-  control_slave<test_registers> s(regs, 2);
+  control_slave<test_registers> s(regs, {2});
   std::uint8_t out[8] = {};
   REQUIRE(m.start_read(2, 0x10, mutable_byte_view(out, 8)) == errc::ok);
   frame_link l{m, s, regs};
@@ -183,7 +183,7 @@ TEST_CASE("refused, unanswered and out-of-range accesses") {
   regs.read_only[0x42] = true;
   regs.hidden[0x50] = true;
   control_master m;
-  control_slave<test_registers> s(regs, 1);
+  control_slave<test_registers> s(regs, {1});
   frame_link l{m, s, regs};
   const std::uint8_t data[1] = {9};
   REQUIRE(m.start_write(1, 0x42, byte_view(data, 1)) == errc::ok);
@@ -308,7 +308,7 @@ TEST_CASE("sequential read past a hidden register: the slave stops answering, th
   regs.mem[0x10] = 0x11;
   regs.hidden[0x11] = true;  // the next address may not be read
   control_master m;
-  control_slave<test_registers> s(regs, 0);
+  control_slave<test_registers> s(regs, {0});
   std::uint8_t out[2] = {};
   REQUIRE(m.start_read(0, 0x10, mutable_byte_view(out, 2)) == errc::ok);
   frame_link l{m, s, regs};
@@ -323,7 +323,7 @@ TEST_CASE("after a complete access the master's 0 ends it at the slave") {
   test_registers regs;
   regs.mem[0x20] = 0x5A;
   control_master m;
-  control_slave<test_registers> s(regs, 0);
+  control_slave<test_registers> s(regs, {0});
   std::uint8_t out[1] = {};
   REQUIRE(m.start_read(0, 0x20, mutable_byte_view(out, 1)) == errc::ok);
   frame_link l{m, s, regs};

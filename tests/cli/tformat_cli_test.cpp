@@ -178,6 +178,13 @@ TEST_CASE("serve tformat-encoder: a master talks to the emulator over a pseudo-t
   REQUIRE(w.is_complete());
   CHECK(w->edf == 0x77);
   usleep(20000);  // the EEPROM write takes 18 ms
+  // the write is read back once the page is specified again (spec §10)
+  const auto stale = transact(tf::data_id::eeprom_read, 9, 0);
+  REQUIRE(stale.is_complete());
+  CHECK(stale->edf == 0x00);
+  const auto page = transact(tf::data_id::eeprom_write, 127, 0);
+  REQUIRE(page.is_complete());
+  usleep(20000);  // busy after the page change
   const auto rd = transact(tf::data_id::eeprom_read, 9, 0);
   REQUIRE(rd.is_complete());
   CHECK(rd->edf == 0x77);

@@ -51,6 +51,12 @@ struct bench {
     REQUIRE(master.start_write(0, address, byte_view(data.data(), data.size())) == errc::ok);
     return run();
   }
+  // Frames with no access running until the encoder has finished its write.
+  void settle() {
+    while (enc.busy()) {
+      frame();
+    }
+  }
   std::uint8_t read1(std::uint8_t address) {
     std::uint8_t v = 0;
     REQUIRE(read(address, &v, 1) == errc::ok);
@@ -198,7 +204,12 @@ TEST_CASE("ABSYS emulator: offset, preset mode and commands, with write wait sta
   b.frame();
   CHECK(b.last.single_turn == 4900);
   std::uint8_t pos[4] = {};
-  REQUIRE(b.read(ab::reg::position, pos, 4) == errc::ok);  // waits for the last write
+  // the last byte's write is still in progress: a new access is refused (§3.1, §3.2)
+  CHECK(enc.busy());
+  CHECK(b.read(ab::reg::position, pos, 4) == errc::biss_access_denied);
+  CHECK(enc.refused_while_busy() == 1);
+  b.settle();
+  REQUIRE(b.read(ab::reg::position, pos, 4) == errc::ok);
   CHECK(((pos[0] << 24U) | (pos[1] << 16U) | (pos[2] << 8U) | pos[3]) == 4900U);
   // offset above the position: modulo pulses per revolution
   enc.set_position(50);
@@ -208,21 +219,57 @@ TEST_CASE("ABSYS emulator: offset, preset mode and commands, with write wait sta
   REQUIRE(b.write(ab::reg::preset_mode, {0x01}) == errc::ok);
   b.frame();
   CHECK(b.last.single_turn == 50);
+  b.settle();
   REQUIRE(b.write(ab::reg::preset_mode, {0x00}) == errc::ok);
+  b.settle();
   // command 02: offset = actual position; 17 ms = 170 frames before the next access is served
   enc.set_position(777);
   REQUIRE(b.write(ab::reg::command, {0x02}) == errc::ok);
   CHECK(enc.offset() == 777);
   const std::size_t t0 = b.frames;
+  std::uint8_t low = 0;
+  CHECK(b.read(ab::reg::offset + 3, &low, 1) == errc::biss_access_denied);
+  b.settle();
+  CHECK(b.frames - t0 >= 165U);
   CHECK(b.read1(ab::reg::offset + 3) == (777 & 0xFF));
-  CHECK(b.frames - t0 >= 160U);
   b.frame();
   CHECK(b.last.single_turn == 0);
   // command 03: offset reset
   REQUIRE(b.write(ab::reg::command, {0x03}) == errc::ok);
   CHECK(enc.offset() == 0);
+  b.settle();
   b.frame();
   CHECK(b.last.single_turn == 777);
+}
+
+TEST_CASE("ABSYS emulator: an access while a write is in progress is refused (§3.1-§3.4)") {
+  ab::emulator enc;
+  bench b(enc);
+  // the EDS bank register is one of the "other registers": > 4 ms
+  // (a refused access takes 32 frames, preamble and header: less than the 40 of a write)
+  REQUIRE(b.write(ab::reg::eds_bank, {0x81}) == errc::ok);
+  CHECK(enc.busy());
+  CHECK(b.write(ab::reg::preset_mode, {0x01}) == errc::biss_access_denied);
+  CHECK(enc.read_register(ab::reg::preset_mode) == 0);  // the refused write did nothing
+  b.settle();
+  REQUIRE(b.write(ab::reg::eds_bank, {0x81}) == errc::ok);
+  std::uint8_t v = 0;
+  CHECK(b.read(ab::reg::revision, &v, 1) == errc::biss_access_denied);
+  CHECK(enc.refused_while_busy() == 2);
+  b.settle();
+  CHECK(b.read1(ab::reg::eds_bank) == 0x81);
+  // bank selection and command 06 are cached and not persistent: instant, nothing refused
+  REQUIRE(b.write(ab::reg::bank_select, {0x81}) == errc::ok);
+  CHECK(!enc.busy());
+  REQUIRE(b.write(ab::reg::command, {0x06}) == errc::ok);
+  CHECK(b.read1(ab::reg::bank_select) == 0x81);
+  CHECK(enc.refused_while_busy() == 2);
+  // the profile's table of write times is the emulator's
+  CHECK(ab::write_time_us(ab::reg::bank_select, 0x84) == 0);
+  CHECK(ab::write_time_us(ab::reg::command, 0x06) == 0);
+  CHECK(ab::write_time_us(ab::reg::command, 0x02) == ab::offset_command_us);
+  CHECK(ab::write_time_us(ab::reg::eds_bank, 0x80) == ab::persistent_write_us);
+  CHECK(ab::write_time_us(0x10, 0x00) == ab::persistent_write_us);
 }
 
 TEST_CASE("ABSYS emulator: linear encoder offset is signed") {
@@ -261,6 +308,7 @@ TEST_CASE("ABSYS emulator: errors latch in 0x6B until command 06; nE follows the
   // the user bank is free to write and read
   REQUIRE(b.write(ab::reg::bank_select, {0x84}) == errc::ok);
   REQUIRE(b.write(0x10, {1, 2, 3}) == errc::ok);
+  b.settle();
   std::uint8_t u[3] = {};
   REQUIRE(b.read(0x10, u, 3) == errc::ok);
   CHECK(u[2] == 3);

@@ -149,9 +149,9 @@ TEST_CASE("TS5700N8500 plans built at run time") {
   volatile std::uint8_t page = 2;  // run time, not a constant initialiser
   const auto w = ts::write_verify_plan(page, 5, 0xA5);
   REQUIRE(w.ok());
-  CHECK(w->size == 3);
-  CHECK(w->steps[2].verify);
-  CHECK(w->steps[2].expected_edf == 0xA5);
+  CHECK(w->size == 4);
+  CHECK(w->steps[3].verify);
+  CHECK(w->steps[3].expected_edf == 0xA5);
   // a plan with no room left, and a request the codec refuses, are refused by add_step
   ts::plan<1> one;
   CHECK(ts::detail::add_step(one, tf::data_id::read_abs, 0) == errc::ok);

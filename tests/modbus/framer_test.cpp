@@ -89,7 +89,8 @@ TEST_CASE("framer resynchronises after garbage and a corrupted frame, bounded") 
   bytes stream = {0xFF, 0x11};  // garbage
   stream.insert(stream.end(), corrupt.begin(), corrupt.end());
   stream.insert(stream.end(), good.begin(), good.end());
-  rtu_framer f(framer_role::server, 0x11);
+  // without a t3.5 signal, the length rule and the CRC alone find the frame
+  rtu_framer f(framer_role::server, 0x11, framer_options{frame_end::length});
   const auto ev = run(f, stream, 1);
   int frames = 0;
   int crc_errors = 0;
@@ -100,9 +101,16 @@ TEST_CASE("framer resynchronises after garbage and a corrupted frame, bounded") 
   CHECK(frames == 1);
   CHECK(crc_errors >= 1);
   CHECK(f.dropped() >= 2);
+  // with it (the default), the bytes wait for the silence, which finds the frame in them
+  rtu_framer s(framer_role::server, 0x11);
+  CHECK(run(s, stream, 1).empty());
+  const auto found = s.idle();
+  REQUIRE(found.is_complete());
+  CHECK(bytes(found->pdu.begin(), found->pdu.end()) == bytes{0x03, 0x00, 0x6B, 0x00, 0x03});
+  CHECK(s.pending() == 0);
 
   // random garbage never makes the framer hold more than 256 bytes, and a clean frame after
-  // end_of_frame() is always found
+  // idle() is always found
   testutil::splitmix64 rng(3);
   for (int round = 0; round < 100; ++round) {
     rtu_framer g(framer_role::server, 0x11);
@@ -112,7 +120,7 @@ TEST_CASE("framer resynchronises after garbage and a corrupted frame, bounded") 
     }
     (void)run(g, noise, 1 + static_cast<std::size_t>(rng.below(40)));
     CHECK(g.pending() <= 256);
-    (void)g.end_of_frame();
+    (void)g.idle();
     const auto ev2 = run(g, good, 1);
     REQUIRE(!ev2.empty());
     CHECK(ev2.back().ok);
@@ -132,7 +140,9 @@ TEST_CASE("client framer: response lengths follow the outstanding request") {
   REQUIRE(ev.size() == 1);
   CHECK(ev[0].pdu == bytes{0x83, 0x02});
   // SM unit FC11: two bytes and no count
-  rtu_framer sm(framer_role::client, 0x01, report_id_format::two_bytes_no_count);
+  framer_options sm_layout;
+  sm_layout.fc11 = report_id_format::two_bytes_no_count;
+  rtu_framer sm(framer_role::client, 0x01, sm_layout);
   sm.sent(0x01, 0x11);
   ev = run(sm, rtu(0x01, {0x11, 0x01, 0x00}), 1);
   REQUIRE(ev.size() == 1);
@@ -144,28 +154,86 @@ TEST_CASE("client framer: response lengths follow the outstanding request") {
   CHECK(f.skipped() == 1);
 }
 
-TEST_CASE("end_of_frame frames functions without a length rule, and drops partial frames") {
-  rtu_framer plain(framer_role::server, 0x11);
+TEST_CASE("idle() frames functions without a length rule, and drops partial frames") {
+  rtu_framer plain(framer_role::server, 0x11, framer_options{frame_end::length});
   CHECK(run(plain, rtu(0x11, {0x41, 0x01, 0x02, 0x03}), 1).empty());
-  // unknown function: garbage by default; the next bytes may look like another frame's start
-  // (here 41 01 = FC01 from slave 0x41), which the t3.5 signal then clears
+  // unknown function: garbage when framed by length alone; the next bytes may look like another
+  // frame's start (here 41 01 = FC01 from slave 0x41), which the t3.5 signal then clears
   CHECK(plain.dropped() >= 1);
-  CHECK(!plain.end_of_frame().is_complete());
+  CHECK(!plain.idle().is_complete());
   CHECK(plain.pending() == 0);
-  rtu_framer f(framer_role::server, 0x11, report_id_format::standard, true);
+  rtu_framer f(framer_role::server, 0x11);  // frame_end::silence
   const bytes custom = rtu(0x11, {0x41, 0x01, 0x02, 0x03});
   auto ev = run(f, custom, 2);
   CHECK(ev.empty());
   CHECK(f.pending() == custom.size());
-  const auto r = f.end_of_frame();
+  const auto r = f.idle();
   REQUIRE(r.is_complete());
   CHECK(r->pdu.size() == 4);
-  CHECK(f.end_of_frame().is_incomplete());
+  CHECK(f.idle().is_incomplete());
   const bytes good = rtu(0x11, {0x03, 0x00, 0x6B, 0x00, 0x03});
   ev = run(f, bytes(good.begin(), good.begin() + 5), 5);
   CHECK(ev.empty());
-  CHECK(f.end_of_frame().error() == errc::truncated);
+  CHECK(f.idle().error() == errc::truncated);
   CHECK(f.pending() == 0);
+}
+
+TEST_CASE("FC08 sub-function 00 (Return Query Data): 8 + 2k bytes, the CRC tells which") {
+  // Modbus over Serial Line §6.1.1: the query data is echoed, any even number of bytes
+  const bytes ten = {0x01, 0x08, 0x00, 0x00, 0xA5, 0x37, 0x12, 0x34, 0x96, 0x72};
+  const bytes pdu(ten.begin() + 1, ten.end() - 2);
+  CHECK(rtu(0x01, pdu) == ten);
+  const bytes plain = rtu(0x01, {0x08, 0x00, 0x00, 0xA5, 0x37});
+  const bytes longer = rtu(0x01, {0x08, 0x00, 0x00, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10});
+  const bytes other_sub = rtu(0x01, {0x08, 0x00, 0x0B, 0x00, 0x00});
+  const bytes read = rtu(0x01, {0x03, 0x00, 0x00, 0x00, 0x01});
+  bytes stream;
+  for (const auto* f : {&ten, &plain, &longer, &other_sub, &ten, &read}) {
+    stream.insert(stream.end(), f->begin(), f->end());
+  }
+  const std::vector<std::size_t> sizes = {7, 5, 13, 5, 7, 5};
+  for (const frame_end ends : {frame_end::silence, frame_end::length}) {
+    for (const framer_role role : {framer_role::server, framer_role::client}) {
+      for (std::size_t chunk = 1; chunk <= stream.size(); chunk += 4) {
+        CAPTURE(chunk);
+        rtu_framer f(role, 0x01, framer_options{ends});
+        std::vector<event> ev;
+        if (role == framer_role::server) {
+          ev = run(f, stream, chunk);
+        } else {  // a client frames each FC08 response (the echo) after its request
+          std::size_t at = 0;
+          for (std::size_t k = 0; k + 1 < sizes.size(); ++k) {
+            f.sent(0x01, stream[at + 1]);
+            const bytes one(stream.begin() + static_cast<std::ptrdiff_t>(at),
+                            stream.begin() + static_cast<std::ptrdiff_t>(at + sizes[k] + 3));
+            const auto got = run(f, one, chunk);
+            ev.insert(ev.end(), got.begin(), got.end());
+            at += sizes[k] + 3;
+          }
+        }
+        REQUIRE(ev.size() == (role == framer_role::server ? sizes.size() : sizes.size() - 1U));
+        for (std::size_t k = 0; k < ev.size(); ++k) {
+          CHECK(ev[k].ok);
+          CHECK(ev[k].pdu.size() == sizes[k]);
+        }
+        CHECK(f.dropped() == 0);
+      }
+    }
+  }
+  // a corrupted query-data frame is never taken at some other length; the silence after it
+  // ends the search (without one, the search ends at 256 bytes held), and the frame after it
+  // is found
+  bytes bad = ten;
+  bad[5] ^= 0x01;
+  bad.insert(bad.end(), read.begin(), read.end());
+  for (const frame_end ends : {frame_end::silence, frame_end::length}) {
+    rtu_framer f(framer_role::server, 0x01, framer_options{ends});
+    CHECK(run(f, bad, 1).empty());
+    CHECK(f.pending() == bad.size());
+    const auto r = f.idle();
+    REQUIRE(r.is_complete());
+    CHECK(bytes(r->pdu.begin(), r->pdu.end()) == bytes{0x03, 0x00, 0x00, 0x00, 0x01});
+  }
 }
 
 TEST_CASE("RTU timing: t1.5 and t3.5 from baud, parity and stop bits") {

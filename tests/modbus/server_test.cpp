@@ -2,8 +2,11 @@
 // and from the device, broadcasts, other addresses, missing accessors.
 #include "motionbus/modbus/server.hpp"
 
+#include "motionbus/modbus/framer.hpp"
+
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -139,6 +142,64 @@ TEST_CASE("server: exceptions in the spec's order, from the codec and from the d
   empty_device none;
   CHECK(call(none, 0x11, {0x03, 0x00, 0x00, 0x00, 0x01}) == bytes{0x83, 0x01});
   CHECK(call(none, 0x11, {0x11}) == bytes{0x91, 0x01});
+}
+
+// A server built as docs/modbus.md §3 describes: bytes in chunks from the UART into a framer
+// with its default options, idle() at the end of the burst (the t3.5 timer), serve_rtu on every
+// frame. Returns what it sends.
+namespace {
+std::vector<bytes> serve_stream(const bytes& stream, std::size_t chunk, framer_options options) {
+  array_device dev;
+  rtu_framer rx(framer_role::server, 0x11, options);
+  std::vector<bytes> sent;
+  auto answer = [&](const rtu_frame& frame) {
+    std::uint8_t out[256] = {};
+    const byte_view adu(frame.pdu.data() - 1, frame.pdu.size() + 3U);
+    const auto n = serve_rtu(dev, 0x11, adu, out);
+    REQUIRE(n.ok());
+    if (n.value() > 0U) {
+      sent.emplace_back(out, out + n.value());
+    }
+  };
+  for (std::size_t at = 0; at < stream.size(); at += chunk) {
+    byte_view in(stream.data() + at, std::min(chunk, stream.size() - at));
+    for (;;) {
+      const auto r = rx.feed(in);
+      if (r.is_incomplete()) {
+        break;
+      }
+      in = in.subspan(r.consumed());
+      if (r.is_complete()) {
+        answer(r.value());
+      }
+    }
+  }
+  const auto last = rx.idle();
+  if (last.is_complete()) {
+    answer(last.value());
+  }
+  return sent;
+}
+}  // namespace
+
+TEST_CASE("server over a framer: requests whose counts disagree with their length get exceptions") {
+  // Modbus over Serial Line §2.5.1.1 (frames end with the silence) and Modbus Application
+  // Protocol §7 (01 for an unknown function, 03 for a byte count that disagrees)
+  const bytes count_zero = {0x11, 0x10, 0x01, 0x60, 0x00, 0x00, 0x00, 0x02,
+                            0x2B, 0x00, 0x01, 0x00, 0x64, 0x8C, 0x88};
+  const bytes unknown = {0x11, 0x42, 0x00, 0x00, 0x00, 0x00, 0x7B, 0x55};
+  for (std::size_t chunk : {std::size_t{1}, std::size_t{3}, std::size_t{64}}) {
+    CAPTURE(chunk);
+    auto sent = serve_stream(count_zero, chunk, {});
+    REQUIRE(sent.size() == 1);
+    CHECK(sent[0] == bytes{0x11, 0x90, 0x03, 0x0D, 0xC4});
+    sent = serve_stream(unknown, chunk, {});
+    REQUIRE(sent.size() == 1);
+    CHECK(sent[0] == bytes{0x11, 0xC2, 0x01, 0xB1, 0x65});
+    // without the silence, the length rule cannot frame either: nothing is sent
+    CHECK(serve_stream(count_zero, chunk, framer_options{frame_end::length}).empty());
+    CHECK(serve_stream(unknown, chunk, framer_options{frame_end::length}).empty());
+  }
 }
 
 TEST_CASE("server: broadcasts are executed and never answered; other addresses are ignored") {

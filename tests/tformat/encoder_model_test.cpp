@@ -92,6 +92,11 @@ TEST_CASE("EEPROM: pages, page select at 127, busy 18 ms, closed addresses, page
   rd = m.ask(data_id::eeprom_read, 10, 0, 18000);
   REQUIRE(rd.is_complete());
   CHECK(!rd->busy);
+  CHECK(rd->edf == 0);  // written, but readable only once the page is specified again (§10)
+  CHECK(enc.eeprom(0, 10) == 0x42);
+  CHECK(m.ask(data_id::eeprom_write, 127, 0, 100).is_complete());
+  rd = m.ask(data_id::eeprom_read, 10, 0, 18000);
+  REQUIRE(rd.is_complete());
   CHECK(rd->edf == 0x42);
   // page change to 3, busy after it, data separate per page
   CHECK(m.ask(data_id::eeprom_write, 127, 3, 18000).is_complete());
@@ -115,6 +120,9 @@ TEST_CASE("EEPROM: pages, page select at 127, busy 18 ms, closed addresses, page
   CHECK(m.ask(data_id::eeprom_write, 4, ts::encode_overheat_threshold(50).value(), 100)
             .is_complete());
   CHECK(enc.overheat_threshold() == 178);
+  CHECK(m.ask(data_id::eeprom_read, 4, 0, 18000)->edf == 0xDA);  // not yet: the page as loaded
+  CHECK(m.ask(data_id::eeprom_write, 127, 7, 100).is_complete());
+  CHECK(m.ask(data_id::eeprom_read, 4, 0, 18000)->edf == 178);
 }
 
 TEST_CASE("over-heat latches above the threshold and clears only by reset once cool") {
@@ -227,12 +235,43 @@ TEST_CASE("TS5700N8500: plans executed against the model") {
   CHECK(enc.abs() == 0);
   CHECK(ts::reset_plan(data_id::read_abs).error() == errc::invalid_argument);
 
+  // write and verify, step by step: page 2 specified, written, specified again, read back
   const auto wv = ts::write_verify_plan(2, 100, 0xC3);
   REQUIRE(wv.ok());
+  REQUIRE(wv->size == 4);
   const auto responses = run(wv.value());
-  CHECK(responses.back().edf == 0xC3);
+  CHECK(enc.page() == 2);
+  CHECK(responses[0].address == 127);
+  CHECK(responses[1].address == 100);
+  CHECK(responses[1].edf == 0xC3);
+  CHECK(!responses[1].busy);  // 18 ms after the page change
+  CHECK(responses[2].address == 127);
+  CHECK(!responses[2].busy);  // 18 ms after the write
+  CHECK(responses[3].edf == 0xC3);
+  CHECK(!responses[3].busy);
   CHECK(enc.eeprom(2, 100) == 0xC3);
+  // without the second page step, a read does not see the write: the plan needs that step
+  const auto other = ts::write_verify_plan(2, 100, 0x3C);
+  REQUIRE(other.ok());
+  (void)enc.respond(other->steps[1].view(), now);
+  now += ts::eeprom_write_us;
+  const auto stale =
+      decode_response_for(other->steps[3].view(), enc.respond(other->steps[3].view(), now).view());
+  REQUIRE(stale.is_complete());
+  CHECK(stale->edf == 0xC3);
+  // page 7: the over-heat threshold only
+  const auto oh = ts::write_verify_plan(7, 4, 0xB2);
+  REQUIRE(oh.ok());
+  CHECK(run(oh.value()).back().edf == 0xB2);
+  CHECK(ts::writable(7, 4));
+  for (const int closed : {0, 3, 5, 10, 126}) {
+    CAPTURE(closed);
+    const auto address = static_cast<std::uint8_t>(closed);
+    CHECK(!ts::writable(7, address));
+    CHECK(ts::write_verify_plan(7, address, 1).error() == errc::out_of_range);
+  }
   CHECK(ts::write_verify_plan(6, 1, 1).error() == errc::out_of_range);
+  CHECK(ts::write_verify_plan(8, 1, 1).error() == errc::out_of_range);
   CHECK(ts::write_verify_plan(0, 127, 1).error() == errc::out_of_range);
   CHECK(ts::page_change_plan(7).value().steps[0].request[1] == 127);
   CHECK(ts::page_change_plan(8).error() == errc::out_of_range);

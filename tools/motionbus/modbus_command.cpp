@@ -1,6 +1,9 @@
 // Modbus RTU in the CLI:
 //   decode modbus request <hex>                     a server's view of an RTU ADU
-//   decode modbus response <hex> [--request <hex>]  a client's view (checked against the request)
+//   decode modbus response <hex> [--request <hex>] [--fc11 standard|sm]
+//                                                   a client's view (checked against the request
+//                                                   when given; alone, every check the response
+//                                                   carries itself)
 //   encode modbus request <function> --slave N [--address N] [--quantity N] [--values a,b,...]
 //                                    [--write-address N] [--data HEX]
 #include <motionbus/core/errc.hpp>
@@ -111,12 +114,11 @@ cli::outcome decode_response_line(const std::string& input, const cli::options& 
     return cli::outcome::failure(error);
   }
   const mo::rtu_frame* adu = &parsed->frame;
-  cli::json_object f;
-  f.add("slave", static_cast<std::int64_t>(adu->slave));
+  const mo::report_id_format fc11 = modbus_io::fc11_of(opts, mo::report_id_format::standard);
   const mb::byte_view pdu = adu->pdu;
-  std::optional<mo::response> checked;
   std::optional<mo::request> request;
   std::vector<std::uint8_t> request_bytes;
+  mb::decode_result<mo::response> r = mb::need_input{1};
   if (const auto text = opts.get("request")) {
     const auto rb = cli::parse_hex(*text, error);
     if (!rb) {
@@ -131,54 +133,42 @@ cli::outcome decode_response_line(const std::string& input, const cli::options& 
       return cli::outcome::failure(mb::to_string(mb::errc::modbus_mismatch));
     }
     request = mo::decode_request(radu->pdu).value();
-    const auto r = mo::decode_response(pdu, radu->pdu);
-    if (!r.is_complete()) {
-      return cli::outcome::failure(mb::to_string(r.error()));
-    }
-    checked = r.value();
+    r = mo::decode_response(pdu, radu->pdu, fc11);
+  } else {
+    r = mo::decode_response_unpaired(pdu, fc11);  // no request: what the response carries
   }
-  const std::uint8_t fc = static_cast<std::uint8_t>(pdu[0] & 0x7FU);
+  if (!r.is_complete()) {
+    return cli::outcome::failure(mb::to_string(r.error()));
+  }
+  cli::json_object f;
+  f.add("slave", static_cast<std::int64_t>(adu->slave));
+  const std::uint8_t fc = r->function;
   f.add("function", static_cast<std::int64_t>(fc));
-  if ((pdu[0] & mo::exception_flag) != 0U) {
-    if (pdu.size() != 2) {
-      return cli::outcome::failure(mb::to_string(mb::errc::modbus_byte_count));
-    }
-    f.add("exception", static_cast<std::int64_t>(pdu[1]));
-    f.add("crc", static_cast<std::int64_t>(adu->crc));
-    return cli::outcome::success(f);
-  }
-  const bool reads = fc <= 0x04 || fc == 0x17;
-  if (reads) {
-    if (pdu.size() < 2 || pdu[1] != pdu.size() - 2) {
-      return cli::outcome::failure(mb::to_string(mb::errc::modbus_byte_count));
-    }
-    const mb::byte_view data = pdu.subspan(2);
-    f.add("byte_count", static_cast<std::int64_t>(pdu[1]));
+  if (r->exception) {
+    f.add("exception", static_cast<std::int64_t>(r->exception_code));
+  } else if (fc <= 0x04 || fc == 0x17) {
+    f.add("byte_count", static_cast<std::int64_t>(r->byte_count));
     if (fc <= 0x02) {
-      f.add("values", bits_of(data, request ? request->quantity : data.size() * 8U));
+      f.add("values", bits_of(r->data, request ? request->quantity : r->data.size() * 8U));
     } else {
-      if (data.size() % 2 != 0) {
-        return cli::outcome::failure(mb::to_string(mb::errc::modbus_byte_count));
-      }
-      f.add("values", registers_of(data));
+      f.add("values", registers_of(r->data));
     }
   } else if (fc == 0x05 || fc == 0x06 || fc == 0x0F || fc == 0x10) {
-    if (pdu.size() != 5) {
-      return cli::outcome::failure(
-          mb::to_string(pdu.size() < 5 ? mb::errc::truncated : mb::errc::modbus_byte_count));
-    }
-    f.add("address", static_cast<std::int64_t>(mo::register_at(pdu.subspan(1), 0)));
+    f.add("address", static_cast<std::int64_t>(r->address));
     f.add(fc <= 0x06 ? "value" : "quantity",
-          static_cast<std::int64_t>(mo::register_at(pdu.subspan(1), 1)));
+          static_cast<std::int64_t>(fc <= 0x06 ? r->value : r->quantity));
   } else if (fc == 0x16) {
-    if (pdu.size() != 7) {
-      return cli::outcome::failure(mb::to_string(mb::errc::modbus_byte_count));
-    }
-    f.add("address", static_cast<std::int64_t>(mo::register_at(pdu.subspan(1), 0)));
-    f.add("and_mask", static_cast<std::int64_t>(mo::register_at(pdu.subspan(1), 1)));
-    f.add("or_mask", static_cast<std::int64_t>(mo::register_at(pdu.subspan(1), 2)));
+    f.add("address", static_cast<std::int64_t>(r->address));
+    f.add("and_mask", static_cast<std::int64_t>(r->and_mask));
+    f.add("or_mask", static_cast<std::int64_t>(r->or_mask));
+  } else if (fc == 0x11 && fc11 == mo::report_id_format::two_bytes_no_count) {
+    // the SM unit's layout: version upper, version lower (SM unit guideline §11)
+    f.add("version_upper", static_cast<std::int64_t>(r->data[0]));
+    f.add("version_lower", static_cast<std::int64_t>(r->data[1]));
+    f.add("version", modbus_io::sm_version_text(r->data[0], r->data[1]));
   } else {
-    // FC11 and anything opaque: the data part as hex (the SM unit's FC11 has no byte count)
+    // FC11 (standard layout: byte count, then the device's bytes) and the other functions:
+    // the data part as hex
     f.add("data", cli::to_hex(pdu.data() + 1, pdu.size() - 1));
   }
   f.add("crc", static_cast<std::int64_t>(adu->crc));
@@ -334,8 +324,9 @@ int read_modbus(const cli::options& opts) {
   if (!timeout || *timeout > 60000) {
     throw cli::usage_error{"--timeout-ms takes 0..60000"};
   }
-  const auto e = modbus_io::transact(port, adu[0], adu.data(), adu.size(),
-                                     mo::report_id_format::standard, static_cast<int>(*timeout));
+  const mo::report_id_format fc11 = modbus_io::fc11_of(opts, mo::report_id_format::standard);
+  const auto e =
+      modbus_io::transact(port, adu[0], adu.data(), adu.size(), fc11, static_cast<int>(*timeout));
   if (!e.error.empty()) {
     cli::print(cli::outcome::failure(e.error));
     return 1;
@@ -344,6 +335,7 @@ int read_modbus(const cli::options& opts) {
   const auto k = mo::encode_rtu(adu[0], mb::byte_view(e.pdu.data(), e.pdu.size()), response);
   cli::options decode_opts;
   decode_opts.values["request"] = cli::to_hex(adu.data(), adu.size());
+  decode_opts.values["fc11"] = modbus_io::fc11_name(fc11);
   const cli::outcome o = decode_response_line(cli::to_hex(response, k.value_or(0)), decode_opts);
   cli::print(o);
   return o.ok ? 0 : 1;
@@ -356,18 +348,19 @@ namespace cli {
 protocol_entries modbus_entries() {
   protocol_entries e;
   e.decoders.push_back({"modbus", "request", &decode_request_line, {}, {}});
-  e.decoders.push_back({"modbus", "response", &decode_response_line, {"request"}, {}});
+  e.decoders.push_back({"modbus", "response", &decode_response_line, {"request", "fc11"}, {}});
   e.encoders.push_back({"modbus",
                         "request",
                         &encode_request,
                         {"slave", "address", "quantity", "values", "write-address", "data"},
                         {},
                         1});
-  e.devices.push_back({"modbus",
-                       &read_modbus,
-                       {"device", "slave", "function", "address", "quantity", "values",
-                        "write-address", "data", "baud", "parity", "stop-bits", "timeout-ms"},
-                       {}});
+  e.devices.push_back(
+      {"modbus",
+       &read_modbus,
+       {"device", "slave", "function", "address", "quantity", "values", "write-address", "data",
+        "baud", "parity", "stop-bits", "timeout-ms", "fc11"},
+       {}});
   return e;
 }
 

@@ -14,7 +14,9 @@ exchange transact(serial::port& port, std::uint8_t slave, const std::uint8_t* ad
   if (!port.write_all(adu, size)) {
     return {{}, "write_error"};
   }
-  mo::rtu_framer rx(mo::framer_role::client, slave, fc11);
+  mo::framer_options options;
+  options.fc11 = fc11;
+  mo::rtu_framer rx(mo::framer_role::client, slave, options);
   rx.sent(slave, adu[1]);
   const std::uint32_t deadline = serial::now_us() + static_cast<std::uint32_t>(timeout_ms) * 1000U;
   std::uint8_t buffer[256];
@@ -22,6 +24,13 @@ exchange transact(serial::port& port, std::uint8_t slave, const std::uint8_t* ad
     const long n = port.read_some(buffer, sizeof buffer, 20);
     if (n < 0) {
       return {{}, "read_error"};
+    }
+    if (n == 0 && rx.pending() > 0) {  // 20 ms of silence: far more than t3.5
+      const auto r = rx.idle();
+      if (r.is_complete()) {
+        return {std::vector<std::uint8_t>(r->pdu.begin(), r->pdu.end()), {}};
+      }
+      continue;
     }
     mb::byte_view in(buffer, static_cast<std::size_t>(n));
     for (;;) {
@@ -36,6 +45,29 @@ exchange transact(serial::port& port, std::uint8_t slave, const std::uint8_t* ad
     }
   }
   return {{}, "timeout"};
+}
+
+mo::report_id_format fc11_of(const cli::options& opts, mo::report_id_format fallback) {
+  const auto v = opts.get("fc11");
+  if (!v) {
+    return fallback;
+  }
+  if (*v == "standard") {
+    return mo::report_id_format::standard;
+  }
+  if (*v == "sm") {
+    return mo::report_id_format::two_bytes_no_count;
+  }
+  throw cli::usage_error{"--fc11 is standard (byte count, then data) or sm (two version bytes)"};
+}
+
+const char* fc11_name(mo::report_id_format f) {
+  return f == mo::report_id_format::two_bytes_no_count ? "sm" : "standard";
+}
+
+std::string sm_version_text(std::uint8_t upper, std::uint8_t lower) {
+  return std::to_string(upper) + "." + std::to_string(lower >> 4U) + "." +
+         std::to_string(lower & 0x0FU);
 }
 
 serial::settings line_settings(const cli::options& opts) {

@@ -22,6 +22,14 @@ struct exchange {
 exchange transact(serial::port& port, std::uint8_t slave, const std::uint8_t* adu, std::size_t size,
                   motionbus::modbus::report_id_format fc11, int timeout_ms);
 
+/// The FC11 response layout from --fc11 (standard | sm), `fallback` when absent.
+motionbus::modbus::report_id_format fc11_of(const cli::options& opts,
+                                            motionbus::modbus::report_id_format fallback);
+const char* fc11_name(motionbus::modbus::report_id_format f);
+/// The SM unit's version bytes as text: upper byte, then the lower byte's two nibbles
+/// ("01 00" is Ver.1.0.0, SM unit guideline §11).
+std::string sm_version_text(std::uint8_t upper, std::uint8_t lower);
+
 /// Line settings from --baud, --parity (E, N, O) and --stop-bits; defaults 9600 8E1.
 serial::settings line_settings(const cli::options& opts);
 

@@ -43,6 +43,8 @@ bool open_reporting(port& p, const std::string& path, const settings& s);
 
 /// Monotonic microseconds (wraps at 2^32).
 std::uint32_t now_us();
+/// Sleeps at least `us` microseconds.
+void sleep_us(std::uint32_t us);
 
 /// Set by SIGINT/SIGTERM once install_stop_handler() ran.
 bool stop_requested();

@@ -11,6 +11,7 @@
 #include <csignal>
 #include <cstring>
 #include <iostream>
+#include <thread>
 
 #include "serial.hpp"
 
@@ -129,6 +130,10 @@ std::uint32_t now_us() {
   const auto t = std::chrono::steady_clock::now().time_since_epoch();
   return static_cast<std::uint32_t>(
       std::chrono::duration_cast<std::chrono::microseconds>(t).count() & 0xFFFFFFFF);
+}
+
+void sleep_us(std::uint32_t us) {
+  std::this_thread::sleep_for(std::chrono::microseconds(us));
 }
 
 bool stop_requested() {

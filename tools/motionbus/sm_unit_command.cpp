@@ -1,8 +1,12 @@
 // The Tsubaki SM unit in the CLI:
 //   serve sm-unit --device PATH [--slave N] [--baud N] [--parity E|N|O] [--stop-bits N]
-//   read sm-unit --device PATH [--slave N] [--password TEXT] [--baud N] [--parity E|N|O]
-//                [--stop-bits N]
-// Defaults: slave 1, 9600 baud 8E1 (SM unit guidelines §2).
+//   read sm-unit --device PATH [--read instantaneous|password] [--slave N] [--password TEXT]
+//                [--fc11 sm|standard] [--baud N] [--parity E|N|O] [--stop-bits N]
+// Defaults: slave 1, 9600 baud 8E1 (SM unit guidelines §2), FC11 in the SM unit's layout (§11).
+// Every request waits at least 0.1 s after the previous reply (§3, min_command_interval_us).
+// `read sm-unit` reads the instantaneous data and the version, which need no login; only
+// `--read password` needs the unit logged in (§6 note *1): it logs in when the unit is logged
+// out, says so, and logs out again afterwards.
 #include <motionbus/devices/sm_unit.hpp>
 #include <motionbus/devices/sm_unit_emulator.hpp>
 #include <motionbus/modbus.hpp>
@@ -64,7 +68,7 @@ int serve_sm_unit(const cli::options& opts) {
     unit.set_time_ms((serial::now_us() - start) / 1000U);
     mb::byte_view in(buffer, static_cast<std::size_t>(n));
     for (;;) {
-      auto r = n == 0 ? rx.end_of_frame() : rx.feed(in);
+      auto r = n == 0 ? rx.idle() : rx.feed(in);
       if (r.is_incomplete()) {
         break;
       }
@@ -87,10 +91,51 @@ int serve_sm_unit(const cli::options& opts) {
   return 0;
 }
 
-modbus_io::exchange transact(serial::port& port, std::uint8_t slave, const std::uint8_t* adu,
-                             std::size_t size) {
-  return modbus_io::transact(port, slave, adu, size, mo::report_id_format::standard, 1000);
-}
+// One conversation with the unit: every request at least min_command_interval_us after the
+// previous reply (SM unit guideline §3: "wait at least 0.1 second before sending the next
+// command"; this also keeps the 5 ms silent interval of §4).
+class paced_link {
+ public:
+  paced_link(serial::port& port, std::uint8_t slave, mo::report_id_format fc11)
+      : port_(port), slave_(slave), fc11_(fc11) {}
+
+  // Sends the request ADU (out[0..size)) and decodes the reply against it.
+  mb::decode_result<mo::response> ask(const std::uint8_t* adu, std::size_t size,
+                                      std::string& error) {
+    if (replied_) {
+      for (;;) {
+        const auto since = static_cast<std::int32_t>(serial::now_us() - last_reply_us_);
+        if (since >= static_cast<std::int32_t>(sm::min_command_interval_us)) {
+          break;
+        }
+        serial::sleep_us(static_cast<std::uint32_t>(
+            static_cast<std::int32_t>(sm::min_command_interval_us) - since));
+      }
+    }
+    const modbus_io::exchange e = modbus_io::transact(port_, slave_, adu, size, fc11_, 1000);
+    last_reply_us_ = serial::now_us();
+    replied_ = true;
+    if (!e.error.empty()) {
+      error = e.error;
+      return mb::decode_failure{mb::errc::truncated, 0};
+    }
+    pdu_ = e.pdu;
+    const auto r = mo::decode_response(mb::byte_view(pdu_.data(), pdu_.size()),
+                                       mb::byte_view(adu + 1, size - 3U), fc11_);
+    if (!r.is_complete()) {
+      error = mb::to_string(r.error());
+    }
+    return r;
+  }
+
+ private:
+  serial::port& port_;
+  std::uint8_t slave_;
+  mo::report_id_format fc11_;
+  std::uint32_t last_reply_us_ = 0;
+  bool replied_ = false;
+  std::vector<std::uint8_t> pdu_;  // the last reply: the response's views point into it
+};
 
 std::string decimal(std::int32_t raw, const sm::unit_info& u) {
   char text[32];
@@ -106,58 +151,93 @@ std::string decimal(std::int32_t raw, const sm::unit_info& u) {
 int read_sm_unit(const cli::options& opts) {
   serial::port port;
   const std::uint8_t slave = slave_of(opts);
+  const std::string what = opts.get("read").value_or("instantaneous");
+  if (what != "instantaneous" && what != "password") {
+    throw cli::usage_error{"--read is instantaneous (data and version) or password"};
+  }
+  const mo::report_id_format fc11 =
+      modbus_io::fc11_of(opts, mo::report_id_format::two_bytes_no_count);
   if (!modbus_io::open_port(port, opts)) {
     return 1;
   }
-  const std::string password = opts.get("password").value_or("password");
+  paced_link link(port, slave, fc11);
   std::uint8_t adu[256] = {};
+  std::string error;
   auto fail = [](const std::string& code) {
     cli::print(cli::outcome::failure(code));
     return 1;
   };
-  // Login status; log in if needed (writing the password toggles the state).
-  std::size_t n = sm::read_login_status(slave, adu).value();
-  modbus_io::exchange e = transact(port, slave, adu, n);
-  if (!e.error.empty()) {
-    return fail(e.error);
-  }
-  auto status =
-      mo::decode_response(mb::byte_view(e.pdu.data(), e.pdu.size()), mb::byte_view(adu + 1, n - 3));
-  if (!status.is_complete() || status->exception || status->data.size() != 2) {
-    return fail(status.is_complete() ? "exception" : mb::to_string(status.error()));
-  }
-  bool logged_in = mo::register_at(status->data, 0) == sm::input::logged_in;
-  bool logged_in_now = false;
-  if (!logged_in) {
+  std::string out = "{\"ok\":true,\"slave\":" + std::to_string(slave);
+  if (what == "password") {
+    // Reading the password needs the login state (§6 note *1): log in only if logged out,
+    // and leave the unit as it was found.
+    std::size_t n = sm::read_login_status(slave, adu).value();
+    auto status = link.ask(adu, n, error);
+    if (!status.is_complete() || status->exception || status->data.size() != 2) {
+      return fail(status.is_complete() ? "exception" : error);
+    }
+    const bool was_logged_in = mo::register_at(status->data, 0) == sm::input::logged_in;
+    const std::string password = opts.get("password").value_or("password");
     const auto pw =
         mb::byte_view(reinterpret_cast<const std::uint8_t*>(password.data()), password.size());
-    const auto k = sm::login(slave, pw, adu);
-    if (!k) {
-      return fail(mb::to_string(k.error()));
+    auto toggle = [&]() -> std::string {  // writing the password toggles the state (§6)
+      const auto k = sm::login(slave, pw, adu);
+      if (!k) {
+        return mb::to_string(k.error());
+      }
+      const auto r = link.ask(adu, k.value(), error);
+      if (!r.is_complete()) {
+        return error;
+      }
+      return sm::is_login_error(r.value()) ? "login_error" : (r->exception ? "exception" : "");
+    };
+    if (!was_logged_in) {
+      const std::string e = toggle();
+      if (!e.empty()) {
+        return fail(e);
+      }
     }
-    e = transact(port, slave, adu, k.value());
-    if (!e.error.empty()) {
-      return fail(e.error);
+    n = sm::read_holding_block(slave, sm::holding::password, sm::holding::password_registers, adu)
+            .value();
+    const auto r = link.ask(adu, n, error);
+    std::string text;
+    const bool read_ok = r.is_complete() && !r->exception;
+    if (read_ok) {
+      for (std::size_t i = 0; i < r->data.size(); ++i) {
+        if (r->data[i] != 0U) {
+          text += static_cast<char>(r->data[i]);
+        }
+      }
     }
-    const auto r = mo::decode_response(mb::byte_view(e.pdu.data(), e.pdu.size()),
-                                       mb::byte_view(adu + 1, k.value() - 3));
-    if (!r.is_complete()) {
-      return fail(mb::to_string(r.error()));
+    const std::string read_error =
+        read_ok ? ""
+                : (r.is_complete() ? (sm::is_login_error(r.value()) ? "login_error" : "exception")
+                                   : error);
+    std::string restore_error;
+    if (!was_logged_in) {
+      restore_error = toggle();  // log out again, whatever the read gave
     }
-    if (sm::is_login_error(r.value())) {
-      return fail("login_error");
+    if (!read_error.empty()) {
+      return fail(read_error);
     }
-    logged_in = logged_in_now = !r->exception;
+    if (!restore_error.empty()) {
+      return fail("logout_" + restore_error);
+    }
+    out += std::string(",\"logged_in\":") + (was_logged_in ? "true" : "false") +
+           ",\"logged_in_by_read\":" + (was_logged_in ? "false" : "true") +
+           ",\"login_restored\":" + (was_logged_in ? "false" : "true") +
+           ",\"password\":" + cli::json_quote(text) + "}";
+    if (!was_logged_in) {
+      std::cerr << "motionbus: the unit was logged out: logged in to read the password, then "
+                   "logged out again\n";
+    }
+    std::cout << out << '\n';
+    return 0;
   }
-  n = sm::read_instantaneous(slave, adu).value();
-  e = transact(port, slave, adu, n);
-  if (!e.error.empty()) {
-    return fail(e.error);
-  }
-  const auto r =
-      mo::decode_response(mb::byte_view(e.pdu.data(), e.pdu.size()), mb::byte_view(adu + 1, n - 3));
+  std::size_t n = sm::read_instantaneous(slave, adu).value();
+  const auto r = link.ask(adu, n, error);
   if (!r.is_complete()) {
-    return fail(mb::to_string(r.error()));
+    return fail(error);
   }
   if (r->exception) {
     return fail(sm::is_login_error(r.value()) ? "login_error" : "exception");
@@ -166,12 +246,23 @@ int read_sm_unit(const cli::options& opts) {
   if (!data) {
     return fail(mb::to_string(data.error()));
   }
+  n = sm::read_version(slave, adu).value();
+  const auto v = link.ask(adu, n, error);
+  if (!v.is_complete()) {
+    return fail(error);
+  }
+  if (v->exception) {
+    return fail("exception");
+  }
+  if (fc11 == mo::report_id_format::two_bytes_no_count) {
+    const auto ver = sm::decode_version(v.value());
+    out += ",\"version\":" + cli::json_quote(modbus_io::sm_version_text(ver->upper, ver->lower));
+  } else {
+    out += ",\"slave_id\":" + cli::json_quote(cli::to_hex(v->data.data(), v->data.size()));
+  }
   static const char* const names[sm::channel_count] = {
       "voltage",        "current",        "power",     "temperature", "acceleration_x",
       "acceleration_y", "acceleration_z", "frequency", "torque"};
-  std::string out = "{\"ok\":true,\"slave\":" + std::to_string(slave) +
-                    ",\"logged_in\":" + (logged_in ? "true" : "false") +
-                    ",\"logged_in_by_read\":" + (logged_in_now ? "true" : "false");
   for (std::size_t i = 0; i < sm::channel_count; ++i) {
     const auto c = static_cast<sm::channel>(i);
     const sm::unit_info u = sm::unit_of(c);
@@ -191,10 +282,11 @@ protocol_entries sm_unit_entries() {
   protocol_entries e;
   e.emulators.push_back(
       {"sm-unit", &serve_sm_unit, {"device", "slave", "baud", "parity", "stop-bits"}, {}});
-  e.devices.push_back({"sm-unit",
-                       &read_sm_unit,
-                       {"device", "slave", "baud", "parity", "stop-bits", "password"},
-                       {}});
+  e.devices.push_back(
+      {"sm-unit",
+       &read_sm_unit,
+       {"device", "slave", "baud", "parity", "stop-bits", "password", "read", "fc11"},
+       {}});
   return e;
 }
 

@@ -16,6 +16,10 @@
 // The slave's answers, as this library implements both sides:
 //   header    0 for S..CRC; R and W echoed ("10" read, "01" write). "11": access refused (not
 //             readable / not writable). "00": no slave answered (other ID, or bad header CRC).
+//             With control_slave_options::refuse_while_busy, a header that arrives while the
+//             register file is busy is answered "11" too: the previous operation is still in
+//             progress (the AMO ABSYS answers such an access with an error, ABSYS document §3.1,
+//             §3.2); otherwise the slave waits in the S slot as below.
 //   S         1 when ready, 0 while busy (wait states, e.g. an EEPROM write in progress). The
 //             vendor texts leave open how a master waits; this master repeats S = 1 until the
 //             slave answers 1 (bounded by control_options::max_wait_frames), which keeps data
@@ -318,6 +322,14 @@ class control_master {
   bool ready_ = false;
 };
 
+/// The slave's run-time choices.
+struct control_slave_options {
+  std::uint8_t slave_id = 0;
+  /// A new access (header) while the register file is not ready is refused ("11") instead of
+  /// served after wait states. Wait states still pace the bytes of a sequential access.
+  bool refuse_while_busy = false;
+};
+
 /// Slave side of register access, over a register file `Registers` that provides
 ///   bool readable(std::uint8_t address) const;   bool writable(std::uint8_t address) const;
 ///   bool ready() const;                            (false while busy: wait states)
@@ -326,8 +338,8 @@ class control_master {
 template <class Registers>
 class control_slave {
  public:
-  constexpr control_slave(Registers& regs, std::uint8_t slave_id = 0) noexcept
-      : regs_(&regs), id_(slave_id) {}
+  constexpr explicit control_slave(Registers& regs, control_slave_options opt = {}) noexcept
+      : regs_(&regs), id_(opt.slave_id), refuse_while_busy_(opt.refuse_while_busy) {}
 
   /// One frame: `cdm` is the CDM bit received; returns the CDS bit for the next frame.
   constexpr bool step(bool cdm) noexcept {
@@ -369,6 +381,8 @@ class control_slave {
   constexpr std::size_t accesses() const noexcept { return accesses_; }
   /// Writes refused because the master's data CRC was wrong.
   constexpr std::size_t rejected_writes() const noexcept { return rejected_; }
+  /// Accesses refused because the register file was busy (refuse_while_busy).
+  constexpr std::size_t refused_busy() const noexcept { return refused_busy_; }
 
  private:
   enum class state : std::uint8_t { idle, header, start, data, crc, stop, after_stop, ignore };
@@ -390,6 +404,10 @@ class control_slave {
         return false;  // "00": not this slave, or a corrupted header
       }
       refused_ = read ? !regs_->readable(address_) : !regs_->writable(address_);
+      if (!refused_ && refuse_while_busy_ && !regs_->ready()) {
+        refused_ = true;  // the previous operation is still in progress
+        ++refused_busy_;
+      }
       return read || refused_;  // echo R (1 for a read), or 1 to refuse
     }
     // W
@@ -463,6 +481,7 @@ class control_slave {
   std::size_t zeros_ = preamble_frames;
   std::size_t accesses_ = 0;
   std::size_t rejected_ = 0;
+  std::size_t refused_busy_ = 0;
   std::uint32_t header_ = 0;
   unsigned index_ = 0;
   std::uint8_t address_ = 0;
@@ -471,6 +490,7 @@ class control_slave {
   bool refused_ = false;
   bool write_mode_ = false;
   bool write_ok_ = true;
+  bool refuse_while_busy_;
 };
 
 }  // namespace biss

@@ -73,6 +73,24 @@ inline constexpr char manufacturer[2] = {'A', 'm'};
 inline constexpr std::uint32_t persistent_write_us = 4000;  ///< one persistent byte (> 4 ms)
 inline constexpr std::uint32_t offset_command_us = 17000;   ///< command 02/03: four EEPROM writes
 inline constexpr std::uint32_t eeprom_read_us = 50;         ///< a non-cached read
+
+/// How long writing `value` to `address` keeps the encoder busy (ABSYS document §3.2, §3.4):
+/// nothing for the cached non-persistent registers (bank selection, a command other than 02
+/// and 03), 17 ms for the offset commands 02 and 03, 4 ms for every other register (offset
+/// bytes, preset mode, the EDS bank register, the user bank). A master waits this long before
+/// its next access: the encoder refuses one that arrives while the write is in progress.
+constexpr std::uint32_t write_time_us(std::uint8_t address, std::uint8_t value) noexcept {
+  if (address == reg::bank_select) {
+    return 0;
+  }
+  if (address == reg::command) {
+    return value == static_cast<std::uint8_t>(command::set_offset_to_position) ||
+                   value == static_cast<std::uint8_t>(command::reset_offset)
+               ? offset_command_us
+               : 0U;
+  }
+  return persistent_write_us;
+}
 /// Time from power-on to valid position data (§1, Table 1).
 inline constexpr std::uint32_t power_on_delay_ms = 1800;
 

@@ -7,9 +7,14 @@
 //                       encoder's values and the CDS bit it owes the master), and
 //   control(cdm)        the CDM bit the master sent with that frame (the answer lands in the
 //                       next frame's CDS),
-// which also advances time by `config::frame_period_us`. Reads are answered without wait
-// states (0.05 ms is below a frame period of 100 µs or more); persistent writes take 4 ms and
-// the offset commands 17 ms, during which the slave answers the next start bit with wait states.
+// which also advances time by `config::frame_period_us`. Register timings (ABSYS document §3.1,
+// §3.2, §3.4): reads are answered without wait states (0.05 ms for an EEPROM value, below a
+// frame period of 100 µs or more); a write takes 4 ms (offset, preset mode, the EDS bank
+// register 0x41 and the user bank: every register but the cached non-persistent bank
+// selection and command register), the offset commands 02 and 03 take 17 ms. While one is in
+// progress, a new read or write access is refused with an error ("11" in the header's R/W
+// answer: errc::biss_access_denied at the master), as the encoder does; the bytes of a
+// sequential write are paced by wait states, which signal each write's completion.
 #ifndef MOTIONBUS_DEVICES_ABSYS_EMULATOR_HPP
 #define MOTIONBUS_DEVICES_ABSYS_EMULATOR_HPP
 
@@ -40,7 +45,7 @@ struct emulator_config {
 class emulator {
  public:
   constexpr explicit emulator(const emulator_config& cfg = {}) noexcept
-      : cfg_(cfg), regs_(*this), slave_(regs_, cfg.slave_id) {
+      : cfg_(cfg), regs_(*this), slave_(regs_, biss::control_slave_options{cfg.slave_id, true}) {
     (void)biss::encode_eds_common(biss::eds_common{},
                                   mutable_byte_view(eds_common_, biss::bank_size));
     (void)biss::encode_bp3(default_bp3(cfg.type, cfg.sip_count, cfg.sip_resolution),
@@ -115,7 +120,10 @@ class emulator {
   constexpr std::uint8_t error_status() const noexcept { return status_; }
   constexpr std::uint8_t selected_bank() const noexcept { return bank_; }
   constexpr bool busy() const noexcept { return busy_us_ > 0U; }
+  constexpr std::uint32_t frame_period_us() const noexcept { return cfg_.frame_period_us; }
   constexpr std::size_t register_accesses() const noexcept { return slave_.accesses(); }
+  /// Accesses refused because the previous operation was still in progress.
+  constexpr std::size_t refused_while_busy() const noexcept { return slave_.refused_busy(); }
   const std::uint8_t* user_bank() const noexcept { return user_; }
 
   /// The register file as control communication sees it (biss::control_slave's interface).
@@ -192,44 +200,32 @@ class emulator {
     if (a < 0x40U) {
       if (bank_ == bank::user) {
         user_[a] = v;
-        busy_us_ = persistent_write_us;
       }
-      return;
-    }
-    if (a == reg::bank_select) {
+    } else if (a == reg::bank_select) {
       bank_ = v == bank::not_allowed ? bank_ : v;  // 0xFF is not allowed: ignored
     } else if (a == reg::eds_bank) {
       eds_bank_ = v;
     } else if (a >= reg::offset && a < reg::offset + 4U) {
       const unsigned shift = 8U * (3U - (a - reg::offset));
       offset_ = (offset_ & ~(0xFFU << shift)) | (static_cast<std::uint32_t>(v) << shift);
-      busy_us_ = persistent_write_us;
     } else if (a == reg::preset_mode) {
       preset_ = v & 0x01U;
-      busy_us_ = persistent_write_us;
     } else if (a == reg::command) {
       command_ = v;
       run_command(v);
     }
+    busy_us_ = write_time_us(a, v);  // §3.4, one table for every register
   }
-
   constexpr void run_command(std::uint8_t v) noexcept {
     switch (v) {
-      case static_cast<std::uint8_t>(command::set_offset_to_position):
-        offset_ = position_;
-        busy_us_ = offset_command_us;
-        break;
-      case static_cast<std::uint8_t>(command::reset_offset):
-        offset_ = 0;
-        busy_us_ = offset_command_us;
-        break;
+      case static_cast<std::uint8_t>(command::set_offset_to_position): offset_ = position_; break;
+      case static_cast<std::uint8_t>(command::reset_offset): offset_ = 0; break;
       case static_cast<std::uint8_t>(command::reset_errors):
         status_ = error_ ? status_error : std::uint8_t{0};  // a present error latches again
         break;
       default: break;
     }
   }
-
   emulator_config cfg_;
   registers regs_;
   biss::control_slave<registers> slave_;

@@ -93,18 +93,25 @@ class emulator {
   }
 
   // --- the server dispatch's accessors -------------------------------------------------------
-  /// SM-unit order of checks before the generic decode: function, then address (block rules).
+  /// The SM unit's order of checks (SM unit Modbus-RTU guideline §5, "discovery priority"):
+  /// an unsupported function (01); an unsupported start address (02); at a supported address,
+  /// an invalid number of registers or bytes (03: the generic decoder's checks, which
+  /// serve_rtu answers when this lets the request through); a range that runs past the area or
+  /// splits a block (02).
   constexpr std::uint8_t admit(byte_view pdu) const noexcept {
     const std::uint8_t f = pdu[0];
     const bool supported = (f >= 0x01 && f <= 0x06) || f == 0x0F || f == 0x10 || f == 0x11;
     if (!supported) {
       return function_error;
     }
-    if (f == 0x11) {
-      return 0;
+    if (f == 0x11 || pdu.size() < 3U) {
+      return 0;  // FC11 has no address; too short for one: the generic decoder's 03
     }
-    if (pdu.size() < 5U) {
-      return data_error;  // too short to carry an address
+    if (!area_ok(f, modbus::register_at(pdu.subspan(1), 0), 0)) {
+      return address_error;
+    }
+    if (!modbus::decode_request(pdu).is_complete()) {
+      return 0;
     }
     const std::uint16_t address = modbus::register_at(pdu.subspan(1), 0);
     const std::uint16_t quantity =
@@ -201,15 +208,16 @@ class emulator {
   static constexpr std::uint8_t version_lower = 0x00;
 
  private:
+  // quantity 0 asks whether `address` may start an access to the area at all
   static constexpr bool within(std::uint16_t address, std::uint16_t quantity, std::uint16_t first,
                                std::uint16_t count) noexcept {
-    return address >= first && quantity >= 1U &&
-           static_cast<std::uint32_t>(address) + quantity <=
+    return address >= first &&
+           static_cast<std::uint32_t>(address) + (quantity == 0U ? 1U : quantity) <=
                static_cast<std::uint32_t>(first) + count;
   }
   static constexpr bool whole_block(std::uint16_t address, std::uint16_t quantity,
                                     std::uint16_t first, std::uint16_t count) noexcept {
-    return address == first && quantity == count;
+    return address == first && (quantity == 0U || quantity == count);
   }
 
   constexpr bool area_ok(std::uint8_t f, std::uint16_t address,
@@ -218,7 +226,7 @@ class emulator {
       case 0x01:
       case 0x05:
       case 0x0F:
-        return quantity == 1U &&
+        return quantity <= 1U &&
                (address == coil::warning_count_clear || address == coil::warning_reset);
       case 0x02: return false;  // no discrete inputs are documented
       case 0x04: {

@@ -118,21 +118,32 @@ constexpr result<plan<1>> page_change_plan(std::uint8_t page) noexcept {
   return p;
 }
 
-/// Writes `data` at `address` (0..126) of `page`, then verifies it: page change, write, wait
-/// 18 ms, read back (a write response only confirms reception; spec §6.3.5, §10). The last
-/// step is marked verify with the expected EDF.
-constexpr result<plan<3>> write_verify_plan(std::uint8_t page, std::uint8_t address,
+/// Whether `address` of `page` may be written: 0..126 of the user pages 0..5; on page 7 only
+/// the over-heat threshold (address 4; address 5, the temperature, is read only). The encoder
+/// answers a write anywhere else with ID3 data (spec §6.1.1, §7, §9.4 Table 6 No.2).
+constexpr bool writable(std::uint8_t page, std::uint8_t address) noexcept {
+  return page <= 5U ? address < tformat::page_select_address : (page == 7U && address == 4U);
+}
+
+/// Writes `data` at `address` of `page`, then verifies it: page change, write, wait 18 ms, the
+/// page specified again (a written value reads back only after that or a power cycle: spec
+/// §10, "Access to EEPROM"), wait 18 ms, read back (a write response only confirms reception;
+/// spec §6.3.5). The last step is marked verify with the expected EDF. errc::out_of_range for
+/// an address the encoder does not open for writing (writable()).
+constexpr result<plan<4>> write_verify_plan(std::uint8_t page, std::uint8_t address,
                                             std::uint8_t data) noexcept {
-  if (page > 7U || page == 6U || address >= tformat::page_select_address) {
+  if (!writable(page, address)) {
     return errc::out_of_range;
   }
-  plan<3> p;
+  plan<4> p;
   (void)detail::add_step(p, tformat::data_id::eeprom_write, eeprom_write_us,
                          tformat::page_select_address, page);
   (void)detail::add_step(p, tformat::data_id::eeprom_write, eeprom_write_us, address, data);
+  (void)detail::add_step(p, tformat::data_id::eeprom_write, eeprom_write_us,
+                         tformat::page_select_address, page);
   (void)detail::add_step(p, tformat::data_id::eeprom_read, 0, address);
-  p.steps[2].verify = true;
-  p.steps[2].expected_edf = data;
+  p.steps[3].verify = true;
+  p.steps[3].expected_edf = data;
   return p;
 }
 

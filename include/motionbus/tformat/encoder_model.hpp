@@ -11,7 +11,11 @@
 //    bad EEPROM CRC or a closed EEPROM address → ID3 data (spec Tables 5, 6);
 //  - EEPROM: pages 0..5 of 127 bytes (0..126), page select by writing address 127, page 7 with
 //    the over-heat threshold (address 4, read/write) and the substrate temperature (address 5,
-//    read only); busy for 18 ms after a write or a page change (reply busy, EDF 00);
+//    read only); busy for 18 ms after a write or a page change (reply busy, EDF 00); a read
+//    returns the page as it was when the page was last specified (or at power-on): a written
+//    value is read back only after the page is specified again (spec §10, "Access to EEPROM":
+//    "For confirming the data, turn off and on the main power supply or page is specified
+//    again");
 //  - resets 7, 8, C act on the 10th consecutive request of the same ID, each at least 40 µs after
 //    the previous one (spec §10), after the reply to it (which carries the data as received);
 //    ID8 then writes EEPROM (busy 18 ms).
@@ -58,7 +62,7 @@ class encoder_model {
 
   constexpr encoder_model() noexcept : encoder_model(config{}) {}
   constexpr explicit encoder_model(config cfg) noexcept
-      : cfg_(cfg), threshold_(cfg.overheat_threshold) {}
+      : cfg_(cfg), threshold_(cfg.overheat_threshold), loaded_threshold_(cfg.overheat_threshold) {}
 
   // --- the physical world ------------------------------------------------------------------
   /// Sets the raw single-turn reading (before any ID8 zero offset) and the turn count.
@@ -219,6 +223,7 @@ class encoder_model {
         return abnormal(false, false);
       }
       page_ = q.edf;
+      load_page();
     } else if (page_ < user_pages) {
       eeprom_[cell(page_, q.address)] = q.edf;
     } else if (page_ == 7U && q.address == 4U) {
@@ -239,15 +244,26 @@ class encoder_model {
     if (q.address == page_select_address) {
       value = page_;
     } else if (page_ < user_pages) {
-      value = eeprom_[cell(page_, q.address)];
+      value = loaded_[q.address];
     } else if (page_ == 7U && q.address == 4U) {
-      value = threshold_;
+      value = loaded_threshold_;
     } else if (page_ == 7U && q.address == 5U) {
       value = static_cast<std::uint8_t>(temperature_);
     } else {
       return abnormal(false, false);
     }
     return eeprom_reply(q.id, q.address, false, value);
+  }
+
+  // Specifying a page makes what was written to it readable (see the header).
+  constexpr void load_page() noexcept {
+    if (page_ < user_pages) {
+      for (std::uint8_t a = 0; a < page_size; ++a) {
+        loaded_[a] = eeprom_[cell(page_, a)];
+      }
+    } else {
+      loaded_threshold_ = threshold_;
+    }
   }
 
   constexpr void count_reset(data_id id, std::uint32_t now_us) noexcept {
@@ -291,7 +307,9 @@ class encoder_model {
   std::int8_t temperature_ = 25;
   std::uint8_t threshold_;
   std::uint8_t page_ = 0;
+  std::uint8_t loaded_threshold_;
   std::uint8_t eeprom_[user_pages * page_size] = {};
+  std::uint8_t loaded_[page_size] = {};  // the current page as last specified
   bool busy_ = false;
   std::uint32_t busy_until_ = 0;
   data_id reset_id_ = data_id::reset_errors;
