@@ -50,6 +50,25 @@ TEST_CASE("decode modbus response: registers, bits, exceptions, FC11, checked ag
         "{\"ok\":true,\"slave\":17,\"function\":3,\"exception\":2,\"crc\":13505}\n");
   CHECK(cli("decode modbus response 01110100504d") ==
         "{\"ok\":true,\"slave\":1,\"function\":17,\"data\":\"0100\",\"crc\":19792}\n");
+  // FC11 without its request: the standard layout's byte count is checked (250, two present)
+  int fc11_status = 0;
+  CHECK(cli("decode modbus response 1111FAB4FFCA4E", &fc11_status) ==
+        "{\"ok\":false,\"error\":\"byte_count_mismatch\"}\n");
+  CHECK(fc11_status == 1);
+  // the SM unit's layout: two version bytes, no count (SM unit guideline §11)
+  CHECK(cli("decode modbus response 0111020310BC --fc11 sm") ==
+        "{\"ok\":true,\"slave\":1,\"function\":17,\"version_upper\":2,\"version_lower\":3,"
+        "\"version\":\"2.0.3\",\"crc\":48144}\n");
+  CHECK(cli("decode modbus response 0111020310BC") ==
+        "{\"ok\":false,\"error\":\"byte_count_mismatch\"}\n");
+  CHECK(cli("decode modbus response 0111020310BC --fc11 sm --request 0111C02C") ==
+        "{\"ok\":true,\"slave\":1,\"function\":17,\"version_upper\":2,\"version_lower\":3,"
+        "\"version\":\"2.0.3\",\"crc\":48144}\n");
+  cli("decode modbus response 0111020310BC --fc11 nine", &fc11_status);
+  CHECK(fc11_status == 2);
+  // FC08 sub-function 00 echoes any even number of bytes; an odd number is refused
+  CHECK(cli("decode modbus response 01080000A53712349672") ==
+        "{\"ok\":true,\"slave\":1,\"function\":8,\"data\":\"0000a5371234\",\"crc\":29334}\n");
   // the response to another request
   CHECK(cli("decode modbus response 110103cd6b054012 --request 1103006B00037687") ==
         "{\"ok\":false,\"error\":\"response_mismatch\"}\n");
