@@ -236,6 +236,20 @@ TEST_CASE("FC08 sub-function 00 (Return Query Data): 8 + 2k bytes, the CRC tells
   }
 }
 
+TEST_CASE("idle(): a frame for another address ends in silence too, and is skipped") {
+  rtu_framer f(framer_role::server, 0x11);
+  const bytes other = rtu(0x12, {0x42, 0x01, 0x02});  // unknown function: only the silence ends it
+  CHECK(run(f, other, 3).empty());
+  CHECK(f.pending() == other.size());
+  CHECK(f.idle().is_incomplete());
+  CHECK(f.skipped() == 1);
+  CHECK(f.pending() == 0);
+  // a partial frame: the length rule wants more, the silence says it is cut short
+  const bytes cut = {0x11, 0x03, 0x00};
+  CHECK(run(f, cut, 1).empty());
+  CHECK(f.idle().error() == errc::truncated);
+}
+
 TEST_CASE("RTU timing: t1.5 and t3.5 from baud, parity and stop bits") {
   CHECK(bits_per_character(parity::even, 1) == 11);
   CHECK(bits_per_character(parity::none, 2) == 11);

@@ -396,3 +396,61 @@ TEST_CASE("RTU: the serial-line example, CRC low byte first, addresses and lengt
   std::uint8_t huge[257] = {};
   CHECK(decode_rtu(byte_view(huge, 257)).error() == errc::modbus_pdu_length);
 }
+
+TEST_CASE("client: a response without its request, every check it carries itself") {
+  auto ok = [](const bytes& pdu, report_id_format fc11 = report_id_format::standard) {
+    const auto r = decode_response_unpaired(view(pdu), fc11);
+    REQUIRE(r.is_complete());
+    CHECK(r.consumed() == pdu.size());
+    return r.value();
+  };
+  auto error = [](const bytes& pdu, report_id_format fc11 = report_id_format::standard) {
+    const auto r = decode_response_unpaired(view(pdu), fc11);
+    REQUIRE(r.is_failed());
+    return r.error();
+  };
+  // reads: the byte count against the bytes present; registers in pairs
+  auto r = ok({0x03, 0x04, 0x00, 0x01, 0x00, 0x02});
+  CHECK(r.quantity == 2);
+  CHECK(r.byte_count == 4);
+  CHECK(ok({0x01, 0x01, 0x05}).quantity == 8);
+  CHECK(error({0x03, 0x05, 0x00, 0x01, 0x00, 0x02}) == errc::modbus_byte_count);
+  CHECK(error({0x04, 0x03, 0x00, 0x01, 0x00}) == errc::modbus_byte_count);
+  CHECK(error({0x03}) == errc::truncated);
+  // writes: five bytes, the echo as it came
+  r = ok({0x06, 0x00, 0x24, 0x03, 0x20});
+  CHECK(r.address == 0x24);
+  CHECK(r.value == 0x320);
+  CHECK(ok({0x10, 0x00, 0x01, 0x00, 0x02}).quantity == 2);
+  CHECK(error({0x05, 0x00, 0x01, 0xFF}) == errc::truncated);
+  CHECK(error({0x0F, 0x00, 0x01, 0x00, 0x02, 0x00}) == errc::modbus_byte_count);
+  CHECK(ok({0x16, 0x00, 0x04, 0x00, 0xF2, 0x00, 0x25}).or_mask == 0x25);
+  CHECK(ok({0x07, 0x6D}).status == 0x6D);
+  CHECK(ok({0x0B, 0xFF, 0xFF, 0x01, 0x08}).event_count == 0x108);
+  // FC08: sub-function 00 echoes an even number of bytes; the others carry two
+  CHECK(ok({0x08, 0x00, 0x00, 0xA5, 0x37, 0x12, 0x34}).data.size() == 4);
+  CHECK(error({0x08, 0x00, 0x00, 0xA5, 0x37, 0x12}) == errc::modbus_byte_count);
+  CHECK(ok({0x08, 0x00, 0x0B, 0x00, 0x07}).sub_function == 0x0B);
+  CHECK(error({0x08, 0x00, 0x0B, 0x00}) == errc::modbus_byte_count);
+  // FC11: the standard layout's count; the SM unit's two bytes
+  CHECK(error({0x11, 0xFA, 0xB4, 0xFF}) == errc::modbus_byte_count);
+  CHECK(ok({0x11, 0x02, 0x01, 0xFF}).data.size() == 2);
+  CHECK(ok({0x11, 0x02, 0x03}, report_id_format::two_bytes_no_count).data.size() == 2);
+  CHECK(error({0x11, 0x02, 0x03, 0x04}, report_id_format::two_bytes_no_count) ==
+        errc::modbus_byte_count);
+  // FC18, FC0C, FC2B/0E: counts and objects inside the PDU
+  CHECK(ok({0x18, 0x00, 0x06, 0x00, 0x02, 0x01, 0xB8, 0x12, 0x84}).fifo_count == 2);
+  CHECK(error({0x18, 0x00, 0x08, 0x00, 0x02, 0x01, 0xB8, 0x12, 0x84}) == errc::modbus_byte_count);
+  CHECK(ok({0x0C, 0x08, 0x00, 0x00, 0x01, 0x08, 0x01, 0x21, 0x20, 0x00}).message_count == 0x121);
+  CHECK(ok({0x2B, 0x0E, 0x01, 0x01, 0x00, 0x00, 0x01, 0x00, 0x02, 'A', 'm'}).object_count == 1);
+  CHECK(error({0x2B, 0x0E, 0x01, 0x01, 0x00, 0x00, 0x01, 0x00, 0x09, 'A', 'm'}) ==
+        errc::modbus_byte_count);
+  // exceptions, an empty PDU, a function without a layout (raw data)
+  r = ok({0x83, 0x02});
+  CHECK(r.exception);
+  CHECK(r.function == 0x03);
+  CHECK(r.exception_code == 0x02);
+  CHECK(error({0x83, 0x02, 0x00}) == errc::modbus_byte_count);
+  CHECK(error({}) == errc::modbus_pdu_length);
+  CHECK(ok({0x41, 0x01, 0x02}).data.size() == 2);
+}
