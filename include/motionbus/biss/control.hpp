@@ -325,7 +325,7 @@ class control_master {
 /// The slave's run-time choices.
 struct control_slave_options {
   std::uint8_t slave_id = 0;
-  /// A new access (header) while the register file is not ready is refused ("11") instead of
+  /// An access whose header arrives while the register file is not ready is refused ("11"), not
   /// served after wait states. Wait states still pace the bytes of a sequential access.
   bool refuse_while_busy = false;
 };

@@ -12,7 +12,7 @@
 // frame period of 100 µs or more); a write takes 4 ms (offset, preset mode, the EDS bank
 // register 0x41 and the user bank: every register but the cached non-persistent bank
 // selection and command register), the offset commands 02 and 03 take 17 ms. While one is in
-// progress, a new read or write access is refused with an error ("11" in the header's R/W
+// progress, a further read or write access is refused with an error ("11" in the header's R/W
 // answer: errc::biss_access_denied at the master), as the encoder does; the bytes of a
 // sequential write are paced by wait states, which signal each write's completion.
 #ifndef MOTIONBUS_DEVICES_ABSYS_EMULATOR_HPP
