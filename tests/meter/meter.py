@@ -1,0 +1,671 @@
+#!/usr/bin/python3
+"""The motionbus meter: instructions executed and stack used per operation, on the cores the
+library ships to.
+
+  meter.py run --core cortex-m4 --opt Os --out DIR --include DIR --tools TOOLS.json
+      builds tests/meter/ops.cpp for the core at the level, loads the image into Unicorn (an
+      instruction-set emulator), checks the meter on loops of known instruction count, then calls
+      each operation on its inputs, checks every output against an independent computation made
+      here, and writes DIR/meter-<core>-<opt>.json.
+  meter.py report --out DIR --budgets budgets.json [--markdown FILE]
+      merges the per-build files into DIR/meter.json (a list of {core, opt, operation,
+      instructions, stack_bytes}), prints the table and fails when a budgeted figure exceeds its
+      budget.
+
+Counting: a code hook counts each instruction executed, from the operation's first instruction
+to its return. Unicorn 2.0.1 does not call the hook for an instruction of a Cortex-M IT block
+whose condition fails, though the core issues it: an IT instruction counts the whole block, and
+the block's instructions that do run are not counted again. Stack: the stack is painted before
+each call and a memory hook records the lowest address written below the caller's stack pointer;
+the painted area scanned after the call must agree. On Cortex-M0+ every instruction executed is
+checked to be ARMv6-M (Unicorn's Cortex-M0 model runs Thumb-2 code without complaint).
+
+Must run with Debian's /usr/bin/python3 (python3-unicorn).
+"""
+
+import argparse
+import json
+import os
+import struct
+import subprocess
+import sys
+
+from unicorn import (UC_ARCH_ARM, UC_ARCH_RISCV, UC_HOOK_CODE, UC_HOOK_MEM_WRITE,
+                     UC_MODE_MCLASS, UC_MODE_RISCV32, UC_MODE_THUMB, Uc)
+from unicorn import arm_const, riscv_const
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+CORES = ("cortex-m0plus", "cortex-m4", "rv32imc")
+OPTS = ("Os", "O2")
+
+
+class MeterError(Exception):
+    pass
+
+
+# --- building ---------------------------------------------------------------------------------
+
+def build(core, opt, out, include, tools):
+    os.makedirs(out, exist_ok=True)
+    name = f"meter-{core}-{opt}"
+    elf = os.path.join(out, name + ".elf")
+    common = ["-std=c++17", "-" + opt, "-fno-exceptions", "-fno-rtti", "-fno-threadsafe-statics",
+              "-ffunction-sections", "-fdata-sections", "-Wall", "-Wextra", "-Werror",
+              "-I" + include]
+    if core in ("cortex-m0plus", "cortex-m4"):
+        cpu = ["-mcpu=" + core, "-mthumb", "-mfloat-abi=soft"]
+        cmd = [tools["arm_gxx"]] + common + cpu + [
+            "-nostartfiles", "--specs=nosys.specs", "-T", os.path.join(HERE, "arm.ld"),
+            os.path.join(HERE, "ops.cpp"), "-o", elf]
+        run(cmd)
+    else:
+        target = ["--target=riscv32-unknown-elf", "-march=rv32imc", "-mabi=ilp32", "-mno-relax",
+                  "-nostdinc++"] + [f for d in tools["newlib_cxx"] for f in ("-isystem", d)]
+        objs = []
+        for src, extra in (("ops.cpp", []), ("support.cpp", ["-fno-builtin",
+                                                             "-fno-strict-aliasing"])):
+            obj = os.path.join(out, f"{name}.{src}.o")
+            run([tools["clangxx"]] + common + target + extra +
+                ["-c", os.path.join(HERE, src), "-o", obj])
+            objs.append(obj)
+        run([tools["riscv_ld"], "-m", "elf32lriscv", "-T", os.path.join(HERE, "rv32.ld")] +
+            objs + ["-o", elf])
+    return elf
+
+
+def run(cmd):
+    p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    if p.returncode != 0:
+        raise MeterError("command failed: " + " ".join(cmd) + "\n" + p.stdout)
+
+
+# --- ELF loading --------------------------------------------------------------------------------
+
+class Image:
+    """The loadable segments and the symbol table of a 32-bit little-endian ELF."""
+
+    def __init__(self, path):
+        with open(path, "rb") as f:
+            self.raw = f.read()
+        raw = self.raw
+        if raw[:4] != b"\x7fELF" or raw[4] != 1 or raw[5] != 1:
+            raise MeterError(path + ": not a 32-bit little-endian ELF")
+        (self.machine,) = struct.unpack_from("<H", raw, 18)
+        phoff, shoff = struct.unpack_from("<II", raw, 28)
+        phentsize, phnum, shentsize, shnum, shstrndx = struct.unpack_from("<HHHHH", raw, 42)
+        self.segments = []
+        for i in range(phnum):
+            p_type, p_offset, p_vaddr, _, p_filesz, p_memsz, _, _ = struct.unpack_from(
+                "<IIIIIIII", raw, phoff + i * phentsize)
+            if p_type == 1:  # PT_LOAD
+                self.segments.append((p_vaddr, raw[p_offset:p_offset + p_filesz], p_memsz))
+        sections = []
+        for i in range(shnum):
+            sections.append(struct.unpack_from("<IIIIIIIIII", raw, shoff + i * shentsize))
+        shstr = sections[shstrndx]
+        self.section_names = set()
+        for s in sections:
+            self.section_names.add(self._cstr(shstr[4] + s[0]))
+        self.symbols = {}
+        for s in sections:
+            if s[1] == 2:  # SHT_SYMTAB
+                strtab = sections[s[6]]
+                for k in range(s[5] // 16):
+                    name, value, size, info, _, _ = struct.unpack_from(
+                        "<IIIBBH", raw, s[4] + k * 16)
+                    if name:
+                        self.symbols[self._cstr(strtab[4] + name)] = (value, size)
+
+    def _cstr(self, at):
+        end = self.raw.index(b"\0", at)
+        return self.raw[at:end].decode()
+
+    def symbol(self, name):
+        if name not in self.symbols:
+            raise MeterError("symbol not in image: " + name)
+        return self.symbols[name][0]
+
+
+# --- the machine ----------------------------------------------------------------------------------
+
+STACK_REGION = 16 * 1024
+PAINT = 0xA5
+
+
+class Machine:
+    def __init__(self, core, image):
+        self.core = core
+        self.image = image
+        if core == "rv32imc":
+            self.uc = Uc(UC_ARCH_RISCV, UC_MODE_RISCV32)
+            self.flash, self.ram = 0x80000000, 0x80100000
+        else:
+            self.uc = Uc(UC_ARCH_ARM, UC_MODE_THUMB | UC_MODE_MCLASS)
+            self.uc.ctl_set_cpu_model(arm_const.UC_CPU_ARM_CORTEX_M0 if core == "cortex-m0plus"
+                                      else arm_const.UC_CPU_ARM_CORTEX_M4)
+            self.flash, self.ram = 0x00000000, 0x20000000
+        self.ram_size = 256 * 1024
+        self.uc.mem_map(self.flash, 1024 * 1024)
+        self.uc.mem_map(self.ram, self.ram_size)
+        for vaddr, data, memsz in image.segments:
+            self.uc.mem_write(vaddr, data + b"\0" * (memsz - len(data)))
+        self.stack_top = self.ram + self.ram_size - 64
+        self.stack_floor = self.stack_top - STACK_REGION
+        self.stop = self.flash + 1024 * 1024 - 256  # the return address: never executed
+        self.count = 0
+        self.pending = set()
+        self.lowest = self.stack_top
+        self.violations = []
+        self.uc.hook_add(UC_HOOK_CODE, self._on_code)
+        self.uc.hook_add(UC_HOOK_MEM_WRITE, self._on_write, begin=self.stack_floor,
+                         end=self.stack_top - 1)
+
+    # Counting, with the IT-block correction and the ARMv6-M check.
+    def _on_code(self, uc, address, size, _):
+        if address in self.pending:
+            self.pending.discard(address)
+            return
+        self.pending.clear()
+        self.count += 1
+        if self.core == "rv32imc":
+            return
+        hw = struct.unpack("<H", uc.mem_read(address, 2))[0]
+        if self.core == "cortex-m0plus":
+            self._check_v6m(uc, address, size, hw)
+        if (hw & 0xFF00) == 0xBF00 and (hw & 0x000F) != 0:  # IT: the block issues in full
+            mask = hw & 0xF
+            length = 4 - ((mask & -mask).bit_length() - 1)
+            at = address + 2
+            for _ in range(length):
+                first = struct.unpack("<H", uc.mem_read(at, 2))[0]
+                self.pending.add(at)
+                at += 4 if (first >> 11) in (0x1D, 0x1E, 0x1F) else 2
+            self.count += length
+
+    def _check_v6m(self, uc, address, size, hw):
+        bad = None
+        if size == 4:
+            hw2 = struct.unpack("<H", uc.mem_read(address + 2, 2))[0]
+            is_bl = (hw & 0xF800) == 0xF000 and (hw2 & 0xD000) == 0xD000
+            is_msr_mrs = (hw & 0xFFE0) in (0xF380, 0xF3E0) and (hw2 & 0xC000) == 0x8000
+            is_barrier = hw == 0xF3BF and (hw2 & 0xFF00) == 0x8F00
+            if not (is_bl or is_msr_mrs or is_barrier):
+                bad = f"32-bit {hw:04x} {hw2:04x}"
+        elif (hw & 0xFF00) == 0xBF00 and (hw & 0xF) != 0:
+            bad = f"IT {hw:04x}"
+        elif (hw & 0xF500) == 0xB100:
+            bad = f"CBZ/CBNZ {hw:04x}"
+        if bad:
+            self.violations.append(f"{address:#x}: {bad}")
+
+    def _on_write(self, uc, access, address, size, value, _):
+        if address < self.lowest:
+            self.lowest = address
+
+    def call(self, name, *args):
+        """Calls `name` with integer arguments; returns (result, instructions, stack bytes)."""
+        entry = self.image.symbol(name)
+        uc = self.uc
+        uc.mem_write(self.stack_floor, bytes([PAINT]) * STACK_REGION)
+        self.count = 0
+        self.pending = set()
+        self.lowest = self.stack_top
+        if self.core == "rv32imc":
+            regs = [riscv_const.UC_RISCV_REG_A0 + i for i in range(4)]
+            for r, v in zip(regs, args):
+                uc.reg_write(r, v & 0xFFFFFFFF)
+            uc.reg_write(riscv_const.UC_RISCV_REG_SP, self.stack_top)
+            uc.reg_write(riscv_const.UC_RISCV_REG_RA, self.stop)
+            uc.emu_start(entry, self.stop, count=10_000_000)
+            result = uc.reg_read(riscv_const.UC_RISCV_REG_A0)
+        else:
+            regs = [arm_const.UC_ARM_REG_R0, arm_const.UC_ARM_REG_R1, arm_const.UC_ARM_REG_R2,
+                    arm_const.UC_ARM_REG_R3]
+            for r, v in zip(regs, args):
+                uc.reg_write(r, v & 0xFFFFFFFF)
+            uc.reg_write(arm_const.UC_ARM_REG_SP, self.stack_top)
+            uc.reg_write(arm_const.UC_ARM_REG_LR, self.stop | 1)
+            uc.emu_start(entry | 1, self.stop, count=10_000_000)
+            result = uc.reg_read(arm_const.UC_ARM_REG_R0)
+        pc = uc.reg_read(riscv_const.UC_RISCV_REG_PC if self.core == "rv32imc"
+                         else arm_const.UC_ARM_REG_PC)
+        if (pc & ~1) != self.stop:
+            raise MeterError(f"{name} did not return (pc {pc:#x})")
+        if self.violations:
+            raise MeterError(f"{name}: not ARMv6-M: " + "; ".join(self.violations[:5]))
+        painted = bytes(uc.mem_read(self.stack_floor, STACK_REGION))
+        deepest = next((i for i, b in enumerate(painted) if b != PAINT), STACK_REGION)
+        hooked_depth = self.stack_top - self.lowest
+        painted_depth = self.stack_top - (self.stack_floor + deepest) if deepest < STACK_REGION \
+            else 0
+        if painted_depth > hooked_depth or hooked_depth - painted_depth > 4:
+            raise MeterError(f"{name}: stack paint ({painted_depth} B) and write hook "
+                             f"({hooked_depth} B) disagree")
+        return result, self.count, hooked_depth
+
+    def write(self, symbol, data):
+        self.uc.mem_write(self.image.symbol(symbol), bytes(data))
+
+    def write_u32(self, symbol, value):
+        self.write(symbol, struct.pack("<I", value))
+
+    def read(self, symbol, size):
+        return bytes(self.uc.mem_read(self.image.symbol(symbol), size))
+
+    def out(self, n=16):
+        return list(struct.unpack(f"<{n}I", self.read("meter_out", 4 * n)))
+
+    def out_bytes(self):
+        size, address = struct.unpack("<II", self.read("meter_out", 8))
+        if size > 256:
+            raise MeterError(f"output of {size} bytes")
+        return bytes(self.uc.mem_read(address, size)) if size else b""
+
+    def clear_out(self):
+        self.write("meter_out", b"\0" * 256)
+
+
+# --- independent computations -------------------------------------------------------------------
+
+def crc16_modbus(data):
+    crc = 0xFFFF
+    for b in data:
+        crc ^= b
+        for _ in range(8):
+            crc = (crc >> 1) ^ 0xA001 if crc & 1 else crc >> 1
+    return crc
+
+
+def crc_msb_first(bits, count, width, poly):
+    """A non-reflected CRC of `count` bits (MSB first), initial value 0."""
+    reg = 0
+    top = 1 << (width - 1)
+    for i in range(count - 1, -1, -1):
+        bit = (bits >> i) & 1
+        fb = ((reg & top) != 0) ^ bit
+        reg = (reg << 1) & ((1 << width) - 1)
+        if fb:
+            reg ^= poly
+    return reg
+
+
+def tformat_crc(frame):
+    value = int.from_bytes(bytes(frame), "big")
+    return crc_msb_first(value, 8 * len(frame), 8, 0x01)  # x^8 + 1
+
+
+def tformat_cf(code):
+    return 0x02 | (code << 3) | ((bin(code).count("1") & 1) << 7)
+
+
+def le24(v):
+    return [v & 0xFF, (v >> 8) & 0xFF, (v >> 16) & 0xFF]
+
+
+def tformat_id3(abs_, enid, abm, almc=0, sf=0):
+    f = [tformat_cf(3), sf] + le24(abs_) + [enid] + le24(abm) + [almc]
+    return f + [tformat_crc(f)]
+
+
+def tformat_id0(abs_, sf=0):
+    f = [tformat_cf(0), sf] + le24(abs_)
+    return f + [tformat_crc(f)]
+
+
+def rtu(slave, pdu):
+    body = [slave] + list(pdu)
+    c = crc16_modbus(body)
+    return body + [c & 0xFF, c >> 8]
+
+
+def words_msb_first(bits, nwords):
+    """Packs a list of 0/1 samples into 32-bit words, the first sample in the MSB."""
+    words = []
+    for w in range(nwords):
+        v = 0
+        for k in range(32):
+            i = 32 * w + k
+            v = (v << 1) | (bits[i] if i < len(bits) else 0)
+        words.append(v)
+    return b"".join(struct.pack("<I", w) for w in words)
+
+
+def rng(seed):
+    x = seed
+    while True:
+        x = (x * 1103515245 + 12345) & 0x7FFFFFFF
+        yield (x >> 16) & 0xFF
+
+
+# --- the operations ------------------------------------------------------------------------------
+
+STATUS_COMPLETE, STATUS_INCOMPLETE = 0, 1
+
+
+def expect(name, got, want):
+    if got != want:
+        raise MeterError(f"{name}: output {got!r}, expected {want!r}")
+
+
+def measure(m):
+    results = []
+
+    def record(op, instructions, stack, **extra):
+        results.append(dict(operation=op, instructions=instructions, stack_bytes=stack, **extra))
+
+    def once(op, fn, *args):
+        m.clear_out()
+        _, n, s = m.call(fn, *args)
+        return n, s
+
+    # T-format
+    n, s = once("tformat.encode_request.id3", "op_tformat_encode_request_id3")
+    expect("tformat.encode_request.id3", list(m.out_bytes()), [tformat_cf(3)])
+    record("tformat.encode_request.id3", n, s)
+    n, s = once("tformat.encode_request.id6", "op_tformat_encode_request_id6", 0x15, 0xA7)
+    q = [tformat_cf(6), 0x15, 0xA7]
+    expect("tformat.encode_request.id6", list(m.out_bytes()), q + [tformat_crc(q)])
+    record("tformat.encode_request.id6", n, s)
+
+    id3 = tformat_id3(123456, 0x17, 3898, almc=0x00)
+    id0 = tformat_id0(98765)
+    for op, frame, fields in (("tformat.decode_response.id0", id0, [98765, 0, 0, 0]),
+                              ("tformat.decode_response.id3", id3, [123456, 3898, 0, 0x17])):
+        m.write("meter_in", frame)
+        m.write_u32("meter_in_size", len(frame))
+        n, s = once(op, "op_tformat_decode_response")
+        o = m.out(8)
+        expect(op, o[:6], [STATUS_COMPLETE, 0] + fields)
+        expect(op + " cf", o[7], frame[0])
+        record(op, n, s)
+
+    m.call("op_tformat_receiver_start")
+    m.clear_out()
+    total, worst = 0, 0
+    for i, b in enumerate(id3):
+        _, n, s = m.call("op_tformat_receiver_byte", b)
+        total, worst = total + n, max(worst, s)
+        if i < len(id3) - 1:
+            expect("tformat.receiver.id3_per_byte (before the last byte)", m.out(1)[0], 0)
+    o = m.out(8)
+    expect("tformat.receiver.id3_per_byte", o[:6], [STATUS_COMPLETE, 0, 123456, 3898, 0, 0x17])
+    record("tformat.receiver.id3_per_byte", round(total / len(id3), 1), worst, per="byte",
+           units=len(id3), total=total)
+
+    samples = [1] * 5
+    for b in id3:
+        samples += [0] + [(b >> k) & 1 for k in range(8)] + [1]
+    nbits = len(samples)
+    m.write("meter_in", words_msb_first(samples + [1] * 32, 4))
+    m.write_u32("meter_in_size", nbits)
+    n, s = once("tformat.line.decode_id3", "op_tformat_line_decode")
+    o = m.out(9)
+    expect("tformat.line.decode_id3", o[:6] + [o[8]], [STATUS_COMPLETE, 0, 123456, 3898, 0, 0x17,
+                                                       5])
+    record("tformat.line.decode_id3", n, s)
+
+    m.call("op_tformat_encoder_setup", 0x1E240, 77)
+    m.write("meter_in", [tformat_cf(3)])
+    m.write_u32("meter_in_size", 1)
+    n, s = once("tformat.encoder_model.respond_id3", "op_tformat_encoder_respond", 1000)
+    expect("tformat.encoder_model.respond_id3", list(m.out_bytes()),
+           tformat_id3(0x1E240, 0x11, 77))
+    record("tformat.encoder_model.respond_id3", n, s)
+
+    # Modbus
+    r = rng(7)
+    block = [next(r) for _ in range(256)]
+    m.write("meter_in", block)
+    m.write_u32("meter_in_size", len(block))
+    for table in ("bitwise", "nibble", "byte"):
+        op = "modbus.crc16.per_byte." + table
+        n, s = once(op, "op_modbus_crc16_" + table)
+        expect(op, m.out(1)[0], crc16_modbus(block))
+        record(op, round(n / len(block), 1), s, per="byte", units=len(block), total=n)
+
+    request = rtu(1, [0x03, 0x00, 0x05, 0x00, 0x0A])
+    m.call("op_modbus_framer_start")
+    m.clear_out()
+    total, worst = 0, 0
+    for i, b in enumerate(request):
+        _, n, s = m.call("op_modbus_framer_byte", b)
+        total, worst = total + n, max(worst, s)
+        if i < len(request) - 1:
+            expect("modbus.framer.per_byte (before the last byte)", m.out(1)[0], 0)
+    expect("modbus.framer.per_byte", m.out(5), [STATUS_COMPLETE, 0, 1, 5, 3])
+    record("modbus.framer.per_byte", round(total / len(request), 1), worst, per="byte",
+           units=len(request), total=total)
+
+    m.write("meter_in", request)
+    m.write_u32("meter_in_size", len(request))
+    n, s = once("modbus.decode_rtu.fc03_request", "op_modbus_decode_rtu")
+    expect("modbus.decode_rtu.fc03_request", m.out(5),
+           [STATUS_COMPLETE, 0, 1, 5, request[-2] | (request[-1] << 8)])
+    record("modbus.decode_rtu.fc03_request", n, s)
+
+    values = [(0x1234 + 0x9E37 * i) & 0xFFFF for i in range(125)]
+    payload = []
+    for v in values:
+        payload += [v >> 8, v & 0xFF]
+    response = rtu(0x11, [0x03, 250] + payload)
+    m.write("meter_in", response)
+    m.write_u32("meter_in_size", len(response))
+    n, s = once("modbus.client.fc03_125", "op_modbus_client_fc03", 125)
+    mix = 0
+    for v in values:
+        mix = ((mix * 31) & 0xFFFFFFFF) ^ v
+    expect("modbus.client.fc03_125", m.out(5), [STATUS_COMPLETE, 0, 125, sum(values), mix])
+    record("modbus.client.fc03_125", n, s)
+
+    registers = [(0x1000 + 7 * i) & 0xFFFF for i in range(128)]
+    m.write("meter_registers", b"".join(struct.pack("<H", v) for v in registers))
+    request = rtu(1, [0x03, 0x00, 0x05, 0x00, 0x0A])
+    m.write("meter_in", request)
+    m.write_u32("meter_in_size", len(request))
+    n, s = once("modbus.serve.fc03_10", "op_modbus_serve")
+    data = []
+    for v in registers[5:15]:
+        data += [v >> 8, v & 0xFF]
+    expect("modbus.serve.fc03_10", list(m.out_bytes()), rtu(1, [0x03, 20] + data))
+    record("modbus.serve.fc03_10", n, s)
+
+    written = [(0xA000 + 13 * i) & 0xFFFF for i in range(10)]
+    data = []
+    for v in written:
+        data += [v >> 8, v & 0xFF]
+    request = rtu(1, [0x10, 0x00, 0x20, 0x00, 0x0A, 20] + data)
+    m.write("meter_in", request)
+    m.write_u32("meter_in_size", len(request))
+    n, s = once("modbus.serve.fc10_10", "op_modbus_serve")
+    expect("modbus.serve.fc10_10", list(m.out_bytes()), rtu(1, [0x10, 0x00, 0x20, 0x00, 0x0A]))
+    now = struct.unpack("<128H", m.read("meter_registers", 256))
+    expect("modbus.serve.fc10_10 registers", list(now[0x20:0x2A]), written)
+    record("modbus.serve.fc10_10", n, s)
+
+    n, s = once("modbus.encode_request.fc03", "op_modbus_encode_request_fc03", 0x006B, 3)
+    expect("modbus.encode_request.fc03", list(m.out_bytes()),
+           rtu(17, [0x03, 0x00, 0x6B, 0x00, 0x03]))
+    record("modbus.encode_request.fc03", n, s)
+
+    # BiSS-C
+    position = 0x89ABCDEF
+    data34 = (position << 2) | 0b11  # nE = 1, nW = 1: no error, no warning
+    crc = crc_msb_first(data34, 34, 6, 0x03) ^ 0x3F  # x^6 + x + 1, sent inverted
+    frame = [1, 1, 1, 0, 0, 1, 0] + [(data34 >> i) & 1 for i in range(33, -1, -1)] + \
+            [(crc >> i) & 1 for i in range(5, -1, -1)]
+    m.write("meter_in", words_msb_first(frame, 2))
+    m.write_u32("meter_in_size", 64)
+    n, s = once("biss.decode_frame.absys64", "op_biss_decode_frame")
+    expect("biss.decode_frame.absys64", m.out(6), [STATUS_COMPLETE, 0, position, 3, crc, 5])
+    record("biss.decode_frame.absys64", n, s)
+
+    n, s = once("biss.crc6.frame34", "op_biss_crc6", data34 >> 32, data34 & 0xFFFFFFFF)
+    expect("biss.crc6.frame34", m.out(1)[0], crc)
+    record("biss.crc6.frame34", n, s)
+
+    regs = [(0x30 + 5 * i) & 0xFF for i in range(128)]
+    m.write("meter_in", regs)
+    m.clear_out()
+    m.call("op_biss_control_start", 0x42)
+    expect("biss.control_master start", m.out(2)[1], 0)
+    total, worst, frames, cds = 0, 0, 0, 0
+    while frames < 200:
+        cdm, n, s = m.call("op_biss_master_step", cds)
+        total, worst, frames = total + n, max(worst, s), frames + 1
+        cds, _, _ = m.call("op_biss_slave_step", cdm)
+        if m.out(1)[0] != 1:  # control_state::busy
+            break
+    o = m.out(5)
+    expect("biss.control_master.per_frame", [o[0], o[2], o[3], o[4]],
+           [2, regs[0x42], regs[0x43], 0])  # control_state::done, the two registers, errc::ok
+    record("biss.control_master.per_frame", round(total / frames, 1), worst, per="frame",
+           units=frames, total=total)
+    return results
+
+
+def self_check(m):
+    """The meter against code of known instruction count and stack use."""
+    for n in (1, 10, 100):
+        _, count, stack = m.call("selfcheck_loop", n)
+        if count != 2 + 2 * n or stack != 0:
+            raise MeterError(f"self-check: loop of {n} counted {count} instructions "
+                             f"(want {2 + 2 * n}), {stack} B of stack (want 0)")
+    _, count, stack = m.call("selfcheck_stack", 7)
+    if count != 4 or stack != 64:
+        raise MeterError(f"self-check: stack probe counted {count} instructions, {stack} B "
+                         f"(want 4, 64)")
+    if m.core == "cortex-m0plus":
+        try:
+            m.call("selfcheck_thumb2", 1)
+        except MeterError as e:
+            if "not ARMv6-M" not in str(e):
+                raise
+            m.violations = []
+        else:
+            raise MeterError("self-check: a Thumb-2 instruction passed the ARMv6-M check")
+    if m.core == "cortex-m4":
+        for arg, want in ((0, 1), (1, 2)):
+            result, count, _ = m.call("selfcheck_it", arg)
+            if count != 5 or result != want:
+                raise MeterError(f"self-check: IT block ({arg}) counted {count} instructions "
+                                 f"(want 5), result {result}")
+
+
+def cmd_run(a):
+    tools = json.loads(a.tools)
+    elf = build(a.core, a.opt, a.out, a.include, tools)
+    image = Image(elf)
+    writable = [s for s in image.section_names if s.startswith(".data") or s == ".init_array"]
+    if any(s == ".init_array" for s in writable):
+        raise MeterError("the meter image needs run-time construction (.init_array)")
+    m = Machine(a.core, image)
+    self_check(m)
+    rows = [dict(core=a.core, opt=a.opt, **r) for r in measure(m)]
+    path = os.path.join(a.out, f"meter-{a.core}-{a.opt}.json")
+    with open(path, "w") as f:
+        json.dump(rows, f, indent=1)
+    for r in rows:
+        print(f"{r['core']:14} {r['opt']:3} {r['operation']:36} {r['instructions']:>8} "
+              f"{r['stack_bytes']:>6} B")
+
+
+def over_budget(row, budget):
+    return any(key in budget and row[key] > budget[key]
+               for key in ("instructions", "stack_bytes"))
+
+
+def cmd_report(a):
+    rows = []
+    missing = []
+    for core in CORES:
+        for opt in OPTS:
+            path = os.path.join(a.out, f"meter-{core}-{opt}.json")
+            if not os.path.exists(path):
+                missing.append(path)
+                continue
+            with open(path) as f:
+                rows += json.load(f)
+    if missing:
+        raise MeterError("no measurements: " + ", ".join(missing))
+    if not a.expect_breaks:
+        with open(os.path.join(a.out, "meter.json"), "w") as f:
+            json.dump(rows, f, indent=1)
+    with open(a.budgets) as f:
+        budgets = json.load(f)
+    failures = []
+    for b in budgets["budgets"]:
+        row = next((r for r in rows if r["core"] == b["core"] and r["opt"] == b["opt"] and
+                    r["operation"] == b["operation"]), None)
+        if row is None:
+            failures.append(f"{b['operation']} ({b['core']} -{b['opt']}): not measured")
+            continue
+        if a.expect_breaks:
+            # Each budget set just below its figure, one at a time: each must be reported.
+            for key in ("instructions", "stack_bytes"):
+                tight = dict(b, **{key: row[key] - 1})
+                if not over_budget(row, tight):
+                    failures.append(f"{b['operation']}: {key} one below its figure not caught")
+            continue
+        if over_budget(row, b):
+            failures.append(f"{b['operation']} ({b['core']} -{b['opt']}): "
+                            f"{row['instructions']} instructions, {row['stack_bytes']} B: over "
+                            f"the budget of {b.get('instructions', '-')} instructions, "
+                            f"{b.get('stack_bytes', '-')} B")
+        print(f"budget {b['operation']:36} {b['core']} -{b['opt']}: "
+              f"{row['instructions']} instructions (<= {b.get('instructions', '-')}), "
+              f"{row['stack_bytes']} B (<= {b.get('stack_bytes', '-')})")
+    if a.expect_breaks:
+        if failures:
+            raise MeterError("the budget check missed:\n  " + "\n  ".join(failures))
+        print(f"every budget ({len(budgets['budgets'])}), set one below its figure, fails")
+        return
+    ops = []
+    for r in rows:
+        if r["operation"] not in ops:
+            ops.append(r["operation"])
+    lines = ["| operation | " + " | ".join(f"{c} -{o}" for c in CORES for o in OPTS) + " |",
+             "|---|" + "---:|" * (len(CORES) * len(OPTS))]
+    for op in ops:
+        cells = []
+        for c in CORES:
+            for o in OPTS:
+                r = next(x for x in rows if x["core"] == c and x["opt"] == o and
+                         x["operation"] == op)
+                cells.append(f"{r['instructions']} / {r['stack_bytes']} B")
+        lines.append(f"| `{op}` | " + " | ".join(cells) + " |")
+    table = "\n".join(lines) + "\n"
+    with open(os.path.join(a.out, "meter.md"), "w") as f:
+        f.write(table)
+    print(table)
+    if failures:
+        raise MeterError("over budget:\n  " + "\n  ".join(failures))
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    sub = p.add_subparsers(dest="command", required=True)
+    r = sub.add_parser("run")
+    r.add_argument("--core", choices=CORES, required=True)
+    r.add_argument("--opt", choices=OPTS, required=True)
+    r.add_argument("--out", required=True)
+    r.add_argument("--include", required=True)
+    r.add_argument("--tools", required=True, help="JSON: arm_gxx, clangxx, riscv_ld, newlib_cxx")
+    r.set_defaults(fn=cmd_run)
+    q = sub.add_parser("report")
+    q.add_argument("--out", required=True)
+    q.add_argument("--budgets", required=True)
+    q.add_argument("--expect-breaks", action="store_true",
+                   help="set each budget one below its figure and require that it fails; "
+                        "writes nothing")
+    q.set_defaults(fn=cmd_report)
+    a = p.parse_args()
+    try:
+        a.fn(a)
+    except MeterError as e:
+        print("meter: " + str(e), file=sys.stderr)
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

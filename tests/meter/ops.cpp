@@ -1,0 +1,325 @@
+// The operations the meter measures (tests/meter/meter.py): each `op_*` function is one call a
+// firmware would make, on inputs the meter writes into `meter_in` (or passes as arguments), and
+// writes what it decoded or built into `meter_out`, which the meter checks against its own
+// computation before it reports a figure. Built freestanding for each core and level; the
+// `selfcheck_*` functions are loops of known instruction count and stack use that check the
+// meter itself.
+
+#include <motionbus/biss/codec.hpp>
+#include <motionbus/biss/control.hpp>
+#include <motionbus/modbus/framer.hpp>
+#include <motionbus/modbus/pdu.hpp>
+#include <motionbus/modbus/rtu.hpp>
+#include <motionbus/modbus/server.hpp>
+#include <motionbus/tformat/codec.hpp>
+#include <motionbus/tformat/encoder_model.hpp>
+#include <motionbus/tformat/line.hpp>
+#include <motionbus/tformat/receiver.hpp>
+
+#include <cstddef>
+#include <cstdint>
+
+namespace mb = motionbus;
+namespace tf = motionbus::tformat;
+namespace md = motionbus::modbus;
+namespace bs = motionbus::biss;
+
+#define METER_OP extern "C" __attribute__((used, noinline))
+
+extern "C" {
+// Inputs and outputs, at symbols the meter reads from the ELF.
+__attribute__((used, aligned(8))) std::uint8_t meter_in[512];
+__attribute__((used)) std::uint32_t meter_in_size;
+__attribute__((used, aligned(8))) std::uint32_t meter_out[64];
+__attribute__((used)) std::uint8_t meter_adu[256];
+__attribute__((used)) std::uint16_t meter_registers[128];
+}
+
+namespace {
+
+mb::byte_view input() { return mb::byte_view(meter_in, meter_in_size); }
+
+void put_response(const mb::decode_result<tf::response>& r) {
+  meter_out[0] = static_cast<std::uint32_t>(r.status());
+  meter_out[1] = static_cast<std::uint32_t>(r.error());
+  if (r.is_complete()) {
+    meter_out[2] = r->abs;
+    meter_out[3] = r->abm;
+    meter_out[4] = r->almc;
+    meter_out[5] = r->enid;
+    meter_out[6] = r->sf;
+    meter_out[7] = r->cf;
+  }
+}
+
+// Bytes built by an operation: their size and address (the meter reads them from memory).
+void put_bytes(mb::byte_view b) {
+  meter_out[0] = static_cast<std::uint32_t>(b.size());
+  meter_out[1] = static_cast<std::uint32_t>(reinterpret_cast<std::uintptr_t>(b.data()));
+}
+
+// --- T-format ---------------------------------------------------------------------------------
+tf::receiver rx;
+tf::encoder_model encoder;
+tf::reply encoder_reply;
+
+// --- Modbus -------------------------------------------------------------------------------------
+md::rtu_framer framer(md::framer_role::server, 1);
+
+struct holding_registers {
+  std::uint8_t read_registers(std::uint8_t, std::uint16_t address, mb::span<std::uint16_t> out) {
+    if (address + out.size() > 128U) {
+      return 0x02;
+    }
+    for (std::size_t i = 0; i < out.size(); ++i) {
+      out[i] = meter_registers[address + i];
+    }
+    return 0;
+  }
+  std::uint8_t write_registers(std::uint16_t address, mb::span<const std::uint16_t> in) {
+    if (address + in.size() > 128U) {
+      return 0x02;
+    }
+    for (std::size_t i = 0; i < in.size(); ++i) {
+      meter_registers[address + i] = in[i];
+    }
+    return 0;
+  }
+};
+
+// --- BiSS-C --------------------------------------------------------------------------------------
+struct register_file {
+  std::uint8_t bytes[128];
+  bool readable(std::uint8_t) const { return true; }
+  bool writable(std::uint8_t) const { return true; }
+  bool ready() const { return true; }
+  std::uint8_t read(std::uint8_t a) { return bytes[a & 0x7FU]; }
+  void write(std::uint8_t a, std::uint8_t v) { bytes[a & 0x7FU] = v; }
+};
+register_file biss_registers;
+bs::control_master master;
+bs::control_slave<register_file> slave(biss_registers);
+std::uint8_t master_read[4];
+
+}  // namespace
+
+// T-format ---------------------------------------------------------------------------------------
+METER_OP void op_tformat_encode_request_id3() {
+  const auto n = tf::encode_request(tf::data_id::read_all, mb::mutable_byte_view(meter_adu, 4));
+  put_bytes(mb::byte_view(meter_adu, n.value_or(0)));
+}
+METER_OP void op_tformat_encode_request_id6(unsigned address, unsigned data) {
+  const auto n =
+      tf::encode_request(tf::data_id::eeprom_write, mb::mutable_byte_view(meter_adu, 4),
+                         static_cast<std::uint8_t>(address), static_cast<std::uint8_t>(data));
+  put_bytes(mb::byte_view(meter_adu, n.value_or(0)));
+}
+METER_OP void op_tformat_decode_response() { put_response(tf::decode_response(input())); }
+METER_OP void op_tformat_receiver_start() {
+  rx = tf::receiver();
+  const std::uint8_t request[1] = {tf::control_field(tf::data_id::read_all)};
+  rx.sent(mb::byte_view(request, 1));
+}
+METER_OP void op_tformat_receiver_byte(unsigned byte) {
+  const std::uint8_t b[1] = {static_cast<std::uint8_t>(byte)};
+  const auto r = rx.feed(mb::byte_view(b, 1));
+  if (!r.is_incomplete()) {
+    put_response(r);
+  }
+}
+METER_OP void op_tformat_line_decode() {
+  const auto r = tf::decode_response_line(
+      mb::span<const std::uint32_t>(reinterpret_cast<const std::uint32_t*>(meter_in),
+                                    (meter_in_size + 31U) / 32U),
+      mb::bit_order::msb_first, meter_in_size);
+  meter_out[0] = static_cast<std::uint32_t>(r.status());
+  meter_out[1] = static_cast<std::uint32_t>(r.error());
+  if (r.is_complete()) {
+    meter_out[2] = r->frame.abs;
+    meter_out[3] = r->frame.abm;
+    meter_out[4] = r->frame.almc;
+    meter_out[5] = r->frame.enid;
+    meter_out[6] = r->frame.sf;
+    meter_out[7] = r->frame.cf;
+    meter_out[8] = static_cast<std::uint32_t>(r->start_bit);
+  }
+}
+METER_OP void op_tformat_encoder_setup(unsigned single_turn, unsigned turns) {
+  encoder = tf::encoder_model();
+  encoder.set_position(single_turn, turns);
+}
+METER_OP void op_tformat_encoder_respond(unsigned now_us) {
+  encoder_reply = encoder.respond(input(), now_us);
+  put_bytes(encoder_reply.view());
+}
+
+// Modbus -------------------------------------------------------------------------------------------
+METER_OP void op_modbus_crc16_bitwise() {
+  meter_out[0] = mb::crc16_modbus<mb::crc_table_size::bitwise>::compute(input());
+}
+METER_OP void op_modbus_crc16_nibble() {
+  meter_out[0] = mb::crc16_modbus<mb::crc_table_size::nibble>::compute(input());
+}
+METER_OP void op_modbus_crc16_byte() {
+  meter_out[0] = mb::crc16_modbus<mb::crc_table_size::byte>::compute(input());
+}
+METER_OP void op_modbus_framer_start() { framer = md::rtu_framer(md::framer_role::server, 1); }
+METER_OP void op_modbus_framer_byte(unsigned byte) {
+  const std::uint8_t b[1] = {static_cast<std::uint8_t>(byte)};
+  const auto r = framer.feed(mb::byte_view(b, 1));
+  if (!r.is_incomplete()) {
+    meter_out[0] = static_cast<std::uint32_t>(r.status());
+    meter_out[1] = static_cast<std::uint32_t>(r.error());
+    if (r.is_complete()) {
+      meter_out[2] = r->slave;
+      meter_out[3] = static_cast<std::uint32_t>(r->pdu.size());
+      meter_out[4] = r->pdu[0];
+    }
+  }
+}
+METER_OP void op_modbus_decode_rtu() {
+  const auto r = md::decode_rtu(input());
+  meter_out[0] = static_cast<std::uint32_t>(r.status());
+  meter_out[1] = static_cast<std::uint32_t>(r.error());
+  if (r.is_complete()) {
+    meter_out[2] = r->slave;
+    meter_out[3] = static_cast<std::uint32_t>(r->pdu.size());
+    meter_out[4] = r->crc;
+  }
+}
+METER_OP void op_modbus_client_fc03(unsigned quantity) {
+  const auto f = md::decode_rtu(input());
+  meter_out[0] = static_cast<std::uint32_t>(f.status());
+  meter_out[1] = static_cast<std::uint32_t>(f.error());
+  if (!f.is_complete()) {
+    return;
+  }
+  const auto r = md::decode_read_response(f->pdu, md::function_code::read_holding_registers,
+                                          static_cast<std::uint16_t>(quantity));
+  meter_out[0] = static_cast<std::uint32_t>(r.status());
+  meter_out[1] = static_cast<std::uint32_t>(r.error());
+  if (r.is_complete()) {
+    std::uint32_t sum = 0;
+    std::uint32_t mix = 0;
+    const std::size_t n = r->quantity;
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::uint32_t v = md::register_at(r->data, i);
+      sum += v;
+      mix = (mix * 31U) ^ v;
+    }
+    meter_out[2] = static_cast<std::uint32_t>(n);
+    meter_out[3] = sum;
+    meter_out[4] = mix;
+  }
+}
+METER_OP void op_modbus_serve() {
+  holding_registers device;
+  const auto n = md::serve_rtu(device, 1, input(), mb::mutable_byte_view(meter_adu, 256));
+  put_bytes(mb::byte_view(meter_adu, n.value_or(0)));
+}
+METER_OP void op_modbus_encode_request_fc03(unsigned address, unsigned quantity) {
+  std::uint8_t pdu[5];
+  const auto p = md::encode_read(md::function_code::read_holding_registers,
+                                 static_cast<std::uint16_t>(address),
+                                 static_cast<std::uint16_t>(quantity),
+                                 mb::mutable_byte_view(pdu, sizeof pdu));
+  const auto a = md::encode_rtu(17, mb::byte_view(pdu, p.value_or(0)),
+                                mb::mutable_byte_view(meter_adu, 256));
+  put_bytes(mb::byte_view(meter_adu, a.value_or(0)));
+}
+
+// BiSS-C --------------------------------------------------------------------------------------------
+METER_OP void op_biss_decode_frame() {
+  bs::slave_data d;
+  const auto r = bs::decode_frame(
+      mb::span<const std::uint32_t>(reinterpret_cast<const std::uint32_t*>(meter_in), 2),
+      meter_in_size, bs::absys_layout, d);
+  meter_out[0] = static_cast<std::uint32_t>(r.status());
+  meter_out[1] = static_cast<std::uint32_t>(r.error());
+  if (r.is_complete()) {
+    meter_out[2] = static_cast<std::uint32_t>(d.single_turn);
+    meter_out[3] = (d.ne ? 1U : 0U) | (d.nw ? 2U : 0U) | (r->cds ? 4U : 0U);
+    meter_out[4] = d.crc;
+    meter_out[5] = static_cast<std::uint32_t>(r->start);
+  }
+}
+METER_OP void op_biss_crc6(unsigned high, unsigned low) {
+  const std::uint64_t bits = (static_cast<std::uint64_t>(high) << 32U) | low;
+  meter_out[0] = mb::crc6_biss<>().update_bits(bits, 34).value();
+}
+METER_OP void op_biss_control_start(unsigned address) {
+  master = bs::control_master();
+  slave = bs::control_slave<register_file>(biss_registers);
+  for (unsigned i = 0; i < 128U; ++i) {
+    biss_registers.bytes[i] = meter_in[i];
+  }
+  meter_out[1] = static_cast<std::uint32_t>(
+      master.start_read(0, static_cast<std::uint8_t>(address), mb::mutable_byte_view(master_read, 2)));
+}
+METER_OP unsigned op_biss_master_step(unsigned cds) { return master.step(cds != 0U) ? 1U : 0U; }
+METER_OP unsigned op_biss_slave_step(unsigned cdm) {
+  const unsigned cds = slave.step(cdm != 0U) ? 1U : 0U;
+  meter_out[0] = static_cast<std::uint32_t>(master.state());
+  meter_out[2] = master_read[0];
+  meter_out[3] = master_read[1];
+  meter_out[4] = static_cast<std::uint32_t>(master.error());
+  return cds;
+}
+
+// Self-checks of the meter ------------------------------------------------------------------------
+// selfcheck_loop(n): 2 + 2n instructions (n >= 1); selfcheck_stack: 64 bytes below the caller's
+// stack pointer written, 4 instructions; selfcheck_it (Cortex-M4): 5 instructions whichever way
+// the IT block's condition goes.
+#if defined(__arm__)
+extern "C" __attribute__((naked, used)) void selfcheck_loop(unsigned) {
+  __asm__ volatile(
+      "   .syntax unified\n"
+      "1: subs r0, r0, #1\n"
+      "   bne 1b\n"
+      "   movs r0, #0\n"
+      "   bx lr\n");
+}
+extern "C" __attribute__((naked, used)) void selfcheck_stack(unsigned) {
+  __asm__ volatile(
+      "   .syntax unified\n"
+      "   sub sp, #64\n"
+      "   str r0, [sp]\n"
+      "   add sp, #64\n"
+      "   bx lr\n");
+}
+// selfcheck_thumb2: one Thumb-2 instruction (add.w), which the Cortex-M0+ check must refuse.
+extern "C" __attribute__((naked, used)) void selfcheck_thumb2(unsigned) {
+  __asm__ volatile(
+      "   .inst.w 0xF1000001\n"
+      "   bx lr\n");
+}
+#if defined(__ARM_ARCH_7EM__)
+extern "C" __attribute__((naked, used)) void selfcheck_it(unsigned) {
+  __asm__ volatile(
+      "   .syntax unified\n"
+      "   cmp r0, #0\n"
+      "   ite eq\n"
+      "   moveq r0, #1\n"
+      "   movne r0, #2\n"
+      "   bx lr\n");
+}
+#endif
+#elif defined(__riscv)
+extern "C" __attribute__((naked, used)) void selfcheck_loop(unsigned) {
+  __asm__ volatile(
+      "1: addi a0, a0, -1\n"
+      "   bnez a0, 1b\n"
+      "   li a0, 0\n"
+      "   ret\n");
+}
+extern "C" __attribute__((naked, used)) void selfcheck_stack(unsigned) {
+  __asm__ volatile(
+      "   addi sp, sp, -64\n"
+      "   sw a0, 0(sp)\n"
+      "   addi sp, sp, 64\n"
+      "   ret\n");
+}
+#endif
+
+// The image's entry (never run by the meter: it calls functions one at a time).
+extern "C" __attribute__((used)) void meter_entry() {}

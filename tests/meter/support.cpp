@@ -1,0 +1,46 @@
+// memcpy, memmove and memset for the rv32imc meter images (no C library for that target here):
+// a word at a time where both pointers are aligned, else a byte at a time. The ARM images use
+// newlib's. Compiled with -fno-builtin so that the loops are not turned back into calls.
+#include <cstddef>
+#include <cstdint>
+
+extern "C" {
+void* memcpy(void* d, const void* s, std::size_t n) {
+  auto* a = static_cast<unsigned char*>(d);
+  const auto* b = static_cast<const unsigned char*>(s);
+  if (((reinterpret_cast<std::uintptr_t>(a) | reinterpret_cast<std::uintptr_t>(b)) & 3U) == 0U) {
+    for (; n >= 4U; n -= 4U, a += 4, b += 4) {
+      *reinterpret_cast<std::uint32_t*>(a) = *reinterpret_cast<const std::uint32_t*>(b);
+    }
+  }
+  for (; n > 0U; --n) {
+    *a++ = *b++;
+  }
+  return d;
+}
+void* memmove(void* d, const void* s, std::size_t n) {
+  auto* a = static_cast<unsigned char*>(d);
+  const auto* b = static_cast<const unsigned char*>(s);
+  if (a <= b || a >= b + n) {
+    return memcpy(d, s, n);
+  }
+  for (std::size_t i = n; i > 0U; --i) {
+    a[i - 1U] = b[i - 1U];
+  }
+  return d;
+}
+void* memset(void* d, int v, std::size_t n) {
+  auto* a = static_cast<unsigned char*>(d);
+  const auto c = static_cast<unsigned char>(v);
+  if ((reinterpret_cast<std::uintptr_t>(a) & 3U) == 0U) {
+    const std::uint32_t w = 0x01010101U * c;
+    for (; n >= 4U; n -= 4U, a += 4) {
+      *reinterpret_cast<std::uint32_t*>(a) = w;
+    }
+  }
+  for (; n > 0U; --n) {
+    *a++ = c;
+  }
+  return d;
+}
+}
