@@ -374,6 +374,7 @@ def measure(m):
         m.write("meter_in", frame)
         m.write_u32("meter_in_size", len(frame))
         n, s = once(op, "op_tformat_decode_response")
+        m.call("op_report_tformat")
         o = m.out(8)
         expect(op, o[:6], [STATUS_COMPLETE, 0] + fields)
         expect(op + " cf", o[7], frame[0])
@@ -385,8 +386,10 @@ def measure(m):
     for i, b in enumerate(id3):
         _, n, s = m.call("op_tformat_receiver_byte", b)
         total, worst = total + n, max(worst, s)
+        m.call("op_report_tformat")
         if i < len(id3) - 1:
-            expect("tformat.receiver.id3_per_byte (before the last byte)", m.out(1)[0], 0)
+            expect("tformat.receiver.id3_per_byte (before the last byte)", m.out(1)[0],
+                   STATUS_INCOMPLETE)
     o = m.out(8)
     expect("tformat.receiver.id3_per_byte", o[:6], [STATUS_COMPLETE, 0, 123456, 3898, 0, 0x17])
     record("tformat.receiver.id3_per_byte", round(total / len(id3), 1), worst, per="byte",
@@ -399,6 +402,7 @@ def measure(m):
     m.write("meter_in", words_msb_first(samples + [1] * 32, 4))
     m.write_u32("meter_in_size", nbits)
     n, s = once("tformat.line.decode_id3", "op_tformat_line_decode")
+    m.call("op_report_line")
     o = m.out(9)
     expect("tformat.line.decode_id3", o[:6] + [o[8]], [STATUS_COMPLETE, 0, 123456, 3898, 0, 0x17,
                                                        5])
@@ -430,17 +434,21 @@ def measure(m):
     for i, b in enumerate(request):
         _, n, s = m.call("op_modbus_framer_byte", b)
         total, worst = total + n, max(worst, s)
+        m.call("op_report_rtu")
         if i < len(request) - 1:
-            expect("modbus.framer.per_byte (before the last byte)", m.out(1)[0], 0)
-    expect("modbus.framer.per_byte", m.out(5), [STATUS_COMPLETE, 0, 1, 5, 3])
+            expect("modbus.framer.per_byte (before the last byte)", m.out(1)[0],
+                   STATUS_INCOMPLETE)
+    expect("modbus.framer.per_byte", m.out(6),
+           [STATUS_COMPLETE, 0, 1, 5, 3, request[-2] | (request[-1] << 8)])
     record("modbus.framer.per_byte", round(total / len(request), 1), worst, per="byte",
            units=len(request), total=total)
 
     m.write("meter_in", request)
     m.write_u32("meter_in_size", len(request))
     n, s = once("modbus.decode_rtu.fc03_request", "op_modbus_decode_rtu")
-    expect("modbus.decode_rtu.fc03_request", m.out(5),
-           [STATUS_COMPLETE, 0, 1, 5, request[-2] | (request[-1] << 8)])
+    m.call("op_report_rtu")
+    expect("modbus.decode_rtu.fc03_request", m.out(6),
+           [STATUS_COMPLETE, 0, 1, 5, 3, request[-2] | (request[-1] << 8)])
     record("modbus.decode_rtu.fc03_request", n, s)
 
     values = [(0x1234 + 0x9E37 * i) & 0xFFFF for i in range(125)]
@@ -451,6 +459,7 @@ def measure(m):
     m.write("meter_in", response)
     m.write_u32("meter_in_size", len(response))
     n, s = once("modbus.client.fc03_125", "op_modbus_client_fc03", 125)
+    m.call("op_report_client")
     mix = 0
     for v in values:
         mix = ((mix * 31) & 0xFFFFFFFF) ^ v
@@ -496,6 +505,7 @@ def measure(m):
     m.write("meter_in", words_msb_first(frame, 2))
     m.write_u32("meter_in_size", 64)
     n, s = once("biss.decode_frame.absys64", "op_biss_decode_frame")
+    m.call("op_report_biss")
     expect("biss.decode_frame.absys64", m.out(6), [STATUS_COMPLETE, 0, position, 3, crc, 5])
     record("biss.decode_frame.absys64", n, s)
 
@@ -614,6 +624,16 @@ def cmd_report(a):
         print(f"budget {b['operation']:36} {b['core']} -{b['opt']}: "
               f"{row['instructions']} instructions (<= {b.get('instructions', '-')}), "
               f"{row['stack_bytes']} B (<= {b.get('stack_bytes', '-')})")
+    for t in budgets.get("targets", []):
+        row = next((r for r in rows if r["core"] == t["core"] and r["opt"] == t["opt"] and
+                    r["operation"] == t["operation"]), None)
+        if row is None:
+            failures.append(f"{t['operation']} ({t['core']} -{t['opt']}): not measured")
+            continue
+        state = "not met" if over_budget(row, t) else "met"
+        print(f"target {t['operation']:36} {t['core']} -{t['opt']}: "
+              f"{row['instructions']} instructions (target {t['instructions']}), "
+              f"{row['stack_bytes']} B (target {t['stack_bytes']}): {state}")
     if a.expect_breaks:
         if failures:
             raise MeterError("the budget check missed:\n  " + "\n  ".join(failures))

@@ -37,7 +37,18 @@ __attribute__((used)) std::uint16_t meter_registers[128];
 
 namespace {
 
-mb::byte_view input() { return mb::byte_view(meter_in, meter_in_size); }
+mb::byte_view input() {
+  return mb::byte_view(meter_in, meter_in_size);
+}
+
+// The results of the measured calls: each operation stores its result here (as a firmware
+// stores what it decoded), and an unmeasured `op_report_*` call copies it into meter_out.
+mb::decode_result<tf::response> tformat_result = mb::need_input{};
+mb::decode_result<tf::line_frame<tf::response>> line_result = mb::need_input{};
+mb::decode_result<md::rtu_frame> rtu_result = mb::need_input{};
+mb::decode_result<md::response> client_result = mb::need_input{};
+mb::decode_result<bs::frame_info> biss_result = mb::need_input{};
+bs::slave_data biss_data;
 
 void put_response(const mb::decode_result<tf::response>& r) {
   meter_out[0] = static_cast<std::uint32_t>(r.status());
@@ -114,24 +125,33 @@ METER_OP void op_tformat_encode_request_id6(unsigned address, unsigned data) {
                          static_cast<std::uint8_t>(address), static_cast<std::uint8_t>(data));
   put_bytes(mb::byte_view(meter_adu, n.value_or(0)));
 }
-METER_OP void op_tformat_decode_response() { put_response(tf::decode_response(input())); }
+METER_OP void op_tformat_decode_response() {
+  tformat_result = tf::decode_response(input());
+}
+METER_OP void op_report_tformat() {
+  put_response(tformat_result);
+}
 METER_OP void op_tformat_receiver_start() {
   rx = tf::receiver();
+  tformat_result = mb::need_input{};
   const std::uint8_t request[1] = {tf::control_field(tf::data_id::read_all)};
   rx.sent(mb::byte_view(request, 1));
 }
 METER_OP void op_tformat_receiver_byte(unsigned byte) {
   const std::uint8_t b[1] = {static_cast<std::uint8_t>(byte)};
   const auto r = rx.feed(mb::byte_view(b, 1));
-  if (!r.is_incomplete()) {
-    put_response(r);
+  if (!r.is_incomplete()) {  // an interrupt handler keeps what completes or fails
+    tformat_result = r;
   }
 }
 METER_OP void op_tformat_line_decode() {
-  const auto r = tf::decode_response_line(
+  line_result = tf::decode_response_line(
       mb::span<const std::uint32_t>(reinterpret_cast<const std::uint32_t*>(meter_in),
                                     (meter_in_size + 31U) / 32U),
       mb::bit_order::msb_first, meter_in_size);
+}
+METER_OP void op_report_line() {
+  const auto& r = line_result;
   meter_out[0] = static_cast<std::uint32_t>(r.status());
   meter_out[1] = static_cast<std::uint32_t>(r.error());
   if (r.is_complete()) {
@@ -153,7 +173,8 @@ METER_OP void op_tformat_encoder_respond(unsigned now_us) {
   put_bytes(encoder_reply.view());
 }
 
-// Modbus -------------------------------------------------------------------------------------------
+// Modbus
+// -------------------------------------------------------------------------------------------
 METER_OP void op_modbus_crc16_bitwise() {
   meter_out[0] = mb::crc16_modbus<mb::crc_table_size::bitwise>::compute(input());
 }
@@ -163,39 +184,42 @@ METER_OP void op_modbus_crc16_nibble() {
 METER_OP void op_modbus_crc16_byte() {
   meter_out[0] = mb::crc16_modbus<mb::crc_table_size::byte>::compute(input());
 }
-METER_OP void op_modbus_framer_start() { framer = md::rtu_framer(md::framer_role::server, 1); }
+METER_OP void op_modbus_framer_start() {
+  framer = md::rtu_framer(md::framer_role::server, 1);
+  rtu_result = mb::need_input{};
+}
 METER_OP void op_modbus_framer_byte(unsigned byte) {
   const std::uint8_t b[1] = {static_cast<std::uint8_t>(byte)};
   const auto r = framer.feed(mb::byte_view(b, 1));
-  if (!r.is_incomplete()) {
-    meter_out[0] = static_cast<std::uint32_t>(r.status());
-    meter_out[1] = static_cast<std::uint32_t>(r.error());
-    if (r.is_complete()) {
-      meter_out[2] = r->slave;
-      meter_out[3] = static_cast<std::uint32_t>(r->pdu.size());
-      meter_out[4] = r->pdu[0];
-    }
+  if (!r.is_incomplete()) {  // an interrupt handler keeps what completes or fails
+    rtu_result = r;
   }
 }
-METER_OP void op_modbus_decode_rtu() {
-  const auto r = md::decode_rtu(input());
+METER_OP void op_report_rtu() {
+  const auto& r = rtu_result;
   meter_out[0] = static_cast<std::uint32_t>(r.status());
   meter_out[1] = static_cast<std::uint32_t>(r.error());
   if (r.is_complete()) {
     meter_out[2] = r->slave;
     meter_out[3] = static_cast<std::uint32_t>(r->pdu.size());
-    meter_out[4] = r->crc;
+    meter_out[4] = r->pdu[0];
+    meter_out[5] = r->crc;
   }
+}
+METER_OP void op_modbus_decode_rtu() {
+  rtu_result = md::decode_rtu(input());
 }
 METER_OP void op_modbus_client_fc03(unsigned quantity) {
   const auto f = md::decode_rtu(input());
-  meter_out[0] = static_cast<std::uint32_t>(f.status());
-  meter_out[1] = static_cast<std::uint32_t>(f.error());
   if (!f.is_complete()) {
+    client_result = mb::decode_failure{f.error(), 0};
     return;
   }
-  const auto r = md::decode_read_response(f->pdu, md::function_code::read_holding_registers,
-                                          static_cast<std::uint16_t>(quantity));
+  client_result = md::decode_read_response(f->pdu, md::function_code::read_holding_registers,
+                                           static_cast<std::uint16_t>(quantity));
+}
+METER_OP void op_report_client() {
+  const auto& r = client_result;
   meter_out[0] = static_cast<std::uint32_t>(r.status());
   meter_out[1] = static_cast<std::uint32_t>(r.error());
   if (r.is_complete()) {
@@ -219,21 +243,24 @@ METER_OP void op_modbus_serve() {
 }
 METER_OP void op_modbus_encode_request_fc03(unsigned address, unsigned quantity) {
   std::uint8_t pdu[5];
-  const auto p = md::encode_read(md::function_code::read_holding_registers,
-                                 static_cast<std::uint16_t>(address),
-                                 static_cast<std::uint16_t>(quantity),
-                                 mb::mutable_byte_view(pdu, sizeof pdu));
-  const auto a = md::encode_rtu(17, mb::byte_view(pdu, p.value_or(0)),
-                                mb::mutable_byte_view(meter_adu, 256));
+  const auto p = md::encode_read(
+      md::function_code::read_holding_registers, static_cast<std::uint16_t>(address),
+      static_cast<std::uint16_t>(quantity), mb::mutable_byte_view(pdu, sizeof pdu));
+  const auto a =
+      md::encode_rtu(17, mb::byte_view(pdu, p.value_or(0)), mb::mutable_byte_view(meter_adu, 256));
   put_bytes(mb::byte_view(meter_adu, a.value_or(0)));
 }
 
-// BiSS-C --------------------------------------------------------------------------------------------
+// BiSS-C
+// --------------------------------------------------------------------------------------------
 METER_OP void op_biss_decode_frame() {
-  bs::slave_data d;
-  const auto r = bs::decode_frame(
+  biss_result = bs::decode_frame(
       mb::span<const std::uint32_t>(reinterpret_cast<const std::uint32_t*>(meter_in), 2),
-      meter_in_size, bs::absys_layout, d);
+      meter_in_size, bs::absys_layout, biss_data);
+}
+METER_OP void op_report_biss() {
+  const auto& r = biss_result;
+  const auto& d = biss_data;
   meter_out[0] = static_cast<std::uint32_t>(r.status());
   meter_out[1] = static_cast<std::uint32_t>(r.error());
   if (r.is_complete()) {
@@ -253,10 +280,12 @@ METER_OP void op_biss_control_start(unsigned address) {
   for (unsigned i = 0; i < 128U; ++i) {
     biss_registers.bytes[i] = meter_in[i];
   }
-  meter_out[1] = static_cast<std::uint32_t>(
-      master.start_read(0, static_cast<std::uint8_t>(address), mb::mutable_byte_view(master_read, 2)));
+  meter_out[1] = static_cast<std::uint32_t>(master.start_read(
+      0, static_cast<std::uint8_t>(address), mb::mutable_byte_view(master_read, 2)));
 }
-METER_OP unsigned op_biss_master_step(unsigned cds) { return master.step(cds != 0U) ? 1U : 0U; }
+METER_OP unsigned op_biss_master_step(unsigned cds) {
+  return master.step(cds != 0U) ? 1U : 0U;
+}
 METER_OP unsigned op_biss_slave_step(unsigned cdm) {
   const unsigned cds = slave.step(cdm != 0U) ? 1U : 0U;
   meter_out[0] = static_cast<std::uint32_t>(master.state());

@@ -216,3 +216,86 @@ TEST_CASE("server: broadcasts are executed and never answered; other addresses a
   CHECK(serve_rtu(dev, 0x11, adu, mutable_byte_view(out, 10)).error() == errc::buffer_too_small);
   CHECK(dev.writes == 1);
 }
+
+namespace {
+
+// The array device's holding registers through the big-endian accessors (no register buffer in
+// the server): the same registers, byte by byte as the PDU carries them.
+struct be_device {
+  std::uint16_t holding[100] = {};
+  std::uint8_t read_registers_be(std::uint8_t function, std::uint16_t address,
+                                 std::uint16_t quantity, mutable_byte_view out) {
+    if (address + quantity > 100) {
+      return 0x02;
+    }
+    for (std::size_t i = 0; i < quantity; ++i) {
+      const std::uint16_t v =
+          function == 0x04 ? static_cast<std::uint16_t>(1000 + address + i) : holding[address + i];
+      out[2 * i] = static_cast<std::uint8_t>(v >> 8U);
+      out[2 * i + 1] = static_cast<std::uint8_t>(v & 0xFFU);
+    }
+    return 0;
+  }
+  std::uint8_t write_registers_be(std::uint16_t address, std::uint16_t quantity, byte_view data) {
+    if (address + quantity > 100 || data.size() != 2U * quantity) {
+      return 0x02;
+    }
+    for (std::size_t i = 0; i < quantity; ++i) {
+      holding[address + i] = register_at(data, i);
+    }
+    return 0;
+  }
+};
+
+}  // namespace
+
+TEST_CASE("server: big-endian register accessors answer as the register-array ones") {
+  array_device a;
+  be_device b;
+  const bytes requests[] = {
+      {0x06, 0x00, 0x05, 0x12, 0x34},
+      {0x03, 0x00, 0x04, 0x00, 0x02},
+      {0x04, 0x00, 0x01, 0x00, 0x03},
+      {0x10, 0x00, 0x0A, 0x00, 0x02, 0x04, 0x00, 0x01, 0x00, 0x02},
+      {0x03, 0x00, 0x0A, 0x00, 0x02},
+      {0x16, 0x00, 0x05, 0x00, 0xF2, 0x00, 0x25},
+      {0x03, 0x00, 0x05, 0x00, 0x01},
+      {0x17, 0x00, 0x14, 0x00, 0x02, 0x00, 0x14, 0x00, 0x01, 0x02, 0xAB, 0xCD},
+      {0x03, 0x00, 0x63, 0x00, 0x02},  // past the end: 02 from both
+      {0x10, 0x00, 0x63, 0x00, 0x02, 0x04, 0x00, 0x01, 0x00, 0x02},
+  };
+  for (const bytes& q : requests) {
+    CAPTURE(q[0]);
+    CHECK(call(b, 0x11, q) == call(a, 0x11, q));
+  }
+  CHECK(b.holding[5] == ((0x1234 & 0x00F2) | (0x0025 & ~0x00F2)));
+  CHECK(b.holding[20] == 0xABCD);
+}
+
+TEST_CASE("server: serve_frame answers a frame the framer checked, without decoding it again") {
+  array_device dev;
+  dev.holding[2] = 0xBEEF;
+  const std::uint8_t pdu[] = {0x03, 0x00, 0x02, 0x00, 0x01};
+  std::uint8_t adu[8] = {};
+  REQUIRE(encode_rtu(0x11, byte_view(pdu, sizeof pdu), adu).value() == sizeof adu);
+  rtu_framer rx(framer_role::server, 0x11);
+  const auto f = rx.feed(byte_view(adu, sizeof adu));
+  REQUIRE(f.is_complete());
+  std::uint8_t out[256] = {};
+  const auto n = serve_frame(dev, 0x11, f.value(), out);
+  REQUIRE(n.ok());
+  const auto r = decode_rtu(byte_view(out, n.value()));
+  REQUIRE(r.is_complete());
+  CHECK(bytes(r->pdu.begin(), r->pdu.end()) == bytes{0x03, 0x02, 0xBE, 0xEF});
+  // the bitwise CRC gives the same ADU
+  std::uint8_t out2[256] = {};
+  CHECK(serve_frame<crc_table_size::bitwise>(dev, 0x11, f.value(), out2).value() == n.value());
+  CHECK(std::equal(out, out + n.value(), out2));
+  // another address, a frame without a PDU, a short output buffer
+  CHECK(serve_frame(dev, 0x12, f.value(), out).value() == 0);
+  rtu_frame empty;
+  empty.slave = 0x11;
+  CHECK(serve_frame(dev, 0x11, empty, out).value() == 0);
+  CHECK(serve_frame(dev, 0x11, f.value(), mutable_byte_view(out, 255)).error() ==
+        errc::buffer_too_small);
+}

@@ -14,6 +14,12 @@
 //   std::uint8_t write_registers(std::uint16_t address,
 //                                motionbus::span<const std::uint16_t>); // FC06, FC10 (16, 17)
 //   std::uint8_t report_server_id(motionbus::mutable_byte_view out, std::size_t& size); // FC11
+// Registers may instead be read and written as the big-endian bytes of the PDU, which spares
+// the server a register buffer (250 bytes of stack) and a conversion (preferred when present):
+//   std::uint8_t read_registers_be(std::uint8_t function, std::uint16_t address,
+//                                  std::uint16_t quantity, motionbus::mutable_byte_view out);
+//   std::uint8_t write_registers_be(std::uint16_t address, std::uint16_t quantity,
+//                                   motionbus::byte_view data);   // FC06 (2 bytes), FC10
 //   std::uint8_t admit(motionbus::byte_view pdu);  // optional: a device-specific first check
 //                                                  // of the raw request PDU (e.g. its own
 //                                                  // order of exceptions); 0 lets it through
@@ -68,6 +74,21 @@ struct has_write_registers<D, std::void_t<decltype(std::declval<D&>().write_regi
     : std::true_type {};
 
 template <class D, class = void>
+struct has_read_registers_be : std::false_type {};
+template <class D>
+struct has_read_registers_be<
+    D, std::void_t<decltype(std::declval<D&>().read_registers_be(
+           std::uint8_t{}, std::uint16_t{}, std::uint16_t{}, mutable_byte_view{}))>>
+    : std::true_type {};
+
+template <class D, class = void>
+struct has_write_registers_be : std::false_type {};
+template <class D>
+struct has_write_registers_be<D, std::void_t<decltype(std::declval<D&>().write_registers_be(
+                                     std::uint16_t{}, std::uint16_t{}, byte_view{}))>>
+    : std::true_type {};
+
+template <class D, class = void>
 struct has_admit : std::false_type {};
 template <class D>
 struct has_admit<D, std::void_t<decltype(std::declval<D&>().admit(byte_view{}))>> : std::true_type {
@@ -86,16 +107,58 @@ constexpr std::uint8_t illegal_function_code =
 // Serves one decoded request; writes the response PDU into `pdu_out` (>= 253 bytes).
 // Returns its size (an exception response is 2 bytes).
 template <class Device>
+constexpr bool can_read_registers =
+    has_read_registers<Device>::value || has_read_registers_be<Device>::value;
+template <class Device>
+constexpr bool can_write_registers =
+    has_write_registers<Device>::value || has_write_registers_be<Device>::value;
+
+// Reads q.quantity registers from `address` into the response PDU `pdu_out` (function, byte
+// count, values), through whichever accessor the device has. Returns 0 or the exception code.
+template <class Device>
+constexpr std::uint8_t read_registers_into(Device& dev, std::uint8_t f, std::uint16_t address,
+                                           std::uint16_t quantity,
+                                           mutable_byte_view pdu_out) noexcept {
+  pdu_out[0] = f;
+  pdu_out[1] = static_cast<std::uint8_t>(2U * quantity);
+  if constexpr (has_read_registers_be<Device>::value) {
+    return dev.read_registers_be(f, address, quantity, pdu_out.subspan(2, 2U * quantity));
+  } else {
+    std::uint16_t regs[max_read_registers] = {};
+    const std::uint8_t code = dev.read_registers(f, address, span<std::uint16_t>(regs, quantity));
+    if (code == 0U) {
+      put_registers(pdu_out, 2, span<const std::uint16_t>(regs, quantity));
+    }
+    return code;
+  }
+}
+
+// Writes the big-endian register values `data` from `address`, through whichever accessor the
+// device has. Returns 0 or the exception code.
+template <class Device>
+constexpr std::uint8_t write_registers_from(Device& dev, std::uint16_t address,
+                                            byte_view data) noexcept {
+  const std::size_t n = data.size() / 2U;
+  if constexpr (has_write_registers_be<Device>::value) {
+    return dev.write_registers_be(address, static_cast<std::uint16_t>(n), data);
+  } else {
+    std::uint16_t writes[max_write_registers] = {};
+    for (std::size_t i = 0; i < n && i < max_write_registers; ++i) {
+      writes[i] = register_at(data, i);
+    }
+    return dev.write_registers(address, span<const std::uint16_t>(writes, n));
+  }
+}
+
+// Serves one decoded request; writes the response PDU into `pdu_out` (>= 253 bytes).
+// Returns its size (an exception response is 2 bytes). No buffer is cleared per request: the
+// response is built where it is sent from, registers go through a buffer only for a device
+// without the big-endian accessors.
+template <class Device>
 constexpr std::size_t serve_pdu(Device& dev, const request& q, mutable_byte_view pdu_out) noexcept {
   const std::uint8_t f = q.function;
   std::uint8_t code = illegal_function_code;
-  std::uint16_t regs[max_read_registers] = {};
-  std::uint16_t writes[max_write_registers] = {};
   auto exception = [&](std::uint8_t c) { return encode_exception(f, c, pdu_out).value_or(0); };
-  const std::size_t write_count = q.data.size() / 2U;
-  for (std::size_t i = 0; i < write_count && i < max_write_registers; ++i) {
-    writes[i] = register_at(q.data, i);
-  }
   if (f == 0x01 || f == 0x02) {
     if constexpr (has_read_bits<Device>::value) {
       const std::size_t n = (q.quantity + 7U) / 8U;
@@ -110,12 +173,10 @@ constexpr std::size_t serve_pdu(Device& dev, const request& q, mutable_byte_view
       }
     }
   } else if (f == 0x03 || f == 0x04) {
-    if constexpr (has_read_registers<Device>::value) {
-      code = dev.read_registers(f, q.address, span<std::uint16_t>(regs, q.quantity));
+    if constexpr (can_read_registers<Device>) {
+      code = read_registers_into(dev, f, q.address, q.quantity, pdu_out);
       if (code == 0U) {
-        return encode_read_registers_response(f, span<const std::uint16_t>(regs, q.quantity),
-                                              pdu_out)
-            .value_or(0);
+        return 2U + 2U * q.quantity;
       }
     }
   } else if (f == 0x05 || f == 0x0F) {
@@ -128,38 +189,40 @@ constexpr std::size_t serve_pdu(Device& dev, const request& q, mutable_byte_view
       }
     }
   } else if (f == 0x06 || f == 0x10) {
-    if constexpr (has_write_registers<Device>::value) {
-      const std::uint16_t single[1] = {q.value};
-      code = f == 0x06
-                 ? dev.write_registers(q.address, span<const std::uint16_t>(single, 1))
-                 : dev.write_registers(q.address, span<const std::uint16_t>(writes, write_count));
+    if constexpr (can_write_registers<Device>) {
+      const std::uint8_t single[2] = {static_cast<std::uint8_t>(q.value >> 8U),
+                                      static_cast<std::uint8_t>(q.value & 0xFFU)};
+      code = write_registers_from(dev, q.address, f == 0x06 ? byte_view(single, 2) : q.data);
       if (code == 0U) {
         return encode_write_response(q, pdu_out).value_or(0);
       }
     }
   } else if (f == 0x16) {
-    if constexpr (has_read_registers<Device>::value && has_write_registers<Device>::value) {
-      code = dev.read_registers(0x03, q.address, span<std::uint16_t>(regs, 1));
+    if constexpr (can_read_registers<Device> && can_write_registers<Device>) {
+      // the register is read into the response area, which the echo then overwrites
+      code = read_registers_into(dev, 0x03, q.address, 1, pdu_out);
       if (code == 0U) {
+        const std::uint16_t now = register_at(pdu_out.subspan(2, 2), 0);
         const auto v = static_cast<std::uint16_t>(
-            (regs[0] & q.and_mask) | (q.or_mask & static_cast<std::uint16_t>(~q.and_mask)));
-        code = dev.write_registers(q.address, span<const std::uint16_t>(&v, 1));
+            (now & q.and_mask) | (q.or_mask & static_cast<std::uint16_t>(~q.and_mask)));
+        const std::uint8_t bytes[2] = {static_cast<std::uint8_t>(v >> 8U),
+                                       static_cast<std::uint8_t>(v & 0xFFU)};
+        code = write_registers_from(dev, q.address, byte_view(bytes, 2));
       }
       if (code == 0U) {
         return encode_write_response(q, pdu_out).value_or(0);
       }
     }
   } else if (f == 0x17) {
-    if constexpr (has_read_registers<Device>::value && has_write_registers<Device>::value) {
+    if constexpr (can_read_registers<Device> && can_write_registers<Device>) {
       // the write is performed before the read (§6.17)
-      code = dev.write_registers(q.write_address, span<const std::uint16_t>(writes, write_count));
+      code = write_registers_from(dev, q.write_address, q.data);
       if (code == 0U) {
-        code = dev.read_registers(0x03, q.address, span<std::uint16_t>(regs, q.quantity));
+        code = read_registers_into(dev, 0x03, q.address, q.quantity, pdu_out);
       }
       if (code == 0U) {
-        return encode_read_registers_response(f, span<const std::uint16_t>(regs, q.quantity),
-                                              pdu_out)
-            .value_or(0);
+        pdu_out[0] = f;
+        return 2U + 2U * q.quantity;
       }
     }
   } else if (f == 0x11) {
@@ -178,44 +241,63 @@ constexpr std::size_t serve_pdu(Device& dev, const request& q, mutable_byte_view
 
 }  // namespace detail
 
-/// Serves one RTU request ADU (the bytes of one frame) for a server at `own_address`
-/// (1..247). Returns the size of the response ADU written to `out` (which must hold 256
-/// bytes), or 0 when nothing is to be sent: a bad CRC or length, another address, or a
-/// broadcast (executed all the same). errc::buffer_too_small when `out` is shorter than 256.
-template <class Device>
-constexpr result<std::size_t> serve_rtu(Device& dev, std::uint8_t own_address, byte_view adu,
-                                        mutable_byte_view out) noexcept {
+/// Serves one RTU request frame already checked by the framer or decode_rtu (no second CRC
+/// pass) for a server at `own_address` (1..247). Returns the size of the response ADU written
+/// to `out` (which must hold 256 bytes and must not overlap the request), or 0 when nothing is
+/// to be sent: another address, or a broadcast (executed all the same).
+/// errc::buffer_too_small when `out` is shorter than 256.
+template <crc_table_size Table = default_crc_table, class Device>
+constexpr result<std::size_t> serve_frame(Device& dev, std::uint8_t own_address,
+                                          const rtu_frame& frame, mutable_byte_view out) noexcept {
   if (out.size() < max_rtu_size) {
     return errc::buffer_too_small;
   }
-  const decode_result<rtu_frame> f = decode_rtu(adu);
-  if (!f.is_complete()) {
-    return std::size_t{0};  // no response to a corrupted frame
-  }
-  const rtu_frame& frame = f.value();
   if (frame.slave != own_address && !frame.broadcast()) {
     return std::size_t{0};
   }
-  std::uint8_t pdu[max_pdu_size] = {};
+  if (frame.pdu.empty()) {
+    return std::size_t{0};
+  }
+  const mutable_byte_view pdu = out.subspan(1, max_pdu_size);
   std::size_t n = 0;
   std::uint8_t admitted = 0;
   if constexpr (detail::has_admit<Device>::value) {
     admitted = dev.admit(frame.pdu);
   }
-  const decode_result<request> q = decode_request(frame.pdu);
   if (admitted != 0U) {
-    n = encode_exception(frame.pdu[0], admitted, mutable_byte_view(pdu, max_pdu_size)).value_or(0);
-  } else if (q.is_complete()) {
-    n = detail::serve_pdu(dev, q.value(), mutable_byte_view(pdu, max_pdu_size));
+    n = encode_exception(frame.pdu[0], admitted, pdu).value_or(0);
   } else {
-    n = encode_exception(frame.pdu[0], static_cast<std::uint8_t>(exception_for(q.error())),
-                         mutable_byte_view(pdu, max_pdu_size))
-            .value_or(0);
+    const decode_result<request> q = decode_request(frame.pdu);
+    if (q.is_complete()) {
+      n = detail::serve_pdu(dev, q.value(), pdu);
+    } else {
+      n = encode_exception(frame.pdu[0], static_cast<std::uint8_t>(exception_for(q.error())), pdu)
+              .value_or(0);
+    }
   }
   if (frame.broadcast() || n == 0U) {
     return std::size_t{0};
   }
-  return encode_rtu(own_address, byte_view(pdu, n), out);
+  out[0] = own_address;
+  const std::uint16_t c = crc16_modbus<Table>::compute(byte_view(out.data(), n + 1U));
+  out[n + 1U] = static_cast<std::uint8_t>(c & 0xFFU);
+  out[n + 2U] = static_cast<std::uint8_t>(c >> 8U);
+  return n + 3U;
+}
+
+/// Serves one RTU request ADU (the bytes of one frame): decode_rtu, then serve_frame. Returns
+/// 0 as well for a bad CRC or length (no response to a corrupted frame).
+template <crc_table_size Table = default_crc_table, class Device>
+constexpr result<std::size_t> serve_rtu(Device& dev, std::uint8_t own_address, byte_view adu,
+                                        mutable_byte_view out) noexcept {
+  if (out.size() < max_rtu_size) {
+    return errc::buffer_too_small;
+  }
+  const decode_result<rtu_frame> f = decode_rtu<Table>(adu);
+  if (!f.is_complete()) {
+    return std::size_t{0};  // no response to a corrupted frame
+  }
+  return serve_frame<Table>(dev, own_address, f.value(), out);
 }
 
 }  // namespace modbus

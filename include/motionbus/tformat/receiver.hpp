@@ -66,6 +66,13 @@ class receiver {
   /// even with an empty `in`, until it reports incomplete). Incomplete: all of `in` was taken.
   /// Each byte is copied once; a frame is decoded only when its last byte has arrived.
   constexpr decode_result<response> feed(byte_view in) noexcept {
+    if (in.size() == 1U && size_ + 1U < want_) {
+      // The common case of a byte-by-byte feed (a UART interrupt): a byte inside a frame
+      // whose length is known, no decision to make.
+      buffer_[size_] = in[0];
+      ++size_;
+      return need_input{want_ - size_};
+    }
     std::size_t used = 0;
     for (;;) {
       if (size_ >= want_) {  // enough buffered to decide something
