@@ -74,10 +74,8 @@ int serve_sm_unit(const cli::options& opts) {
       }
       in = in.subspan(n == 0 ? 0 : r.consumed());
       if (r.is_complete()) {
-        std::uint8_t adu[mo::max_rtu_size] = {};
         std::uint8_t out[mo::max_rtu_size] = {};
-        const auto k = mo::encode_rtu(r->slave, r->pdu, adu);
-        const auto reply = mo::serve_rtu(unit, slave, mb::byte_view(adu, k.value_or(0)), out);
+        const auto reply = mo::serve_frame(unit, slave, r.value(), out);  // checked by the framer
         if (reply.ok() && reply.value() > 0 && !port.write_all(out, reply.value())) {
           std::cerr << "motionbus: write error\n";
           return 1;
