@@ -17,7 +17,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     opt.resolution_from_enid = true;
   }
   const auto r = tf::decode_response(in, opt);
-  const auto small = tf::detail::decode_response_compact(in, opt);
+  const auto small = tf::detail::decode_response_small(in, opt);
   const auto fast = tf::detail::decode_response_fast(in, opt);
   MOTIONBUS_FUZZ_CHECK(small.status() == fast.status() && small.error() == fast.error() &&
                        small.consumed() == fast.consumed() && small.needed() == fast.needed() &&

@@ -66,10 +66,12 @@ TEST_CASE("decode_result built in place: the same outcomes as the converting con
       CHECK(b->position == 0);  // fields the fill does not set stay value-initialised
     }
   }
-  // Steps that settle nothing: complete, value-initialised, nothing consumed.
+  // Steps that settle nothing: incomplete, 1 unit needed, the value reads as value-initialised.
   const auto idle = decode_result<frame>::build([](decode_result<frame>::outcome) {});
-  CHECK(idle.is_complete());
+  CHECK(idle.is_incomplete());
+  CHECK(idle.needed() == 1);
   CHECK(idle.consumed() == 0);
+  CHECK(idle.error() == errc::ok);
   CHECK(idle->id == 0);
   // fail carries evidence; an ok code is never reported as success; need(0) needs 1.
   const auto crc = decode_result<int>::build(

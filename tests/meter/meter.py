@@ -156,6 +156,7 @@ class Machine:
         self.pending = set()
         self.lowest = self.stack_top
         self.violations = []
+        self.profile = None  # address -> count, when set (a developer's aid)
         self.uc.hook_add(UC_HOOK_CODE, self._on_code)
         self.uc.hook_add(UC_HOOK_MEM_WRITE, self._on_write, begin=self.stack_floor,
                          end=self.stack_top - 1)
@@ -167,6 +168,8 @@ class Machine:
             return
         self.pending.clear()
         self.count += 1
+        if self.profile is not None:
+            self.profile[address] = self.profile.get(address, 0) + 1
         if self.core == "rv32imc":
             return
         hw = struct.unpack("<H", uc.mem_read(address, 2))[0]

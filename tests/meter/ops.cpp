@@ -18,6 +18,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <new>
 
 namespace mb = motionbus;
 namespace tf = motionbus::tformat;
@@ -41,14 +42,22 @@ mb::byte_view input() {
   return mb::byte_view(meter_in, meter_in_size);
 }
 
-// The results of the measured calls: each operation stores its result here (as a firmware
-// stores what it decoded), and an unmeasured `op_report_*` call copies it into meter_out.
+// The results of the measured calls: each operation constructs its result here (in place: a
+// returned result initialises the object directly, C++17's guaranteed copy elision, as where a
+// firmware keeps what it decoded), and an unmeasured `op_report_*` call copies it into
+// meter_out.
 mb::decode_result<tf::response> tformat_result = mb::need_input{};
 mb::decode_result<tf::line_frame<tf::response>> line_result = mb::need_input{};
 mb::decode_result<md::rtu_frame> rtu_result = mb::need_input{};
 mb::decode_result<md::response> client_result = mb::need_input{};
 mb::decode_result<bs::frame_info> biss_result = mb::need_input{};
 bs::slave_data biss_data;
+
+// Constructs the result of `call()` in `slot` (no temporary, no copy).
+template <class R, class Call>
+void keep(R& slot, Call&& call) {
+  ::new (static_cast<void*>(&slot)) R(call());
+}
 
 void put_response(const mb::decode_result<tf::response>& r) {
   meter_out[0] = static_cast<std::uint32_t>(r.status());
@@ -126,7 +135,7 @@ METER_OP void op_tformat_encode_request_id6(unsigned address, unsigned data) {
   put_bytes(mb::byte_view(meter_adu, n.value_or(0)));
 }
 METER_OP void op_tformat_decode_response() {
-  tformat_result = tf::decode_response(input());
+  keep(tformat_result, [] { return tf::decode_response(input()); });
 }
 METER_OP void op_report_tformat() {
   put_response(tformat_result);
@@ -145,10 +154,12 @@ METER_OP void op_tformat_receiver_byte(unsigned byte) {
   }
 }
 METER_OP void op_tformat_line_decode() {
-  line_result = tf::decode_response_line(
-      mb::span<const std::uint32_t>(reinterpret_cast<const std::uint32_t*>(meter_in),
-                                    (meter_in_size + 31U) / 32U),
-      mb::bit_order::msb_first, meter_in_size);
+  keep(line_result, [] {
+    return tf::decode_response_line(
+        mb::span<const std::uint32_t>(reinterpret_cast<const std::uint32_t*>(meter_in),
+                                      (meter_in_size + 31U) / 32U),
+        mb::bit_order::msb_first, meter_in_size);
+  });
 }
 METER_OP void op_report_line() {
   const auto& r = line_result;
@@ -207,7 +218,7 @@ METER_OP void op_report_rtu() {
   }
 }
 METER_OP void op_modbus_decode_rtu() {
-  rtu_result = md::decode_rtu(input());
+  keep(rtu_result, [] { return md::decode_rtu(input()); });
 }
 METER_OP void op_modbus_client_fc03(unsigned quantity) {
   const auto f = md::decode_rtu(input());
@@ -215,8 +226,10 @@ METER_OP void op_modbus_client_fc03(unsigned quantity) {
     client_result = mb::decode_failure{f.error(), 0};
     return;
   }
-  client_result = md::decode_read_response(f->pdu, md::function_code::read_holding_registers,
-                                           static_cast<std::uint16_t>(quantity));
+  keep(client_result, [&] {
+    return md::decode_read_response(f->pdu, md::function_code::read_holding_registers,
+                                    static_cast<std::uint16_t>(quantity));
+  });
 }
 METER_OP void op_report_client() {
   const auto& r = client_result;
@@ -254,9 +267,11 @@ METER_OP void op_modbus_encode_request_fc03(unsigned address, unsigned quantity)
 // BiSS-C
 // --------------------------------------------------------------------------------------------
 METER_OP void op_biss_decode_frame() {
-  biss_result = bs::decode_frame(
-      mb::span<const std::uint32_t>(reinterpret_cast<const std::uint32_t*>(meter_in), 2),
-      meter_in_size, bs::absys_layout, biss_data);
+  keep(biss_result, [] {
+    return bs::decode_frame(
+        mb::span<const std::uint32_t>(reinterpret_cast<const std::uint32_t*>(meter_in), 2),
+        meter_in_size, bs::absys_layout, biss_data);
+  });
 }
 METER_OP void op_report_biss() {
   const auto& r = biss_result;

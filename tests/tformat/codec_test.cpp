@@ -440,7 +440,7 @@ TEST_CASE("the ID3 fast path agrees with the generic layout decoder on random fr
 }
 
 TEST_CASE("the size form of decode_response agrees with the speed form on every kind of input") {
-  // MOTIONBUS_SMALL_CODE selects decode_response_compact (one table-driven path) instead of
+  // MOTIONBUS_SMALL_CODE selects decode_response_small (one table-driven path) instead of
   // decode_response_fast; both must give the same outcome, error, counts, evidence and value:
   // every Data ID, truncations, bad CFs, bad CRCs, reserved SF bits, EEPROM busy, resolutions.
   testutil::splitmix64 rng(0x5A11);
@@ -476,7 +476,7 @@ TEST_CASE("the size form of decode_response agrees with the speed form on every 
              static_cast<std::uint8_t>(1U + rng.below(40))};
     o.check_unused_bits = rng.below(4) != 0U;
     o.resolution_from_enid = rng.below(2) != 0U;
-    const auto small = tformat::detail::decode_response_compact(view(f), o);
+    const auto small = tformat::detail::decode_response_small(view(f), o);
     const auto fast = tformat::detail::decode_response_fast(view(f), o);
     CAPTURE(i);
     REQUIRE(small.status() == fast.status());
@@ -498,7 +498,7 @@ TEST_CASE("the size form of decode_response agrees with the speed form on every 
   // decode_response is the form the build selected.
   const auto r = decode_response(view(good[3]));
   CHECK(r.is_complete());
-  CHECK(r.value().abs == tformat::detail::decode_response_compact(view(good[3]), {}).value().abs);
+  CHECK(r.value().abs == tformat::detail::decode_response_small(view(good[3]), {}).value().abs);
 }
 
 TEST_CASE("every single-bit flip of every valid request is detected by the encoder side") {

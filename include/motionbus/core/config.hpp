@@ -86,4 +86,14 @@
 #endif
 #endif
 
+/// True in constant evaluation. Where the compiler cannot tell (neither GCC, clang nor C++20),
+/// true: code takes its constant-evaluation path, which is correct at run time too.
+#if defined(__GNUC__) || defined(__clang__)
+#define MOTIONBUS_CONSTANT_EVALUATED() __builtin_is_constant_evaluated()
+#elif defined(__cpp_lib_is_constant_evaluated)
+#define MOTIONBUS_CONSTANT_EVALUATED() std::is_constant_evaluated()
+#else
+#define MOTIONBUS_CONSTANT_EVALUATED() true
+#endif
+
 #endif  // MOTIONBUS_CORE_CONFIG_HPP

@@ -13,8 +13,10 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <new>
 #include <type_traits>
 
+#include "motionbus/core/config.hpp"
 #include "motionbus/core/errc.hpp"
 
 namespace motionbus {
@@ -67,30 +69,58 @@ struct decode_failure {
   std::uint32_t received = 0;
 };
 
-/// Outcome of decoding a T from bytes or bits.
+/// Outcome of decoding a T from bytes or bits. Only the outcome's own fields are written:
+/// an incomplete result is two stores (status and units), whatever the size of T, so that a
+/// stream object fed one byte at a time pays nothing for the value it has not decoded yet.
+/// The value and the failure's evidence share storage; value() of a result that is not
+/// complete returns a value-initialised T held in read-only storage (never undefined
+/// behaviour, never a copy).
 template <class T>
 class [[nodiscard]] decode_result {
   static_assert(std::is_default_constructible<T>::value,
                 "decode_result<T> needs a default-constructible T");
+  static_assert(std::is_trivially_copyable<T>::value && std::is_trivially_destructible<T>::value,
+                "decode_result<T> needs a trivially copyable, trivially destructible T");
+
+  struct evidence {
+    errc code;
+    std::uint32_t expected;
+    std::uint32_t received;
+  };
+  // The active member while no value and no evidence is held. Its constructor is user-provided
+  // and empty, so that making it active writes no bytes (an empty aggregate, value-initialised,
+  // would let a compiler clear the whole union).
+  struct nothing {
+    MOTIONBUS_INLINE constexpr nothing() noexcept {}  // NOLINT(modernize-use-equals-default)
+  };
+  union storage {
+    nothing none;
+    T value;
+    evidence failure;
+    MOTIONBUS_INLINE constexpr storage() noexcept : none() {}
+    MOTIONBUS_INLINE constexpr explicit storage(const T& v) noexcept : value(v) {}
+    MOTIONBUS_INLINE constexpr explicit storage(const evidence& f) noexcept : failure(f) {}
+  };
 
  public:
   using value_type = T;
 
   /// A complete value that used `consumed` units of input.
-  static constexpr decode_result complete(const T& value, std::size_t consumed) noexcept {
+  MOTIONBUS_INLINE static constexpr decode_result complete(const T& value,
+                                                           std::size_t consumed) noexcept {
     return decode_result(value, consumed);
   }
   /// A complete value built in place: `fill(T&)` sets the fields of a value-initialised T in
   /// the result itself (no temporary T to copy; some compilers copy it through memory).
   template <class Fill>
-  static constexpr decode_result complete_with(std::size_t consumed, Fill&& fill) noexcept {
-    decode_result r;
-    r.count_ = consumed;
-    fill(r.value_);
+  MOTIONBUS_INLINE static constexpr decode_result complete_with(std::size_t consumed,
+                                                                Fill&& fill) noexcept {
+    decode_result r = need_input{1};
+    r.set_complete(consumed, fill);
     return r;
   }
   /// The outcome of a decode_result being built in place by build(): call one of need, fail
-  /// or complete once (none: complete, value-initialised, 0 units consumed).
+  /// or complete once (none: incomplete, 1 unit needed).
   class outcome {
    public:
     constexpr explicit outcome(decode_result& r) noexcept : r_(r) {}
@@ -100,23 +130,23 @@ class [[nodiscard]] decode_result {
       r_.count_ = at_least == 0 ? 1 : at_least;
     }
     /// Failed as decode_failure{e, consumed} (an ok `e`: invalid_argument).
-    constexpr void fail(errc e, std::size_t consumed) noexcept {
-      r_.status_ = decode_status::failed;
-      r_.error_ = e == errc::ok ? errc::invalid_argument : e;
-      r_.count_ = consumed;  // the evidence stays 0, as built
-    }
+    constexpr void fail(errc e, std::size_t consumed) noexcept { fail(e, consumed, 0, 0); }
     /// Failed as decode_failure{e, consumed, expected, received}.
     constexpr void fail(errc e, std::size_t consumed, std::uint32_t expected,
                         std::uint32_t received) noexcept {
-      fail(e, consumed);
-      r_.expected_ = expected;
-      r_.received_ = received;
+      r_.status_ = decode_status::failed;
+      r_.count_ = consumed;
+      r_.u_ = storage(evidence{e == errc::ok ? errc::invalid_argument : e, expected, received});
     }
     /// Complete using `consumed` units: `fill(T&)` sets the fields of the value-initialised T.
     template <class Fill>
     constexpr void complete(std::size_t consumed, Fill&& fill) noexcept {
-      r_.count_ = consumed;
-      fill(r_.value_);
+      r_.set_complete(consumed, fill);
+    }
+    /// Complete using `consumed` units, with `value` (built whole, e.g. by aggregate
+    /// initialisation, so that no field is written twice).
+    MOTIONBUS_INLINE constexpr void complete_value(std::size_t consumed, const T& value) noexcept {
+      r_.set_value(consumed, value);
     }
 
    private:
@@ -127,18 +157,18 @@ class [[nodiscard]] decode_result {
   /// with several exits then needs no copy of T or of the result for any of them).
   template <class Steps>
   static constexpr decode_result build(Steps&& steps) noexcept {
-    decode_result r;
+    decode_result r = need_input{1};
     steps(outcome(r));
     return r;
   }
-  constexpr decode_result(need_input n) noexcept  // NOLINT(google-explicit-constructor)
-      : status_(decode_status::incomplete), count_(n.at_least == 0 ? 1 : n.at_least) {}
-  constexpr decode_result(decode_failure f) noexcept  // NOLINT(google-explicit-constructor)
-      : status_(decode_status::failed),
-        error_(f.code == errc::ok ? errc::invalid_argument : f.code),
+  MOTIONBUS_INLINE constexpr decode_result(
+      need_input n) noexcept  // NOLINT(google-explicit-constructor)
+      : count_(n.at_least == 0 ? 1 : n.at_least), status_(decode_status::incomplete) {}
+  MOTIONBUS_INLINE constexpr decode_result(
+      decode_failure f) noexcept  // NOLINT(google-explicit-constructor)
+      : u_(evidence{f.code == errc::ok ? errc::invalid_argument : f.code, f.expected, f.received}),
         count_(f.consumed),
-        expected_(f.expected),
-        received_(f.received) {}
+        status_(decode_status::failed) {}
 
   constexpr decode_status status() const noexcept { return status_; }
   constexpr bool is_complete() const noexcept { return status_ == decode_status::complete; }
@@ -147,29 +177,51 @@ class [[nodiscard]] decode_result {
   constexpr explicit operator bool() const noexcept { return is_complete(); }
 
   /// The decoded value; value-initialised unless complete.
-  constexpr const T& value() const noexcept { return value_; }
-  constexpr const T& operator*() const noexcept { return value_; }
-  constexpr const T* operator->() const noexcept { return &value_; }
+  constexpr const T& value() const noexcept { return is_complete() ? u_.value : empty_; }
+  constexpr const T& operator*() const noexcept { return value(); }
+  constexpr const T* operator->() const noexcept { return &value(); }
   /// Complete: units used by the value. Failed: units the caller may drop. Else 0.
   constexpr std::size_t consumed() const noexcept { return is_incomplete() ? 0U : count_; }
   /// Incomplete: lower bound on the further units needed. Else 0.
   constexpr std::size_t needed() const noexcept { return is_incomplete() ? count_ : 0U; }
   /// Failed: the error. Else errc::ok.
-  constexpr errc error() const noexcept { return error_; }
-  constexpr std::uint32_t expected() const noexcept { return expected_; }
-  constexpr std::uint32_t received() const noexcept { return received_; }
+  constexpr errc error() const noexcept { return is_failed() ? u_.failure.code : errc::ok; }
+  /// Failed: the evidence (e.g. the CRC computed and the CRC received), 0 where the error has
+  /// none. Else 0.
+  constexpr std::uint32_t expected() const noexcept {
+    return is_failed() ? u_.failure.expected : 0U;
+  }
+  constexpr std::uint32_t received() const noexcept {
+    return is_failed() ? u_.failure.received : 0U;
+  }
 
  private:
-  constexpr decode_result() noexcept = default;
-  constexpr decode_result(const T& value, std::size_t consumed) noexcept
-      : value_(value), count_(consumed) {}
+  MOTIONBUS_INLINE constexpr decode_result(const T& value, std::size_t consumed) noexcept
+      : u_(value), count_(consumed), status_(decode_status::complete) {}
 
-  decode_status status_ = decode_status::complete;
-  errc error_ = errc::ok;
-  T value_{};
-  std::size_t count_ = 0;  ///< consumed (complete, failed) or needed (incomplete): one word
-  std::uint32_t expected_ = 0;
-  std::uint32_t received_ = 0;
+  template <class Fill>
+  MOTIONBUS_INLINE constexpr void set_complete(std::size_t consumed, Fill& fill) noexcept {
+    status_ = decode_status::complete;
+    count_ = consumed;
+    T v{};  // filled where the compiler keeps it (registers, for a small T)
+    fill(v);
+    set_value(consumed, v);
+  }
+  MOTIONBUS_INLINE constexpr void set_value(std::size_t consumed, const T& v) noexcept {
+    status_ = decode_status::complete;
+    count_ = consumed;
+    if (MOTIONBUS_CONSTANT_EVALUATED()) {
+      u_ = storage(v);  // constant evaluation: the member is made active by assignment
+    } else {
+      ::new (static_cast<void*>(&u_.value)) T(v);  // at run time: stored once, in place
+    }
+  }
+
+  static constexpr T empty_{};
+
+  storage u_;
+  std::size_t count_;  ///< consumed (complete, failed) or needed (incomplete): one word
+  decode_status status_;
 };
 
 }  // namespace motionbus

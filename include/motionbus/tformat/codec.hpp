@@ -193,16 +193,11 @@ MOTIONBUS_INLINE constexpr decode_result<response> decode_read_all(
       ((static_cast<std::uint64_t>(abs) >> st) | (static_cast<std::uint64_t>(abm) >> mt)) != 0U) {
     return decode_failure{errc::out_of_range, 1};
   }
-  return decode_result<response>::complete_with(11, [&](response& r) {
-    r.id = data_id::read_all;
-    r.cf = static_cast<std::uint8_t>(w);
-    r.sf = status;
-    r.enid = enid;
-    r.almc = static_cast<std::uint8_t>(f9);
-    r.crc = crc;
-    r.abs = abs;
-    r.abm = abm;
-  });
+  // Every field given (aggregate initialisation): each is stored once.
+  return decode_result<response>::complete(
+      response{data_id::read_all, static_cast<std::uint8_t>(w), status, enid,
+               static_cast<std::uint8_t>(f9), 0, false, 0, crc, abs, abm},
+      11);
 }
 
 constexpr decode_result<response> decode_eeprom_frame(byte_view in, data_id id) noexcept {
@@ -276,74 +271,76 @@ MOTIONBUS_INLINE constexpr decode_result<response> decode_response_fast(
   return decode_other_response(in, id, opt);
 }
 
-// The size form of decode_response: one path for every layout. The fields before the CRC are
-// copied into a zero-padded buffer, where each field has one place whatever the layout (an
-// absent field reads as 0, which fits any resolution: no per-field condition in the unused-bit
-// check), and the result is built in place (no copy on any exit). Same checks in the same
-// order as the speed form, which the tests and the response fuzz target pin it to.
-constexpr decode_result<response> decode_response_compact(byte_view in,
-                                                          const decode_options& opt) noexcept {
-  return decode_result<response>::build([in, opt](decode_result<response>::outcome o) {
-    std::size_t size = 4;  // the shortest response, while no CF is known
-    std::uint8_t code = 0;
-    if (!in.empty()) {
-      code = data_id_code(in[0]);
-      size = response_sizes[code];
-      if (in[0] != valid_control_fields[code]) {
-        return o.fail(cf_error(in[0]), 1);
-      }
-    }
-    if (in.size() < size) {
-      return o.need(size - in.size());
-    }
-    const std::uint8_t fields = response_fields[code];
-    // ABS, or else the one field after SF, at 2; ENID at 5 and ABM at 6 unless it is that
-    // field; ALMC at 9.
-    std::uint8_t b[12] = {};
-    std::uint8_t computed = 0;
-    const std::size_t last = size - 1U;
-    for (std::size_t i = 0; i < last; ++i) {
-      b[i] = in[i];
-      computed = static_cast<std::uint8_t>(computed ^ in[i]);
-    }
-    const std::uint8_t sent = in[last];
-    if (computed != sent) {
-      return o.fail(errc::crc_mismatch, 1, computed, sent);
-    }
-    if ((fields & field_bit::eeprom) == 0U && (b[1] & sf::reserved_mask) != 0U) {
-      return o.fail(errc::reserved_bits, 1);
-    }
-    const byte_view v(b, sizeof b);
-    const auto first = static_cast<std::uint32_t>(load_le<4>(v, 2) & 0xFFFFFFU);
-    const std::uint32_t abs = (fields & field_bit::abs) != 0U ? first : 0U;
-    const std::uint8_t enid = fields == field_bit::enid ? b[2] : b[5];
-    const std::uint32_t abm =
-        fields == field_bit::abm ? first : static_cast<std::uint32_t>(load_le<4>(v, 6) & 0xFFFFFFU);
-    const resolution res = (fields & field_bit::abs) != 0U && (fields & field_bit::enid) != 0U &&
-                                   opt.resolution_from_enid
-                               ? resolution_for_enid(enid, opt.res)
-                               : opt.res;
-    if (opt.check_unused_bits &&
-        (!fits(abs, res.single_turn_bits) || !fits(abm, res.multi_turn_bits))) {
-      return o.fail(errc::out_of_range, 1);
-    }
-    o.complete(size, [&](response& r) {
-      r.id = static_cast<data_id>(code);
-      r.cf = in[0];
-      r.crc = sent;
-      if ((fields & field_bit::eeprom) != 0U) {
-        r.address = static_cast<std::uint8_t>(b[1] & adf_address_mask);
-        r.busy = (b[1] & adf_busy) != 0U;
-        r.edf = b[2];
-      } else {
-        r.sf = b[1];
-      }
-      r.abs = abs;
-      r.enid = enid;
-      r.abm = abm;
-      r.almc = b[9];
-    });
-  });
+// Every response but a whole ID3 one (decode_response_small takes those): the fields before
+// the CRC (at most five bytes) are gathered into a zero-padded word, where each field has one
+// place whatever the layout (an absent field reads as 0, which fits any resolution: no
+// per-field condition in the unused-bit check); the checks settle one error, returned from one
+// place. An ID3 CF with fewer than 11 bytes needs more.
+constexpr decode_result<response> decode_short_response(byte_view in,
+                                                        const decode_options& opt) noexcept {
+  if (in.empty()) {
+    return need_input{4};  // the shortest response, while no CF is known
+  }
+  const std::uint8_t cf = in[0];
+  const std::uint8_t code = data_id_code(cf);
+  if (cf != valid_control_fields[code]) {
+    return decode_failure{cf_error(cf), 1};
+  }
+  const std::size_t size = response_sizes[code];
+  if (in.size() < size) {
+    return need_input{size - in.size()};
+  }
+  const std::uint8_t fields = response_fields[code];
+  const std::size_t last = size - 1U;
+  // CF, SF (or ADF), then ABS, or else the one field after SF, from byte 2.
+  std::uint64_t w = 0;
+  for (std::size_t i = last < 5U ? last : 5U; i > 0U; --i) {
+    w = (w << 8U) | in[i - 1U];
+  }
+  std::uint32_t x = static_cast<std::uint32_t>(w) ^ static_cast<std::uint32_t>(w >> 32U);
+  x ^= x >> 16U;
+  x ^= x >> 8U;
+  const auto computed = static_cast<std::uint8_t>(x);
+  const std::uint8_t sent = in[last];
+  const bool eeprom = (fields & field_bit::eeprom) != 0U;
+  const auto second = static_cast<std::uint8_t>(w >> 8U);
+  const auto first = static_cast<std::uint32_t>(w >> 16U);
+  const std::uint32_t abs = (fields & field_bit::abs) != 0U ? first : 0U;
+  const std::uint32_t abm = fields == field_bit::abm ? first : 0U;
+  errc e = errc::ok;
+  if (computed != sent) {
+    e = errc::crc_mismatch;
+  } else if (!eeprom && (second & sf::reserved_mask) != 0U) {
+    e = errc::reserved_bits;
+  } else if (opt.check_unused_bits &&
+             (!fits(abs, opt.res.single_turn_bits) || !fits(abm, opt.res.multi_turn_bits))) {
+    e = errc::out_of_range;
+  }
+  if (e != errc::ok) {
+    const bool crc = e == errc::crc_mismatch;
+    return decode_failure{e, 1, crc ? computed : 0U, crc ? sent : 0U};
+  }
+  const auto third = static_cast<std::uint8_t>(first);
+  // Every field given (aggregate initialisation): each is stored once.
+  return decode_result<response>::complete(
+      response{static_cast<data_id>(code), cf, eeprom ? std::uint8_t{0} : second,
+               fields == field_bit::enid ? third : std::uint8_t{0}, std::uint8_t{0},
+               eeprom ? static_cast<std::uint8_t>(second & adf_address_mask) : std::uint8_t{0},
+               eeprom && (second & adf_busy) != 0U, eeprom ? third : std::uint8_t{0}, sent, abs,
+               abm},
+      size);
+}
+
+// The size form of decode_response (MOTIONBUS_SMALL_CODE): a whole ID3 response (polled every
+// control cycle) through decode_read_all, inline at the call site, every other input through
+// the one table-driven path for the short layouts, out of line. Same checks in the same order
+// as the speed form, which the tests and the response fuzz target pin it to.
+MOTIONBUS_INLINE constexpr decode_result<response> decode_response_small(
+    byte_view in, const decode_options& opt) noexcept {
+  if (in.size() >= max_response_size && in[0] == control_field(data_id::read_all)) {
+    return decode_read_all(in, opt);
+  }
+  return decode_short_response(in, opt);
 }
 
 }  // namespace detail
@@ -356,9 +353,9 @@ constexpr decode_result<response> decode_response_compact(byte_view in,
 /// A busy EEPROM is state (response::busy), not an error. MOTIONBUS_SMALL_CODE picks the
 /// form (core/config.hpp); both return the same results.
 #if MOTIONBUS_SMALL_CODE
-constexpr decode_result<response> decode_response(byte_view in,
-                                                  const decode_options& opt = {}) noexcept {
-  return detail::decode_response_compact(in, opt);
+MOTIONBUS_INLINE constexpr decode_result<response> decode_response(
+    byte_view in, const decode_options& opt = {}) noexcept {
+  return detail::decode_response_small(in, opt);
 }
 #else
 MOTIONBUS_INLINE constexpr decode_result<response> decode_response(
