@@ -118,7 +118,7 @@ int main(int argc, char** argv) {
       }
     }
     if (!done) {
-      std::printf("no response (%s)\n", rx.idle() == mb::errc::truncated ? "truncated" : "silent");
+      std::printf("no response (%s)\n", rx.idle().is_failed() ? "truncated" : "silent");
     }
     usleep(10000);
   }

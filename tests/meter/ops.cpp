@@ -147,11 +147,7 @@ METER_OP void op_tformat_receiver_start() {
   rx.sent(mb::byte_view(request, 1));
 }
 METER_OP void op_tformat_receiver_byte(unsigned byte) {
-  const std::uint8_t b[1] = {static_cast<std::uint8_t>(byte)};
-  const auto r = rx.feed(mb::byte_view(b, 1));
-  if (!r.is_incomplete()) {  // an interrupt handler keeps what completes or fails
-    tformat_result = r;
-  }
+  keep(tformat_result, [&] { return rx.feed(static_cast<std::uint8_t>(byte)); });
 }
 METER_OP void op_tformat_line_decode() {
   keep(line_result, [] {
@@ -201,10 +197,7 @@ METER_OP void op_modbus_framer_start() {
 }
 METER_OP void op_modbus_framer_byte(unsigned byte) {
   const std::uint8_t b[1] = {static_cast<std::uint8_t>(byte)};
-  const auto r = framer.feed(mb::byte_view(b, 1));
-  if (!r.is_incomplete()) {  // an interrupt handler keeps what completes or fails
-    rtu_result = r;
-  }
+  keep(rtu_result, [&] { return framer.feed(mb::byte_view(b, 1)); });
 }
 METER_OP void op_report_rtu() {
   const auto& r = rtu_result;

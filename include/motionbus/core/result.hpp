@@ -182,6 +182,13 @@ class [[nodiscard]] decode_result {
   constexpr const T* operator->() const noexcept { return &value(); }
   /// Complete: units used by the value. Failed: units the caller may drop. Else 0.
   constexpr std::size_t consumed() const noexcept { return is_incomplete() ? 0U : count_; }
+  /// Sets consumed() of a complete or failed result (a stream object reports the input it
+  /// took rather than the frame's size); nothing for an incomplete one.
+  constexpr void set_consumed(std::size_t n) noexcept {
+    if (!is_incomplete()) {
+      count_ = n;
+    }
+  }
   /// Incomplete: lower bound on the further units needed. Else 0.
   constexpr std::size_t needed() const noexcept { return is_incomplete() ? count_ : 0U; }
   /// Failed: the error. Else errc::ok.

@@ -378,6 +378,45 @@ constexpr decode_result<response> decode_response_frame(byte_view in,
   return r;
 }
 
+namespace detail {
+
+// check_response on a request frame already known to be valid (a known CF, all its bytes).
+constexpr errc check_against(const std::uint8_t* request_frame, const response& v,
+                             std::uint32_t& want, std::uint32_t& got) noexcept {
+  const bool eeprom =
+      (response_fields[static_cast<std::uint8_t>(v.id) & 0xFU] & field_bit::eeprom) != 0U;
+  if (!eeprom && (v.sf & (sf::ca0 | sf::ca1)) != 0U) {
+    return errc::tformat_communication_alarm;
+  }
+  if (v.cf != request_frame[0]) {
+    want = request_frame[0];
+    got = v.cf;
+    return errc::tformat_cf_mismatch;
+  }
+  if (eeprom) {
+    const auto want_address = static_cast<std::uint8_t>(request_frame[1] & adf_address_mask);
+    if (v.address != want_address) {
+      want = want_address;
+      got = v.address;
+      return errc::tformat_address_mismatch;
+    }
+    if (v.id == data_id::eeprom_write && !v.busy && v.edf != request_frame[2]) {
+      want = request_frame[2];
+      got = v.edf;
+      return errc::tformat_data_mismatch;
+    }
+  }
+  return errc::ok;
+}
+
+// Whether `request_frame` is a request the master may have sent (a known CF, all its bytes).
+constexpr bool valid_request(byte_view request_frame) noexcept {
+  return !request_frame.empty() && check_cf(request_frame[0]) == errc::ok &&
+         request_frame.size() >= request_size(static_cast<data_id>(data_id_code(request_frame[0])));
+}
+
+}  // namespace detail
+
 /// Checks a decoded response against the request frame that was sent: errc::ok, or
 /// tformat_communication_alarm when the encoder flags ca0/ca1 (the request arrived corrupted:
 /// send it again; spec §6.3.2), tformat_cf_mismatch, tformat_address_mismatch (EEPROM), or
@@ -386,31 +425,12 @@ constexpr decode_result<response> decode_response_frame(byte_view in,
 constexpr errc check_response(byte_view request_frame, const response& v,
                               std::uint32_t* expected = nullptr,
                               std::uint32_t* received = nullptr) noexcept {
-  if (request_frame.empty() || detail::check_cf(request_frame[0]) != errc::ok ||
-      request_frame.size() < request_size(static_cast<data_id>(data_id_code(request_frame[0])))) {
+  if (!detail::valid_request(request_frame)) {
     return errc::invalid_argument;
   }
   std::uint32_t want = 0;
   std::uint32_t got = 0;
-  errc e = errc::ok;
-  if (!v.layout().eeprom && (v.ca0() || v.ca1())) {
-    e = errc::tformat_communication_alarm;
-  } else if (v.cf != request_frame[0]) {
-    e = errc::tformat_cf_mismatch;
-    want = request_frame[0];
-    got = v.cf;
-  } else if (v.layout().eeprom) {
-    const auto want_address = static_cast<std::uint8_t>(request_frame[1] & adf_address_mask);
-    if (v.address != want_address) {
-      e = errc::tformat_address_mismatch;
-      want = want_address;
-      got = v.address;
-    } else if (v.id == data_id::eeprom_write && !v.busy && v.edf != request_frame[2]) {
-      e = errc::tformat_data_mismatch;
-      want = request_frame[2];
-      got = v.edf;
-    }
-  }
+  const errc e = detail::check_against(request_frame.data(), v, want, got);
   if (expected != nullptr) {
     *expected = want;
   }

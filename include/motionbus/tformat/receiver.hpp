@@ -4,7 +4,9 @@
 // from its CF, skips the echo of the master's own request on half-duplex adapters whose
 // receiver is always on, drops garbage until a valid CF, and after a corrupted frame rescans
 // from the next byte so that no valid frame behind it is lost. Holds at most one frame
-// (11 bytes); no heap, no I/O.
+// (11 bytes, in a frame_buffer: garbage is dropped by moving an index); no heap, no I/O.
+// The same shape as the Modbus RTU framer: built from an options struct, fed by feed(),
+// told of the line's silence by idle(), each returning a decode_result.
 //
 //   receiver rx({echo::expected});
 //   rx.sent(request);                         // after writing the request to the UART
@@ -14,6 +16,8 @@
 //     in = in.subspan(r.consumed());
 //     if (r) use(r.value()); else log(r.error());
 //   }
+//   on_idle():                                // the line went quiet: a cut-short frame?
+//     if (rx.idle().is_failed()) log_truncated();
 #ifndef MOTIONBUS_TFORMAT_RECEIVER_HPP
 #define MOTIONBUS_TFORMAT_RECEIVER_HPP
 
@@ -21,6 +25,7 @@
 #include <cstdint>
 
 #include "motionbus/core/errc.hpp"
+#include "motionbus/core/frame_buffer.hpp"
 #include "motionbus/core/result.hpp"
 #include "motionbus/core/span.hpp"
 #include "motionbus/tformat/codec.hpp"
@@ -49,14 +54,16 @@ class receiver {
   /// Records the request just sent (up to 4 bytes): its echo is skipped when echo::expected,
   /// and responses are checked against it. Drops any partial frame.
   constexpr void sent(byte_view request_frame) noexcept {
-    want_ = 1;
-    request_size_ =
-        request_frame.size() < max_request_size ? request_frame.size() : max_request_size;
+    want_ = 0;
+    request_size_ = static_cast<std::uint8_t>(
+        request_frame.size() < max_request_size ? request_frame.size() : max_request_size);
     for (std::size_t i = 0; i < request_size_; ++i) {
       request_[i] = request_frame[i];
     }
     echo_pending_ = opt_.echo_mode == echo::expected && request_size_ > 0U;
-    size_ = 0;
+    check_ = opt_.check_against_request && detail::valid_request(request_frame);
+    framing_ = false;
+    buf_.clear();
   }
 
   /// Processes bytes from `in` until a frame or an error is found.
@@ -65,47 +72,38 @@ class receiver {
   /// taken; the receiver rescans from the frame's second byte on the next call (call again,
   /// even with an empty `in`, until it reports incomplete). Incomplete: all of `in` was taken.
   /// Each byte is copied once; a frame is decoded only when its last byte has arrived.
-  constexpr decode_result<response> feed(byte_view in) noexcept {
-    if (in.size() == 1U && size_ + 1U < want_) {
-      // The common case of a byte-by-byte feed (a UART interrupt): a byte inside a frame
-      // whose length is known, no decision to make.
-      buffer_[size_] = in[0];
-      ++size_;
-      return need_input{want_ - size_};
+  MOTIONBUS_INLINE constexpr decode_result<response> feed(byte_view in) noexcept {
+    if (in.size() == 1U) {
+      return feed(in[0]);
     }
-    std::size_t used = 0;
-    for (;;) {
-      if (size_ >= want_) {  // enough buffered to decide something
-        const decode_result<response> r = scan(used);
-        if (!r.is_incomplete()) {
-          return r;
-        }
-        continue;  // scan() raised want_
-      }
-      if (used >= in.size()) {
-        return need_input{want_ - size_};
-      }
-      std::size_t take = want_ - size_;
-      if (take > in.size() - used) {
-        take = in.size() - used;
-      }
-      for (std::size_t i = 0; i < take; ++i) {
-        buffer_[size_ + i] = in[used + i];
-      }
-      size_ += take;
-      used += take;
+    return decide(in);
+  }
+  /// feed() of one byte (a UART interrupt handler's call). A byte inside a frame whose length
+  /// is known is stored here, inline at the call site; everything else is decided out of line.
+  MOTIONBUS_INLINE constexpr decode_result<response> feed(std::uint8_t byte) noexcept {
+    const std::size_t held = buf_.size() + 1U;
+    if (held < want_) {
+      const std::size_t missing = want_ - held;  // read before the store
+      buf_.push(byte);
+      return need_input{missing};
     }
+    return decide_byte(byte);
   }
 
-  /// The line went idle (end of frame): an incomplete frame is dropped. Returns errc::truncated
-  /// when one was, else errc::ok.
-  constexpr errc idle() noexcept {
-    const bool partial = size_ > 0U;
-    dropped_ += size_;
-    size_ = 0;
-    want_ = 1;
+  /// The line went idle (end of frame): what is held is dropped. Failed (truncated, with the
+  /// bytes dropped as consumed()) when part of a frame was held; else incomplete (nothing to
+  /// report). The same signal, and the same return type, as the Modbus framer's idle().
+  constexpr decode_result<response> idle() noexcept {
+    const std::size_t held = buf_.size();
+    dropped_ += held;
+    buf_.clear();
+    want_ = 0;
+    framing_ = false;
     echo_pending_ = false;
-    return partial ? errc::truncated : errc::ok;
+    if (held > 0U) {
+      return decode_failure{errc::truncated, held};
+    }
+    return need_input{1};
   }
 
   /// Bytes skipped as garbage (no valid CF) or dropped by idle(), since construction.
@@ -113,82 +111,126 @@ class receiver {
   /// Echo bytes skipped since construction.
   constexpr std::size_t echoes_skipped() const noexcept { return echoes_; }
   /// Bytes held for an unfinished frame.
-  constexpr std::size_t pending() const noexcept { return size_; }
+  constexpr std::size_t pending() const noexcept { return buf_.size(); }
 
  private:
-  constexpr void drop_front(std::size_t n) noexcept {
-    for (std::size_t i = n; i < size_; ++i) {
-      buffer_[i - n] = buffer_[i];
+  // feed() of one byte that completes something: the last byte of a frame, or a first byte.
+  constexpr decode_result<response> decide_byte(std::uint8_t byte) noexcept {
+    if (framing_) {  // the last byte of a frame whose CF was checked
+      buf_.push(byte);
+      return finish(1);
     }
-    size_ -= n;
+    if (buf_.empty() && !echo_pending_) {  // the first byte: a CF, or garbage
+      const std::uint8_t code = data_id_code(byte);
+      if (byte != valid_control_fields[code]) {
+        ++dropped_;
+        return need_input{1};
+      }
+      buf_.push(byte);
+      want_ = response_sizes[code];
+      framing_ = true;
+      return need_input{want_ - 1U};
+    }
+    return decide(byte_view(&byte, 1));
   }
 
-  // Decides on the buffer (size_ >= want_): skips an echo, drops garbage, decodes a complete
-  // frame. Incomplete: want_ was raised to the bytes needed before the next decision.
+  // feed() of anything else: takes bytes from `in` and decides as often as needed.
+  constexpr decode_result<response> decide(byte_view in) noexcept {
+    std::size_t used = 0;
+    for (;;) {
+      if (buf_.size() >= want_) {  // enough held to decide something
+        if (framing_) {
+          return finish(used);
+        }
+        const decode_result<response> r = scan(used);
+        if (!r.is_incomplete()) {
+          return r;
+        }
+        continue;  // scan() raised want_
+      }
+      if (used >= in.size()) {
+        return need_input{want_ - buf_.size()};
+      }
+      used += buf_.append(in.subspan(used), want_ - buf_.size());
+    }
+  }
+
+  // Decides on the bytes held (at least want_): skips an echo, drops garbage, decodes a
+  // complete frame. Incomplete: want_ was raised to the bytes needed before the next decision.
   constexpr decode_result<response> scan(std::size_t used) noexcept {
     for (;;) {
       want_ = 1;
-      if (size_ == 0U) {
+      const std::size_t held = buf_.size();
+      if (held == 0U) {
         return need_input{1};
       }
       if (echo_pending_) {
         std::size_t match = 0;
-        while (match < size_ && match < request_size_ && buffer_[match] == request_[match]) {
+        while (match < held && match < request_size_ && buf_[match] == request_[match]) {
           ++match;
         }
         if (match == request_size_) {  // the whole echo: skip it
-          drop_front(match);
+          buf_.drop(match);
           echoes_ += match;
           echo_pending_ = false;
           continue;
         }
-        if (match == size_) {
+        if (match == held) {
           want_ = request_size_;
           return need_input{request_size_ - match};
         }
         echo_pending_ = false;  // not an echo after all: parse as a response
       }
-      const std::uint8_t code = data_id_code(buffer_[0]);
-      if (buffer_[0] != valid_control_fields[code]) {
-        drop_front(1);  // garbage: no valid CF here
+      const std::uint8_t code = data_id_code(buf_[0]);
+      if (buf_[0] != valid_control_fields[code]) {
+        buf_.drop(1);  // garbage: no valid CF here
         ++dropped_;
         continue;
       }
-      const std::size_t frame_size = response_sizes[code];
-      if (size_ < frame_size) {
-        want_ = frame_size;
-        return need_input{frame_size - size_};
+      const std::uint8_t frame_size = response_sizes[code];
+      want_ = frame_size;
+      framing_ = true;
+      if (held < frame_size) {
+        return need_input{frame_size - held};
       }
-      const decode_result<response> r =
-          decode_response(byte_view(buffer_, frame_size), opt_.decode);
-      if (r.is_failed()) {
-        const errc e = r.error();
-        drop_front(1);  // rescan from the next byte: a valid frame may start inside
-        ++dropped_;
-        return decode_failure{e, used, r.expected(), r.received()};
-      }
-      const std::size_t n = r.consumed();
-      if (opt_.check_against_request && request_size_ > 0U) {
-        std::uint32_t want = 0;
-        std::uint32_t got = 0;
-        const errc e = check_response(byte_view(request_, request_size_), r.value(), &want, &got);
-        if (e != errc::ok) {
-          drop_front(n);
-          return decode_failure{e, used, want, got};
-        }
-      }
-      drop_front(n);
-      return decode_result<response>::complete(r.value(), used);
+      return finish(used);
     }
   }
 
+  // The frame held at the front (want_ bytes, its CF checked) is complete: decodes it, and
+  // checks it against the request. A rejected frame is rescanned from its second byte.
+  constexpr decode_result<response> finish(std::size_t used) noexcept {
+    const std::size_t n = want_;
+    want_ = 0;
+    framing_ = false;
+    // One result, returned from one place (built in the caller's slot: no copy).
+    decode_result<response> r = decode_response(buf_.first(n), opt_.decode);
+    if (r.is_failed()) {
+      buf_.drop(1);  // rescan from the next byte: a valid frame may start inside
+      ++dropped_;
+    } else {
+      buf_.drop(n);
+      if (check_) {
+        std::uint32_t want = 0;
+        std::uint32_t got = 0;
+        const errc e = detail::check_against(request_, r.value(), want, got);
+        if (e != errc::ok) {
+          r = decode_failure{e, 0, want, got};
+        }
+      }
+    }
+    r.set_consumed(used);
+    return r;
+  }
+
   receiver_options opt_;
-  std::uint8_t buffer_[max_response_size] = {};
-  std::size_t size_ = 0;
-  std::size_t want_ = 1;  // bytes to hold before the next decision (1..11)
+  frame_buffer<max_response_size> buf_;
+  std::uint8_t want_ = 0;  // bytes to hold before the next decision (0..11)
   std::uint8_t request_[max_request_size] = {};
-  std::size_t request_size_ = 0;
+  std::uint8_t request_size_ = 0;
   bool echo_pending_ = false;
+  bool framing_ = false;  // buf_ starts with a checked CF and want_ is its frame's size
+  bool check_ = false;    // check responses against request_ (a valid request, and the option)
   std::size_t dropped_ = 0;
   std::size_t echoes_ = 0;
 };

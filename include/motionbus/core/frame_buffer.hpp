@@ -1,0 +1,104 @@
+// motionbus — the bounded frame buffer under the stream objects (the T-format receiver, the
+// Modbus RTU framer): bytes are appended at the end and dropped from the front by moving an
+// index, never by shifting what is held; the held bytes are moved to the front only when the
+// end reaches the capacity (at most once per `N` bytes appended). The bytes held are always
+// contiguous, so a frame is handed over as a view into the buffer.
+//
+// A default-constructed buffer is all zeros: a stream object that holds one can be a `static`
+// in .bss. No heap, no I/O.
+#ifndef MOTIONBUS_CORE_FRAME_BUFFER_HPP
+#define MOTIONBUS_CORE_FRAME_BUFFER_HPP
+
+#include <cstddef>
+#include <cstdint>
+#include <type_traits>
+
+#include "motionbus/core/config.hpp"
+#include "motionbus/core/span.hpp"
+
+namespace motionbus {
+
+template <std::size_t N>
+class frame_buffer {
+  static_assert(N >= 1U && N <= 65535U, "frame_buffer: 1 to 65535 bytes");
+  using index = std::conditional_t<(N < 256U), std::uint8_t, std::uint16_t>;
+
+ public:
+  static constexpr std::size_t capacity = N;
+
+  /// Bytes held.
+  MOTIONBUS_INLINE constexpr std::size_t size() const noexcept {
+    return static_cast<std::size_t>(end_ - start_);
+  }
+  MOTIONBUS_INLINE constexpr bool empty() const noexcept { return end_ == start_; }
+  /// Byte `i` of those held (i < size()).
+  MOTIONBUS_INLINE constexpr std::uint8_t operator[](std::size_t i) const noexcept {
+    return bytes_[start_ + i];
+  }
+  /// The first `n` bytes held (n <= size()), valid until the next append, push or clear.
+  MOTIONBUS_INLINE constexpr byte_view first(std::size_t n) const noexcept {
+    return byte_view(bytes_ + start_, n);
+  }
+  MOTIONBUS_INLINE constexpr byte_view view() const noexcept { return first(size()); }
+
+  /// Appends one byte; false (nothing appended) when N bytes are held.
+  MOTIONBUS_INLINE constexpr bool push(std::uint8_t b) noexcept {
+    if (end_ == N && !make_room()) {
+      return false;
+    }
+    bytes_[end_] = b;
+    ++end_;
+    return true;
+  }
+  /// Appends up to `n` bytes of `in` (as many as fit); returns how many.
+  constexpr std::size_t append(byte_view in, std::size_t n) noexcept {
+    if (n > in.size()) {
+      n = in.size();
+    }
+    if (end_ + n > N) {
+      make_room();
+      if (end_ + n > N) {
+        n = N - end_;
+      }
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+      bytes_[end_ + i] = in[i];
+    }
+    end_ = static_cast<index>(end_ + n);
+    return n;
+  }
+  /// Drops the first `n` bytes held (n <= size()).
+  MOTIONBUS_INLINE constexpr void drop(std::size_t n) noexcept {
+    start_ = static_cast<index>(start_ + n);
+    if (start_ == end_) {
+      clear();
+    }
+  }
+  MOTIONBUS_INLINE constexpr void clear() noexcept {
+    start_ = 0;
+    end_ = 0;
+  }
+
+ private:
+  // Moves the bytes held to the front; false when there is no room to make.
+  constexpr bool make_room() noexcept {
+    if (start_ == 0U) {
+      return false;
+    }
+    const std::size_t n = size();
+    for (std::size_t i = 0; i < n; ++i) {
+      bytes_[i] = bytes_[start_ + i];
+    }
+    start_ = 0;
+    end_ = static_cast<index>(n);
+    return true;
+  }
+
+  std::uint8_t bytes_[N] = {};
+  index start_ = 0;
+  index end_ = 0;
+};
+
+}  // namespace motionbus
+
+#endif  // MOTIONBUS_CORE_FRAME_BUFFER_HPP
