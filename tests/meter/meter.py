@@ -383,7 +383,12 @@ def measure(m):
         expect(op + " cf", o[7], frame[0])
         record(op, n, s)
 
+    # The receiver in its steady state: a first response, then the measured one.
     m.call("op_tformat_receiver_start")
+    for b in tformat_id3(1, 0x17, 2):
+        m.call("op_tformat_receiver_byte", b)
+    m.call("op_report_tformat")
+    expect("tformat.receiver.id3_per_byte (the first frame)", m.out(3), [STATUS_COMPLETE, 0, 1])
     m.clear_out()
     total, worst = 0, 0
     for i, b in enumerate(id3):
@@ -430,8 +435,13 @@ def measure(m):
         expect(op, m.out(1)[0], crc16_modbus(block))
         record(op, round(n / len(block), 1), s, per="byte", units=len(block), total=n)
 
+    # The framer in its steady state: a first frame, then the measured one.
     request = rtu(1, [0x03, 0x00, 0x05, 0x00, 0x0A])
     m.call("op_modbus_framer_start")
+    for b in rtu(1, [0x06, 0x00, 0x01, 0x00, 0x03]):
+        m.call("op_modbus_framer_byte", b)
+    m.call("op_report_rtu")
+    expect("modbus.framer.per_byte (the first frame)", m.out(4), [STATUS_COMPLETE, 0, 1, 5])
     m.clear_out()
     total, worst = 0, 0
     for i, b in enumerate(request):

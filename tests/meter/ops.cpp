@@ -84,7 +84,7 @@ tf::encoder_model encoder;
 tf::reply encoder_reply;
 
 // --- Modbus -------------------------------------------------------------------------------------
-md::rtu_framer framer(md::framer_role::server, 1);
+md::rtu_framer framer({md::framer_role::server, 1});
 
 struct holding_registers {
   std::uint8_t read_registers(std::uint8_t, std::uint16_t address, mb::span<std::uint16_t> out) {
@@ -192,7 +192,7 @@ METER_OP void op_modbus_crc16_byte() {
   meter_out[0] = mb::crc16_modbus<mb::crc_table_size::byte>::compute(input());
 }
 METER_OP void op_modbus_framer_start() {
-  framer = md::rtu_framer(md::framer_role::server, 1);
+  framer = md::rtu_framer({md::framer_role::server, 1});
   rtu_result = mb::need_input{};
 }
 METER_OP void op_modbus_framer_byte(unsigned byte) {

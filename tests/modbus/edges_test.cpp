@@ -216,7 +216,7 @@ TEST_CASE("frame size prediction: each length rule, and when it cannot tell yet"
 TEST_CASE("framer framing by silence: a full buffer with no frame end resynchronises") {
   // frame_end::silence: a function without a length rule waits for idle(), but never
   // beyond the largest ADU: then the oldest byte is dropped and the scan goes on.
-  rtu_framer f(framer_role::server, 0x11);
+  rtu_framer f({framer_role::server, 0x11});
   bytes noise = {0x11, 0x41};
   noise.resize(max_rtu_size + 10, 0x55);
   std::size_t used = 0;

@@ -65,7 +65,7 @@ TEST_CASE("server framer: lengths from function codes and counts, any chunking")
     stream.insert(stream.end(), f->begin(), f->end());
   }
   for (std::size_t chunk = 1; chunk <= stream.size(); chunk += 3) {
-    rtu_framer f(framer_role::server, 0x11);
+    rtu_framer f({framer_role::server, 0x11});
     const auto ev = run(f, stream, chunk);
     CAPTURE(chunk);
     REQUIRE(ev.size() == 5);
@@ -90,7 +90,7 @@ TEST_CASE("framer resynchronises after garbage and a corrupted frame, bounded") 
   stream.insert(stream.end(), corrupt.begin(), corrupt.end());
   stream.insert(stream.end(), good.begin(), good.end());
   // without a t3.5 signal, the length rule and the CRC alone find the frame
-  rtu_framer f(framer_role::server, 0x11, framer_options{frame_end::length});
+  rtu_framer f({framer_role::server, 0x11, frame_end::length});
   const auto ev = run(f, stream, 1);
   int frames = 0;
   int crc_errors = 0;
@@ -102,7 +102,7 @@ TEST_CASE("framer resynchronises after garbage and a corrupted frame, bounded") 
   CHECK(crc_errors >= 1);
   CHECK(f.dropped() >= 2);
   // with it (the default), the bytes wait for the silence, which finds the frame in them
-  rtu_framer s(framer_role::server, 0x11);
+  rtu_framer s({framer_role::server, 0x11});
   CHECK(run(s, stream, 1).empty());
   const auto found = s.idle();
   REQUIRE(found.is_complete());
@@ -113,7 +113,7 @@ TEST_CASE("framer resynchronises after garbage and a corrupted frame, bounded") 
   // idle() is always found
   testutil::splitmix64 rng(3);
   for (int round = 0; round < 100; ++round) {
-    rtu_framer g(framer_role::server, 0x11);
+    rtu_framer g({framer_role::server, 0x11});
     bytes noise(static_cast<std::size_t>(rng.below(600)));
     for (auto& x : noise) {
       x = rng.byte();
@@ -128,7 +128,7 @@ TEST_CASE("framer resynchronises after garbage and a corrupted frame, bounded") 
 }
 
 TEST_CASE("client framer: response lengths follow the outstanding request") {
-  rtu_framer f(framer_role::client, 0x11);
+  rtu_framer f({framer_role::client, 0x11});
   f.sent(0x11, 0x03);
   const bytes resp = rtu(0x11, {0x03, 0x06, 0x02, 0x2B, 0x00, 0x00, 0x00, 0x64});
   auto ev = run(f, resp, 1);
@@ -140,9 +140,9 @@ TEST_CASE("client framer: response lengths follow the outstanding request") {
   REQUIRE(ev.size() == 1);
   CHECK(ev[0].pdu == bytes{0x83, 0x02});
   // SM unit FC11: two bytes and no count
-  framer_options sm_layout;
+  framer_options sm_layout{framer_role::client, 0x01};
   sm_layout.fc11 = report_id_format::two_bytes_no_count;
-  rtu_framer sm(framer_role::client, 0x01, sm_layout);
+  rtu_framer sm(sm_layout);
   sm.sent(0x01, 0x11);
   ev = run(sm, rtu(0x01, {0x11, 0x01, 0x00}), 1);
   REQUIRE(ev.size() == 1);
@@ -155,14 +155,14 @@ TEST_CASE("client framer: response lengths follow the outstanding request") {
 }
 
 TEST_CASE("idle() frames functions without a length rule, and drops partial frames") {
-  rtu_framer plain(framer_role::server, 0x11, framer_options{frame_end::length});
+  rtu_framer plain({framer_role::server, 0x11, frame_end::length});
   CHECK(run(plain, rtu(0x11, {0x41, 0x01, 0x02, 0x03}), 1).empty());
   // unknown function: garbage when framed by length alone; the next bytes may look like another
   // frame's start (here 41 01 = FC01 from slave 0x41), which the t3.5 signal then clears
   CHECK(plain.dropped() >= 1);
   CHECK(!plain.idle().is_complete());
   CHECK(plain.pending() == 0);
-  rtu_framer f(framer_role::server, 0x11);  // frame_end::silence
+  rtu_framer f({framer_role::server, 0x11});  // frame_end::silence
   const bytes custom = rtu(0x11, {0x41, 0x01, 0x02, 0x03});
   auto ev = run(f, custom, 2);
   CHECK(ev.empty());
@@ -196,7 +196,7 @@ TEST_CASE("FC08 sub-function 00 (Return Query Data): 8 + 2k bytes, the CRC tells
     for (const framer_role role : {framer_role::server, framer_role::client}) {
       for (std::size_t chunk = 1; chunk <= stream.size(); chunk += 4) {
         CAPTURE(chunk);
-        rtu_framer f(role, 0x01, framer_options{ends});
+        rtu_framer f({role, 0x01, ends});
         std::vector<event> ev;
         if (role == framer_role::server) {
           ev = run(f, stream, chunk);
@@ -227,7 +227,7 @@ TEST_CASE("FC08 sub-function 00 (Return Query Data): 8 + 2k bytes, the CRC tells
   bad[5] ^= 0x01;
   bad.insert(bad.end(), read.begin(), read.end());
   for (const frame_end ends : {frame_end::silence, frame_end::length}) {
-    rtu_framer f(framer_role::server, 0x01, framer_options{ends});
+    rtu_framer f({framer_role::server, 0x01, ends});
     CHECK(run(f, bad, 1).empty());
     CHECK(f.pending() == bad.size());
     const auto r = f.idle();
@@ -237,7 +237,7 @@ TEST_CASE("FC08 sub-function 00 (Return Query Data): 8 + 2k bytes, the CRC tells
 }
 
 TEST_CASE("idle(): a frame for another address ends in silence too, and is skipped") {
-  rtu_framer f(framer_role::server, 0x11);
+  rtu_framer f({framer_role::server, 0x11});
   const bytes other = rtu(0x12, {0x42, 0x01, 0x02});  // unknown function: only the silence ends it
   CHECK(run(f, other, 3).empty());
   CHECK(f.pending() == other.size());

@@ -49,7 +49,7 @@ int serve_sm_unit(const cli::options& opts) {
   }
   serial::install_stop_handler();
   sm::emulator unit;
-  mo::rtu_framer rx(mo::framer_role::server, slave);
+  mo::rtu_framer rx({mo::framer_role::server, slave});
   const serial::settings s = modbus_io::line_settings(opts);
   const mo::parity p =
       s.parity == 'N' ? mo::parity::none : (s.parity == 'O' ? mo::parity::odd : mo::parity::even);

@@ -372,9 +372,13 @@ class crc {
       }
       reg_ = reg;
     } else {
+      // The register in a local: stores through the data's byte type could alias the member,
+      // which would keep it in memory across the loop.
+      std::uint32_t reg = reg_;
       for (std::size_t i = 0; i < data.size(); ++i) {
-        reg_ = kernel::template feed<chunk_bits>(reg_, data[i], 8U);
+        reg = kernel::template feed<chunk_bits>(reg, data[i], 8U);
       }
+      reg_ = reg;
     }
     return *this;
   }

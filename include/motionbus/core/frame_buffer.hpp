@@ -43,11 +43,12 @@ class frame_buffer {
 
   /// Appends one byte; false (nothing appended) when N bytes are held.
   MOTIONBUS_INLINE constexpr bool push(std::uint8_t b) noexcept {
-    if (end_ == N && !make_room()) {
-      return false;
+    const index end = end_;
+    if (end == N) {
+      return push_at_capacity(b);
     }
-    bytes_[end_] = b;
-    ++end_;
+    end_ = static_cast<index>(end + 1U);
+    bytes_[end] = b;
     return true;
   }
   /// Appends up to `n` bytes of `in` (as many as fit); returns how many.
@@ -80,6 +81,15 @@ class frame_buffer {
   }
 
  private:
+  constexpr bool push_at_capacity(std::uint8_t b) noexcept {
+    if (!make_room()) {
+      return false;
+    }
+    bytes_[end_] = b;
+    ++end_;
+    return true;
+  }
+
   // Moves the bytes held to the front; false when there is no room to make.
   constexpr bool make_room() noexcept {
     if (start_ == 0U) {

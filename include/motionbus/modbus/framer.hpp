@@ -9,9 +9,13 @@
 // observed (frame_end::length), the length rule alone frames and everything else is garbage.
 // A server keeps frames for its address and broadcasts; a client frames the response to its
 // outstanding request. After garbage or a bad CRC the framer drops one byte at a time and
-// rescans (at most 256 bytes are ever held). No heap, no I/O.
+// rescans (at most 256 bytes are ever held, in a frame_buffer: a dropped byte moves an index,
+// nothing is shifted; a frame is handed over as a view into it, not copied). The same shape as
+// the T-format receiver: built from an options struct, fed by feed() (a chunk, or one byte
+// from a UART interrupt, stored inline), told of the line's silence by idle(), each returning
+// a decode_result. `Table` selects the CRC table. No heap, no I/O.
 //
-//   rtu_framer rx(framer_role::server, 0x11);
+//   rtu_framer rx({framer_role::server, 0x11});
 //   on_bytes(in):                       // from the UART
 //     for (;;) {
 //       auto r = rx.feed(in);
@@ -19,6 +23,8 @@
 //       in = in.subspan(r.consumed());
 //       if (r) handle(r.value());       // r->pdu points into rx: use it before the next feed()
 //     }
+//   on_byte(b):                         // or from a receive interrupt, byte by byte
+//     if (auto r = rx.feed(b)) handle(r.value());
 //   on_t35():                           // the UART's idle-line timer
 //     if (auto r = rx.idle()) handle(r.value());
 #ifndef MOTIONBUS_MODBUS_FRAMER_HPP
@@ -28,6 +34,7 @@
 #include <cstdint>
 
 #include "motionbus/core/errc.hpp"
+#include "motionbus/core/frame_buffer.hpp"
 #include "motionbus/core/result.hpp"
 #include "motionbus/core/span.hpp"
 #include "motionbus/modbus/pdu.hpp"
@@ -136,24 +143,27 @@ enum class frame_end : std::uint8_t {
 
 /// The framer's run-time choices.
 struct framer_options {
+  framer_role role = framer_role::server;
+  /// A server's own address (1..247; it also takes broadcasts), or for a client the slave it
+  /// talks to (0: accept any).
+  std::uint8_t address = 0;
   frame_end ends = frame_end::silence;
   report_id_format fc11 = report_id_format::standard;  ///< client: FC11 response layout
 };
 
-class rtu_framer {
+template <crc_table_size Table = default_crc_table>
+class basic_rtu_framer {
  public:
-  /// `address`: a server's own address (1..247; it also takes broadcasts), or for a client the
-  /// slave it talks to (0: accept any).
-  constexpr rtu_framer(framer_role role, std::uint8_t address, framer_options options = {}) noexcept
-      : role_(role), address_(address), options_(options) {}
+  constexpr explicit basic_rtu_framer(framer_options options = {}) noexcept : options_(options) {}
 
   /// Client: records the request just sent (its function selects the response layout).
   constexpr void sent(std::uint8_t slave, std::uint8_t function) noexcept {
-    address_ = slave;
+    options_.address = slave;
     function_ = function;
-    size_ = 0;
-    want_ = 2;
+    buf_.clear();
+    want_ = 0;
     waiting_ = false;
+    framing_ = false;
   }
 
   /// Takes bytes from `in` until a frame or an error. Complete: a CRC-checked frame for this
@@ -163,51 +173,45 @@ class rtu_framer {
   /// was taken. Frames for other addresses are skipped silently (skipped()).
   /// With frame_end::silence, bytes the length rule cannot frame are held (never more than
   /// 256) until idle() instead of failing here.
-  constexpr decode_result<rtu_frame> feed(byte_view in) noexcept {
-    std::size_t used = 0;
-    for (;;) {
-      if (size_ >= want_) {
-        const decode_result<rtu_frame> r = scan(used, false);
-        if (!r.is_incomplete()) {
-          return r;
-        }
-      }
-      // here want_ > size_ and want_ <= 256
-      if (used >= in.size()) {
-        return need_input{want_ - size_};
-      }
-      std::size_t take = want_ - size_;
-      if (take > in.size() - used) {
-        take = in.size() - used;
-      }
-      for (std::size_t i = 0; i < take; ++i) {
-        buffer_[size_ + i] = in[used + i];
-      }
-      size_ += take;
-      used += take;
+  MOTIONBUS_INLINE constexpr decode_result<rtu_frame> feed(byte_view in) noexcept {
+    if (in.size() == 1U) {
+      return feed(in[0]);
     }
+    return decide(in, 0);
+  }
+  /// feed() of one byte (a UART interrupt handler's call). A byte inside a frame whose length
+  /// is known is stored here, inline at the call site; everything else is decided out of line.
+  MOTIONBUS_INLINE constexpr decode_result<rtu_frame> feed(std::uint8_t byte) noexcept {
+    const std::size_t held = buf_.size() + 1U;
+    if (held < want_) {
+      const std::size_t missing = want_ - held;  // read before the store
+      buf_.push(byte);
+      return need_input{missing};
+    }
+    return decide_byte(byte);
   }
 
   /// The user's t3.5 timer expired: the bytes held end a frame. Complete: the bytes held as
   /// one CRC-valid frame for this node (frame_end::silence), else the first frame the length
   /// rule finds in them. Failed: truncated, crc_mismatch or modbus_pdu_length. Either way the
   /// framer is empty afterwards. Incomplete: nothing was held, or only a frame for another
-  /// address (counted in skipped()).
+  /// address (counted in skipped()). The same signal, and the same return type, as the
+  /// T-format receiver's idle().
   constexpr decode_result<rtu_frame> idle() noexcept {
-    if (size_ == 0U) {
+    if (buf_.empty()) {
       return need_input{1};
     }
     decode_result<rtu_frame> r = need_input{1};
     bool settled = false;
     if (options_.ends == frame_end::silence) {
-      const decode_result<rtu_frame> whole = decode_rtu(byte_view(buffer_, size_));
+      const decode_result<rtu_frame> whole = decode_rtu<Table>(buf_.view());
       if (whole.is_complete()) {
         settled = true;
         if (for_us(whole.value().slave)) {
-          r = hand_over(whole.value(), size_, 0);
+          r = hand_over(whole.value(), buf_.size(), 0);
         } else {
           ++skipped_;
-          size_ = 0;
+          buf_.clear();
         }
       }
     }
@@ -217,7 +221,7 @@ class rtu_framer {
       decode_result<rtu_frame> first = need_input{1};
       for (;;) {
         r = scan(0, true);
-        if (!r.is_failed() || size_ == 0U) {
+        if (!r.is_failed() || buf_.empty()) {
           break;
         }
         if (first.is_incomplete()) {
@@ -228,64 +232,123 @@ class rtu_framer {
         r = first.is_failed() ? first : (r.is_failed() ? r : decode_failure{errc::truncated, 0});
       }
     }
-    // The silence ends whatever is held: the framer starts the next frame empty.
-    dropped_ += size_;
-    size_ = 0;
-    want_ = 2;
+    // The silence ends whatever is held: the framer starts the next frame empty (a frame
+    // handed over stays readable in the buffer until the next call).
+    dropped_ += buf_.size();
+    buf_.clear();
+    want_ = 0;
     waiting_ = false;
+    framing_ = false;
     return r;
   }
 
   /// Bytes dropped while resynchronising, frames skipped for other addresses.
   constexpr std::size_t dropped() const noexcept { return dropped_; }
   constexpr std::size_t skipped() const noexcept { return skipped_; }
-  constexpr std::size_t pending() const noexcept { return size_; }
+  constexpr std::size_t pending() const noexcept { return buf_.size(); }
 
  private:
-  constexpr void drop_front(std::size_t n) noexcept {
-    for (std::size_t i = n; i < size_; ++i) {
-      buffer_[i - n] = buffer_[i];
+  // feed() of one byte that decides something. The common cases of a clean line take a short
+  // path: the first byte, the function code (the length rule gives the frame's size), and the
+  // last byte of a frame for this node whose CRC matches. Anything else goes through scan().
+  constexpr decode_result<rtu_frame> decide_byte(std::uint8_t byte) noexcept {
+    const std::size_t size = buf_.size();
+    if (!waiting_ && size < 2U) {
+      buf_.push(byte);
+      if (size == 0U) {
+        want_ = 2;
+        return need_input{1};
+      }
+      const std::size_t total = options_.role == framer_role::server
+                                    ? predict_request_size(buf_.view())
+                                    : predict_response_size(buf_.view(), function_, options_.fc11);
+      if (total >= min_rtu_size && total <= max_rtu_size && buf_[1] != 0x08U) {
+        want_ = static_cast<std::uint16_t>(total);
+        framing_ = true;
+        return need_input{total - 2U};
+      }
+      return decide(byte_view(), 1);  // no plain length: scan() decides
     }
-    size_ -= n;
+    if (framing_ && size + 1U == want_) {
+      buf_.push(byte);
+      return end_frame();
+    }
+    return decide(byte_view(&byte, 1), 0);
+  }
+
+  // The last byte of a frame whose size the length rule gave (want_, all held) was taken: a
+  // frame for this node whose CRC matches is handed over; anything else goes to scan().
+  constexpr decode_result<rtu_frame> end_frame() noexcept {
+    framing_ = false;
+    const std::size_t total = want_;
+    const byte_view frame = buf_.first(total);
+    const auto received = static_cast<std::uint16_t>(frame[total - 2U] | (frame[total - 1U] << 8U));
+    const std::uint8_t slave = frame[0];
+    if (crc16_modbus<Table>::compute(frame.first(total - 2U)) == received &&
+        slave <= max_unicast_address && for_us(slave)) {
+      want_ = 2;  // the next frame's first byte takes the inline path
+      return hand_over(rtu_frame{slave, frame.subspan(1, total - 3U), received}, total, 1);
+    }
+    return decide(byte_view(), 1);  // a bad CRC or another address: scan() decides
+  }
+
+  // feed() beyond a byte inside a frame: takes bytes from `in` and decides as often as needed.
+  // `used`: bytes of the caller's input already taken.
+  constexpr decode_result<rtu_frame> decide(byte_view in, std::size_t used) noexcept {
+    for (;;) {
+      if (buf_.size() >= want_) {
+        const decode_result<rtu_frame> r = scan(used, false);
+        if (!r.is_incomplete()) {
+          return r;
+        }
+      }
+      // here want_ > size and want_ <= 256
+      if (used >= in.size()) {
+        return need_input{want_ - buf_.size()};
+      }
+      used += buf_.append(in.subspan(used), want_ - buf_.size());
+    }
+  }
+
+  constexpr void drop_front(std::size_t n) noexcept {
+    buf_.drop(n);
     waiting_ = false;
   }
 
   constexpr bool for_us(std::uint8_t slave) const noexcept {
-    if (role_ == framer_role::server) {
-      return slave == address_ || slave == broadcast_address;
+    if (options_.role == framer_role::server) {
+      return slave == options_.address || slave == broadcast_address;
     }
-    return address_ == 0U || slave == address_;
+    return options_.address == 0U || slave == options_.address;
   }
 
   // FC08 sub-function 00 (Return Query Data) carries any even number of data bytes and no
   // count (Modbus over Serial Line §6.1.1): its frame is 8 + 2k bytes, the CRC tells which.
   constexpr bool query_data(std::size_t held) const noexcept {
-    return held >= 8U && buffer_[1] == 0x08U && buffer_[2] == 0U && buffer_[3] == 0U;
+    return held >= 8U && buf_[1] == 0x08U && buf_[2] == 0U && buf_[3] == 0U;
   }
 
   // The first length 8 + 2k (from `from`, up to `to`) at which the CRC ends a frame, or the
   // first length past `to` (not yet held). One CRC pass over the bytes held.
   constexpr std::size_t query_data_end(std::size_t from, std::size_t to) const noexcept {
-    crc16 c;
+    crc16_modbus<Table> c;
     std::size_t fed = 0;
     std::size_t at = from;
+    const byte_view held = buf_.view();
     for (; at <= to; at += 2U) {
-      c.update(byte_view(buffer_ + fed, at - 2U - fed));
+      c.update(held.subspan(fed, at - 2U - fed));
       fed = at - 2U;
-      if (c.value() == static_cast<std::uint16_t>(buffer_[at - 2U] | (buffer_[at - 1U] << 8U))) {
+      if (c.value() == static_cast<std::uint16_t>(held[at - 2U] | (held[at - 1U] << 8U))) {
         break;
       }
     }
     return at;
   }
 
-  // Hands `frame` (the first `total` bytes held) over from out_, keeps the rest buffered.
-  constexpr decode_result<rtu_frame> hand_over(rtu_frame frame, std::size_t total,
+  // Hands `frame` (a view of the first `total` bytes held) over and drops those bytes from the
+  // buffer, where they stay readable until the next call.
+  constexpr decode_result<rtu_frame> hand_over(const rtu_frame& frame, std::size_t total,
                                                std::size_t used) noexcept {
-    for (std::size_t i = 0; i < total; ++i) {
-      out_[i] = buffer_[i];
-    }
-    frame.pdu = byte_view(out_ + 1, total - 3U);
     drop_front(total);
     return decode_result<rtu_frame>::complete(frame, used);
   }
@@ -293,8 +356,8 @@ class rtu_framer {
   // The length rule cannot frame the bytes held. With frame_end::silence (and room to hold
   // more) they wait for idle(): true, want_ set. Otherwise the oldest byte is dropped: false.
   constexpr bool wait_for_silence(bool at_end) noexcept {
-    if (options_.ends == frame_end::silence && !at_end && size_ < max_rtu_size) {
-      want_ = size_ + 1U;
+    if (options_.ends == frame_end::silence && !at_end && buf_.size() < max_rtu_size) {
+      want_ = static_cast<std::uint16_t>(buf_.size() + 1U);
       waiting_ = true;  // no more length decisions on these bytes until idle() or a full buffer
       return true;
     }
@@ -303,12 +366,13 @@ class rtu_framer {
     return false;
   }
 
-  // Decides on the bytes held. Incomplete: want_ (> size_) is how many to hold before the next
+  // Decides on the bytes held. Incomplete: want_ (> size) is how many to hold before the next
   // decision.
   constexpr decode_result<rtu_frame> scan(std::size_t used, bool at_end) noexcept {
+    framing_ = false;
     if (waiting_) {
-      if (!at_end && size_ < max_rtu_size) {
-        want_ = size_ + 1U;
+      if (!at_end && buf_.size() < max_rtu_size) {
+        want_ = static_cast<std::uint16_t>(buf_.size() + 1U);
         return need_input{1};
       }
       waiting_ = false;
@@ -319,16 +383,17 @@ class rtu_framer {
     }
     for (;;) {
       want_ = 2;
-      if (size_ < 2U) {
-        return need_input{2U - size_};
+      const std::size_t size = buf_.size();
+      if (size < 2U) {
+        return need_input{2U - size};
       }
-      const byte_view held(buffer_, size_);
-      std::size_t total = role_ == framer_role::server
+      const byte_view held = buf_.view();
+      std::size_t total = options_.role == framer_role::server
                               ? predict_request_size(held)
                               : predict_response_size(held, function_, options_.fc11);
       if (total == unknown_length) {
         if (at_end) {
-          total = size_;  // the t3.5 silence says where it ends
+          total = size;  // the t3.5 silence says where it ends
         } else if (wait_for_silence(false)) {
           return need_input{1};  // no length rule: the silence will tell
         } else {
@@ -336,7 +401,7 @@ class rtu_framer {
         }
       }
       if (total == 0U) {  // a count byte is still missing
-        want_ = size_ + 1U;
+        want_ = static_cast<std::uint16_t>(size + 1U);
         return need_input{1};
       }
       if (total > max_rtu_size || total < min_rtu_size) {
@@ -345,20 +410,20 @@ class rtu_framer {
         }
         return decode_failure{errc::modbus_pdu_length, used};
       }
-      if (size_ < total) {
-        want_ = total;
-        return need_input{total - size_};
+      if (size < total) {
+        want_ = static_cast<std::uint16_t>(total);
+        return need_input{total - size};
       }
       if (query_data(total)) {
-        const std::size_t at = query_data_end(total, size_);
-        if (at <= size_) {
+        const std::size_t at = query_data_end(total, size);
+        if (at <= size) {
           total = at;  // the CRC confirms this length
         } else if (at <= max_rtu_size && !at_end) {
-          want_ = at;
-          return need_input{at - size_};
+          want_ = static_cast<std::uint16_t>(at);
+          return need_input{at - size};
         }
       }
-      const decode_result<rtu_frame> f = decode_rtu(byte_view(buffer_, total));
+      const decode_result<rtu_frame> f = decode_rtu<Table>(held.first(total));
       if (f.is_failed()) {
         // resynchronise (a frame may start at the next byte), or wait for the silence
         if (wait_for_silence(at_end)) {
@@ -371,23 +436,22 @@ class rtu_framer {
         ++skipped_;
         continue;
       }
-      // The frame handed out lives in out_ until the next call; the rest stays buffered.
       return hand_over(f.value(), total, used);
     }
   }
 
-  framer_role role_;
-  std::uint8_t address_;
   framer_options options_;
   std::uint8_t function_ = 0;
-  std::uint8_t buffer_[max_rtu_size] = {};
-  std::uint8_t out_[max_rtu_size] = {};
-  std::size_t size_ = 0;
-  std::size_t want_ = 2;
+  bool waiting_ = false;    // the length rule failed on the bytes held: only idle() decides
+  bool framing_ = false;    // want_ is the size of the frame held, from its function code
+  std::uint16_t want_ = 0;  // bytes to hold before the next decision (0: as 2)
+  frame_buffer<max_rtu_size> buf_;
   std::size_t dropped_ = 0;
   std::size_t skipped_ = 0;
-  bool waiting_ = false;  // the length rule failed on the bytes held: only idle() decides
 };
+
+/// The framer with the default CRC table.
+using rtu_framer = basic_rtu_framer<>;
 
 }  // namespace modbus
 }  // namespace motionbus

@@ -65,18 +65,17 @@ constexpr decode_result<rtu_frame> decode_rtu(byte_view adu) noexcept {
   if (n < min_rtu_size || n > max_rtu_size) {
     return decode_failure{errc::modbus_pdu_length, n};
   }
-  rtu_frame f;
-  f.crc = static_cast<std::uint16_t>(adu[n - 2U] | (adu[n - 1U] << 8U));
+  const auto received = static_cast<std::uint16_t>(adu[n - 2U] | (adu[n - 1U] << 8U));
   const std::uint16_t computed = crc16_modbus<Table>::compute(adu.first(n - 2U));
-  if (computed != f.crc) {
-    return decode_failure{errc::crc_mismatch, n, computed, f.crc};
+  if (computed != received) {
+    return decode_failure{errc::crc_mismatch, n, computed, received};
   }
-  f.slave = adu[0];
-  if (f.slave > max_unicast_address) {
+  const std::uint8_t slave = adu[0];
+  if (slave > max_unicast_address) {
     return decode_failure{errc::modbus_slave_address, n};
   }
-  f.pdu = adu.subspan(1, n - 3U);
-  return decode_result<rtu_frame>::complete(f, n);
+  // Every field given (aggregate initialisation): each is stored once.
+  return decode_result<rtu_frame>::complete(rtu_frame{slave, adu.subspan(1, n - 3U), received}, n);
 }
 
 }  // namespace modbus
