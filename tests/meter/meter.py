@@ -484,10 +484,14 @@ def measure(m):
     request = rtu(1, [0x03, 0x00, 0x05, 0x00, 0x0A])
     m.write("meter_in", request)
     m.write_u32("meter_in_size", len(request))
-    n, s = once("modbus.serve.fc03_10", "op_modbus_serve")
     data = []
     for v in registers[5:15]:
         data += [v >> 8, v & 0xFF]
+    n, s = once("modbus.serve_rtu.fc03_10", "op_modbus_serve")
+    expect("modbus.serve_rtu.fc03_10", list(m.out_bytes()), rtu(1, [0x03, 20] + data))
+    record("modbus.serve_rtu.fc03_10", n, s)
+    m.call("op_modbus_decode_rtu")
+    n, s = once("modbus.serve.fc03_10", "op_modbus_serve_frame")
     expect("modbus.serve.fc03_10", list(m.out_bytes()), rtu(1, [0x03, 20] + data))
     record("modbus.serve.fc03_10", n, s)
 
@@ -498,7 +502,15 @@ def measure(m):
     request = rtu(1, [0x10, 0x00, 0x20, 0x00, 0x0A, 20] + data)
     m.write("meter_in", request)
     m.write_u32("meter_in_size", len(request))
-    n, s = once("modbus.serve.fc10_10", "op_modbus_serve")
+    n, s = once("modbus.serve_rtu.fc10_10", "op_modbus_serve")
+    expect("modbus.serve_rtu.fc10_10", list(m.out_bytes()),
+           rtu(1, [0x10, 0x00, 0x20, 0x00, 0x0A]))
+    now = struct.unpack("<128H", m.read("meter_registers", 256))
+    expect("modbus.serve_rtu.fc10_10 registers", list(now[0x20:0x2A]), written)
+    record("modbus.serve_rtu.fc10_10", n, s)
+    m.write("meter_registers", b"\0" * 256)
+    m.call("op_modbus_decode_rtu")
+    n, s = once("modbus.serve.fc10_10", "op_modbus_serve_frame")
     expect("modbus.serve.fc10_10", list(m.out_bytes()), rtu(1, [0x10, 0x00, 0x20, 0x00, 0x0A]))
     now = struct.unpack("<128H", m.read("meter_registers", 256))
     expect("modbus.serve.fc10_10 registers", list(now[0x20:0x2A]), written)

@@ -107,6 +107,33 @@ struct holding_registers {
   }
 };
 
+// The same registers through the big-endian accessors (the server then needs no register
+// buffer and no conversion).
+struct holding_registers_be {
+  std::uint8_t read_registers_be(std::uint8_t, std::uint16_t address, std::uint16_t quantity,
+                                 mb::mutable_byte_view out) {
+    if (address + quantity > 128U) {
+      return 0x02;
+    }
+    for (std::size_t i = 0; i < quantity; ++i) {
+      const std::uint16_t v = meter_registers[address + i];
+      out[2 * i] = static_cast<std::uint8_t>(v >> 8U);
+      out[2 * i + 1] = static_cast<std::uint8_t>(v);
+    }
+    return 0;
+  }
+  std::uint8_t write_registers_be(std::uint16_t address, std::uint16_t quantity,
+                                  mb::byte_view data) {
+    if (address + quantity > 128U) {
+      return 0x02;
+    }
+    for (std::size_t i = 0; i < quantity; ++i) {
+      meter_registers[address + i] = md::register_at(data, i);
+    }
+    return 0;
+  }
+};
+
 // --- BiSS-C --------------------------------------------------------------------------------------
 struct register_file {
   std::uint8_t bytes[128];
@@ -214,13 +241,17 @@ METER_OP void op_modbus_decode_rtu() {
   keep(rtu_result, [] { return md::decode_rtu(input()); });
 }
 METER_OP void op_modbus_client_fc03(unsigned quantity) {
-  const auto f = md::decode_rtu(input());
-  if (!f.is_complete()) {
-    client_result = mb::decode_failure{f.error(), 0};
-    return;
+  mb::byte_view pdu;
+  {
+    const auto f = md::decode_rtu(input());
+    if (!f.is_complete()) {
+      client_result = mb::decode_failure{f.error(), 0};
+      return;
+    }
+    pdu = f->pdu;
   }
   keep(client_result, [&] {
-    return md::decode_read_response(f->pdu, md::function_code::read_holding_registers,
+    return md::decode_read_response(pdu, md::function_code::read_holding_registers,
                                     static_cast<std::uint16_t>(quantity));
   });
 }
@@ -241,6 +272,14 @@ METER_OP void op_report_client() {
     meter_out[3] = sum;
     meter_out[4] = mix;
   }
+}
+// A server's work from the frame the framer checked (rtu_result, set by op_modbus_decode_rtu
+// outside the measurement) to the response ADU.
+METER_OP void op_modbus_serve_frame() {
+  holding_registers_be device;
+  const auto n =
+      md::serve_frame(device, 1, rtu_result.value(), mb::mutable_byte_view(meter_adu, 256));
+  put_bytes(mb::byte_view(meter_adu, n.value_or(0)));
 }
 METER_OP void op_modbus_serve() {
   holding_registers device;

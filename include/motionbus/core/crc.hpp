@@ -340,6 +340,15 @@ class crc {
   }
 
   constexpr crc& update(byte_view data) noexcept {
+    reg_ = feed_bytes(reg_, data);
+    return *this;
+  }
+
+ private:
+  // The register after feeding `data` to `reg_in` (a static function: a one-shot CRC keeps
+  // its register in a register, no object on the stack).
+  static constexpr std::uint32_t feed_bytes(std::uint32_t reg_in, byte_view data) noexcept {
+    std::uint32_t reg_out = reg_in;
     if constexpr (chunk_bits == 8U && kernel::reg_bits == 8U &&
                   kernel::template identity_table<8>()) {
       // x^8 + 1 at width 8: each byte step is reg ^= byte, so the CRC is the XOR of the bytes:
@@ -355,9 +364,9 @@ class crc {
       acc ^= acc >> 32U;
       acc ^= acc >> 16U;
       acc ^= acc >> 8U;
-      reg_ ^= static_cast<std::uint32_t>(acc & 0xFFU);
+      reg_out ^= static_cast<std::uint32_t>(acc & 0xFFU);
     } else if constexpr (sliced && kernel::can_slice) {
-      std::uint32_t reg = reg_;
+      std::uint32_t reg = reg_out;
       std::size_t i = 0;
       if constexpr (Table == crc_table_size::slice8) {
         for (; i + 8U <= data.size(); i += 8U) {
@@ -370,19 +379,16 @@ class crc {
       for (; i < data.size(); ++i) {
         reg = kernel::template feed<8>(reg, data[i], 8U);
       }
-      reg_ = reg;
+      reg_out = reg;
     } else {
-      // The register in a local: stores through the data's byte type could alias the member,
-      // which would keep it in memory across the loop.
-      std::uint32_t reg = reg_;
       for (std::size_t i = 0; i < data.size(); ++i) {
-        reg = kernel::template feed<chunk_bits>(reg, data[i], 8U);
+        reg_out = kernel::template feed<chunk_bits>(reg_out, data[i], 8U);
       }
-      reg_ = reg;
     }
-    return *this;
+    return reg_out;
   }
 
+ public:
   /// Feeds the low `count` bits of `bits` in the CRC's bit order (see the file comment).
   /// A count above 64 is treated as 64.
   MOTIONBUS_INLINE constexpr crc& update_bits(std::uint64_t bits, unsigned count) noexcept {
@@ -437,14 +443,11 @@ class crc {
   }
 
   /// The CRC of everything fed so far (reflection and final XOR applied). Feeding may go on.
-  constexpr value_type value() const noexcept {
-    return static_cast<value_type>(detail::crc_register_value(
-        reg_, Spec::width, kernel::align, Spec::refin, Spec::refout, Spec::xorout));
-  }
+  constexpr value_type value() const noexcept { return value_of(reg_); }
 
   /// One-shot CRC of `data`.
   static constexpr value_type compute(byte_view data) noexcept {
-    return crc().update(data).value();
+    return value_of(feed_bytes(initial_register(), data));
   }
 
   /// One-shot CRC of the low `count` (<= 64) bits of `bits`, fed in the CRC's bit order.
@@ -460,6 +463,10 @@ class crc {
   }
 
  private:
+  static constexpr value_type value_of(std::uint32_t reg) noexcept {
+    return static_cast<value_type>(detail::crc_register_value(
+        reg, Spec::width, kernel::align, Spec::refin, Spec::refout, Spec::xorout));
+  }
   static constexpr std::uint32_t initial_register() noexcept {
     return detail::crc_initial_register(Spec::init, Spec::width, kernel::align, Spec::refin);
   }

@@ -95,15 +95,20 @@ struct request {
 
 /// A response as a client sees it.
 struct response {
+  // (The fields are ordered by size, so that the struct has no padding: 36 bytes on 32-bit
+  // targets, which a client keeps on its stack.)
+  /// FC01/02 packed bits, FC03/04/17/18 register bytes, FC08 data, FC0C events, FC11 payload,
+  /// FC2B/0E objects (id, length, value ...), raw data. A view into the input.
+  byte_view data{};
   std::uint8_t function = 0;  ///< without the exception flag
   bool exception = false;
   std::uint8_t exception_code = 0;  ///< wire value when exception
+  std::uint8_t byte_count = 0;
   std::uint16_t address = 0;        ///< echo: FC05, 06, 0F, 10, 16
   std::uint16_t quantity = 0;       ///< echo: FC0F, 10
   std::uint16_t value = 0;          ///< echo: FC05, 06
   std::uint16_t and_mask = 0;       ///< echo: FC16
   std::uint16_t or_mask = 0;        ///< echo: FC16
-  std::uint8_t byte_count = 0;
   std::uint16_t sub_function = 0;   ///< FC08
   std::uint16_t status = 0;         ///< FC07 (output byte), FC0B, FC0C
   std::uint16_t event_count = 0;    ///< FC0B, FC0C
@@ -113,9 +118,6 @@ struct response {
   bool more_follows = false;        ///< FC2B/0E
   std::uint8_t next_object = 0;     ///< FC2B/0E
   std::uint8_t object_count = 0;    ///< FC2B/0E
-  /// FC01/02 packed bits, FC03/04/17/18 register bytes, FC08 data, FC0C events, FC11 payload,
-  /// FC2B/0E objects (id, length, value ...), raw data. A view into the input.
-  byte_view data{};
 };
 
 /// FC08 sub-functions (Modbus over Serial Line §6.1).
