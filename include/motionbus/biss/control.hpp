@@ -86,7 +86,11 @@ struct control_options {
 /// and must outlive the access.
 class control_master {
  public:
-  constexpr explicit control_master(const control_options& opt = {}) noexcept : opt_(opt) {}
+  /// A default-constructed master is all zeros (its options are stored relative to the
+  /// defaults): a `static` one lands in .bss, not .data.
+  constexpr control_master() noexcept = default;
+  constexpr explicit control_master(const control_options& opt) noexcept
+      : wait_limit_x_(opt.max_wait_frames ^ control_options{}.max_wait_frames) {}
 
   /// Starts a read of out.size() (1..128) registers from `address` onward (sequential access
   /// beyond one byte). errc::biss_busy while an access runs; invalid_argument for an ID above
@@ -127,7 +131,7 @@ class control_master {
       take_answer(cds);
     }
     const bool cdm = state_ == control_state::busy ? next_cdm() : false;
-    zeros_ = cdm ? 0 : (zeros_ < preamble_frames ? zeros_ + 1U : zeros_);
+    quiet_needed_ = cdm ? preamble_frames : (quiet_needed_ > 0U ? quiet_needed_ - 1U : 0U);
     return cdm;
   }
 
@@ -144,7 +148,8 @@ class control_master {
   }
 
  private:
-  enum class phase : std::uint8_t { preamble, header, start, data, crc, stop, end };
+  // `end` (no access yet, or the last one finished) is 0, so that a fresh master is all zeros.
+  enum class phase : std::uint8_t { end, preamble, header, start, data, crc, stop };
 
   constexpr errc check(std::uint8_t id, std::uint8_t address, std::size_t n) const noexcept {
     if (state_ == control_state::busy) {
@@ -202,7 +207,7 @@ class control_master {
         if (cds) {
           ready_ = true;
           rx_ = 0;
-        } else if (++waits_ > opt_.max_wait_frames) {
+        } else if (++waits_ > (wait_limit_x_ ^ control_options{}.max_wait_frames)) {
           fail(errc::biss_timeout);
         }
         break;
@@ -240,7 +245,7 @@ class control_master {
   constexpr bool next_cdm() noexcept {
     switch (sent_) {
       case phase::preamble:
-        if (zeros_ < preamble_frames) {
+        if (quiet_needed_ > 0U) {
           return false;
         }
         sent_ = phase::header;
@@ -301,7 +306,7 @@ class control_master {
     return write_mode_ && ((data_crc(out_byte()) >> (3U - i)) & 1U) != 0U;
   }
 
-  control_options opt_;
+  std::size_t wait_limit_x_ = 0;  // max_wait_frames XOR its default
   control_state state_ = control_state::idle;
   errc error_ = errc::ok;
   mutable_byte_view read_{};
@@ -309,7 +314,7 @@ class control_master {
   std::size_t count_ = 0;
   std::size_t byte_ = 0;
   std::size_t frames_ = 0;
-  std::size_t zeros_ = preamble_frames;  // a fresh master has been silent long enough
+  std::size_t quiet_needed_ = 0;  // CDM = 0 frames still due before a start (a fresh master: none)
   std::size_t waits_ = 0;
   std::uint32_t header_ = 0;
   unsigned echo_ = 0;

@@ -52,17 +52,30 @@ inline constexpr unsigned reset_repeat = 10;
 /// ALMC bits that latch until reset (CE modelled as case II, latched during power-on).
 inline constexpr std::uint8_t latched_alarms = 0x01 | 0x04 | 0x08 | 0x10 | 0x20 | 0x40;
 
+/// The encoder model's factory settings: ENID 0x11 and an over-heat threshold of 90 °C
+/// (0xDA = 90 + 128, bit 7 enabling the check).
+inline constexpr std::uint8_t default_enid = 0x11;
+inline constexpr std::uint8_t default_overheat_threshold = 0xDA;
+
 class encoder_model {
  public:
   struct config {
     resolution res{17, 16};
-    std::uint8_t enid = 0x11;
-    std::uint8_t overheat_threshold = 0xDA;  ///< factory setting: 90 °C (0xDA = 90 + 128)
+    std::uint8_t enid = default_enid;
+    std::uint8_t overheat_threshold = default_overheat_threshold;  ///< factory setting: 90 °C
   };
 
-  constexpr encoder_model() noexcept : encoder_model(config{}) {}
+  /// A default-constructed model (the default config) is all zeros: its settings are stored
+  /// relative to the defaults, so that a `static` one lands in .bss, not .data.
+  constexpr encoder_model() noexcept = default;
   constexpr explicit encoder_model(config cfg) noexcept
-      : cfg_(cfg), threshold_(cfg.overheat_threshold), loaded_threshold_(cfg.overheat_threshold) {}
+      : single_x_(
+            static_cast<std::uint8_t>(cfg.res.single_turn_bits ^ resolution{}.single_turn_bits)),
+        multi_x_(static_cast<std::uint8_t>(cfg.res.multi_turn_bits ^ resolution{}.multi_turn_bits)),
+        enid_x_(static_cast<std::uint8_t>(cfg.enid ^ default_enid)),
+        threshold_x_(
+            static_cast<std::uint8_t>(cfg.overheat_threshold ^ default_overheat_threshold)),
+        loaded_threshold_x_(threshold_x_) {}
 
   // --- the physical world ------------------------------------------------------------------
   /// Sets the raw single-turn reading (before any ID8 zero offset) and the turn count.
@@ -73,7 +86,7 @@ class encoder_model {
   /// Rotates by `counts` single-turn steps (negative: the other way); turns follow, and the
   /// counter overflow flag OF latches when the turn count wraps.
   constexpr void rotate(std::int64_t counts) noexcept {
-    const std::int64_t per_turn = std::int64_t{1} << cfg_.res.single_turn_bits;
+    const std::int64_t per_turn = std::int64_t{1} << single_turn_bits();
     const std::int64_t total = static_cast<std::int64_t>(raw_) + counts;
     std::int64_t turns = total / per_turn;
     std::int64_t raw = total % per_turn;
@@ -82,7 +95,7 @@ class encoder_model {
       turns -= 1;
     }
     const std::int64_t new_turns = static_cast<std::int64_t>(turns_) + turns;
-    const std::int64_t range = std::int64_t{1} << cfg_.res.multi_turn_bits;
+    const std::int64_t range = std::int64_t{1} << multi_turn_bits();
     if (new_turns < 0 || new_turns >= range) {
       latched_ = static_cast<std::uint8_t>(latched_ | static_cast<std::uint8_t>(almc_bit::of));
     }
@@ -101,7 +114,8 @@ class encoder_model {
   }
   /// Substrate temperature in °C (page 7 address 5); may raise over-heat.
   constexpr void set_temperature(std::int8_t celsius) noexcept {
-    temperature_ = celsius;
+    temperature_x_ =
+        static_cast<std::uint8_t>(static_cast<std::uint8_t>(celsius) ^ default_celsius);
     update_overheat();
   }
 
@@ -113,7 +127,7 @@ class encoder_model {
                                      (conditions_ & static_cast<std::uint8_t>(~latched_alarms)));
   }
   constexpr std::uint8_t page() const noexcept { return page_; }
-  constexpr std::uint8_t overheat_threshold() const noexcept { return threshold_; }
+  constexpr std::uint8_t overheat_threshold() const noexcept { return threshold(); }
   /// EEPROM byte of a user page (0..5, address 0..126); 0 outside.
   constexpr std::uint8_t eeprom(std::uint8_t page, std::uint8_t address) const noexcept {
     return page < user_pages && address < page_size ? eeprom_[cell(page, address)] : 0U;
@@ -163,19 +177,18 @@ class encoder_model {
   }
 
   constexpr std::uint32_t single_mask() const noexcept {
-    return cfg_.res.single_turn_bits >= 32U
-               ? 0xFFFFFFFFU
-               : ((std::uint32_t{1} << cfg_.res.single_turn_bits) - 1U);
+    return single_turn_bits() >= 32U ? 0xFFFFFFFFU
+                                     : ((std::uint32_t{1} << single_turn_bits()) - 1U);
   }
   constexpr std::uint32_t multi_mask() const noexcept {
-    return cfg_.res.multi_turn_bits >= 32U ? 0xFFFFFFFFU
-                                           : ((std::uint32_t{1} << cfg_.res.multi_turn_bits) - 1U);
+    return multi_turn_bits() >= 32U ? 0xFFFFFFFFU : ((std::uint32_t{1} << multi_turn_bits()) - 1U);
   }
 
   constexpr void update_overheat() noexcept {
-    const bool enabled = (threshold_ & 0x80U) != 0U;
-    const int limit = static_cast<int>(threshold_) - 128;
-    set_condition(almc_bit::oh, enabled && temperature_ > limit);
+    const std::uint8_t t = threshold();
+    const bool enabled = (t & 0x80U) != 0U;
+    const int limit = static_cast<int>(t) - 128;
+    set_condition(almc_bit::oh, enabled && temperature() > limit);
   }
 
   constexpr reply data_reply(data_id id, std::uint8_t extra_sf) const noexcept {
@@ -184,7 +197,7 @@ class encoder_model {
     r.sf = static_cast<std::uint8_t>(status_field(almc()) | extra_sf);
     r.abs = abs();
     r.abm = abm();
-    r.enid = cfg_.enid;
+    r.enid = static_cast<std::uint8_t>(enid_x_ ^ default_enid);
     r.almc = almc();
     reply out;
     out.size = encode_response(r, mutable_byte_view(out.bytes, max_response_size)).value_or(0);
@@ -227,7 +240,7 @@ class encoder_model {
     } else if (page_ < user_pages) {
       eeprom_[cell(page_, q.address)] = q.edf;
     } else if (page_ == 7U && q.address == 4U) {
-      threshold_ = q.edf;
+      threshold_x_ = static_cast<std::uint8_t>(q.edf ^ default_overheat_threshold);
       update_overheat();
     } else {
       return abnormal(false, false);  // closed address
@@ -246,9 +259,9 @@ class encoder_model {
     } else if (page_ < user_pages) {
       value = loaded_[q.address];
     } else if (page_ == 7U && q.address == 4U) {
-      value = loaded_threshold_;
+      value = static_cast<std::uint8_t>(loaded_threshold_x_ ^ default_overheat_threshold);
     } else if (page_ == 7U && q.address == 5U) {
-      value = static_cast<std::uint8_t>(temperature_);
+      value = static_cast<std::uint8_t>(temperature());
     } else {
       return abnormal(false, false);
     }
@@ -262,7 +275,7 @@ class encoder_model {
         loaded_[a] = eeprom_[cell(page_, a)];
       }
     } else {
-      loaded_threshold_ = threshold_;
+      loaded_threshold_x_ = threshold_x_;
     }
   }
 
@@ -298,21 +311,38 @@ class encoder_model {
     latched_ = static_cast<std::uint8_t>(conditions_ & latched_alarms);  // reset what is gone
   }
 
-  config cfg_;
+  static constexpr std::uint8_t default_celsius = 25;
+  constexpr unsigned single_turn_bits() const noexcept {
+    return static_cast<std::uint8_t>(single_x_ ^ resolution{}.single_turn_bits);
+  }
+  constexpr unsigned multi_turn_bits() const noexcept {
+    return static_cast<std::uint8_t>(multi_x_ ^ resolution{}.multi_turn_bits);
+  }
+  constexpr std::uint8_t threshold() const noexcept {
+    return static_cast<std::uint8_t>(threshold_x_ ^ default_overheat_threshold);
+  }
+  constexpr int temperature() const noexcept {
+    return static_cast<std::int8_t>(static_cast<std::uint8_t>(temperature_x_ ^ default_celsius));
+  }
+
+  // Settings stored as XOR their defaults: a default model is all zeros.
+  std::uint8_t single_x_ = 0;
+  std::uint8_t multi_x_ = 0;
+  std::uint8_t enid_x_ = 0;
+  std::uint8_t threshold_x_ = 0;
+  std::uint8_t loaded_threshold_x_ = 0;
+  std::uint8_t temperature_x_ = 0;  // 25 °C
   std::uint32_t raw_ = 0;
   std::uint32_t offset_ = 0;
   std::uint32_t turns_ = 0;
   std::uint8_t conditions_ = 0;
   std::uint8_t latched_ = 0;
-  std::int8_t temperature_ = 25;
-  std::uint8_t threshold_;
   std::uint8_t page_ = 0;
-  std::uint8_t loaded_threshold_;
   std::uint8_t eeprom_[user_pages * page_size] = {};
   std::uint8_t loaded_[page_size] = {};  // the current page as last specified
   bool busy_ = false;
   std::uint32_t busy_until_ = 0;
-  data_id reset_id_ = data_id::reset_errors;
+  data_id reset_id_ = data_id::read_abs;  // meaningful while reset_count_ > 0
   unsigned reset_count_ = 0;
   std::uint32_t last_reset_us_ = 0;
 };

@@ -49,7 +49,27 @@ struct receiver_options {
 
 class receiver {
  public:
-  constexpr explicit receiver(receiver_options opt = {}) noexcept : opt_(opt) {}
+  /// A default-constructed receiver is all zeros (its options are stored relative to the
+  /// defaults): a `static` one lands in .bss, not .data.
+  constexpr receiver() noexcept = default;
+  constexpr explicit receiver(const receiver_options& opt) noexcept
+      : echo_(opt.echo_mode == echo::expected),
+        skip_check_(!opt.check_against_request),
+        single_turn_x_(static_cast<std::uint8_t>(opt.decode.res.single_turn_bits ^
+                                                 resolution{}.single_turn_bits)),
+        multi_turn_x_(static_cast<std::uint8_t>(opt.decode.res.multi_turn_bits ^
+                                                resolution{}.multi_turn_bits)),
+        skip_unused_check_(!opt.decode.check_unused_bits),
+        resolution_from_enid_(opt.decode.resolution_from_enid) {}
+
+  /// The options the receiver was built with.
+  constexpr receiver_options options() const noexcept {
+    receiver_options o;
+    o.echo_mode = echo_ ? echo::expected : echo::none;
+    o.check_against_request = !skip_check_;
+    o.decode = decode_opts();
+    return o;
+  }
 
   /// Records the request just sent (up to 4 bytes): its echo is skipped when echo::expected,
   /// and responses are checked against it. Drops any partial frame.
@@ -60,8 +80,8 @@ class receiver {
     for (std::size_t i = 0; i < request_size_; ++i) {
       request_[i] = request_frame[i];
     }
-    echo_pending_ = opt_.echo_mode == echo::expected && request_size_ > 0U;
-    check_ = opt_.check_against_request && detail::valid_request(request_frame);
+    echo_pending_ = echo_ && request_size_ > 0U;
+    check_ = !skip_check_ && detail::valid_request(request_frame);
     framing_ = false;
     buf_.clear();
   }
@@ -204,7 +224,7 @@ class receiver {
     want_ = 0;
     framing_ = false;
     // One result, returned from one place (built in the caller's slot: no copy).
-    decode_result<response> r = decode_response(buf_.first(n), opt_.decode);
+    decode_result<response> r = decode_response(buf_.first(n), decode_opts());
     if (r.is_failed()) {
       buf_.drop(1);  // rescan from the next byte: a valid frame may start inside
       ++dropped_;
@@ -223,7 +243,23 @@ class receiver {
     return r;
   }
 
-  receiver_options opt_;
+  constexpr decode_options decode_opts() const noexcept {
+    decode_options d;
+    d.res.single_turn_bits =
+        static_cast<std::uint8_t>(single_turn_x_ ^ resolution{}.single_turn_bits);
+    d.res.multi_turn_bits = static_cast<std::uint8_t>(multi_turn_x_ ^ resolution{}.multi_turn_bits);
+    d.check_unused_bits = !skip_unused_check_;
+    d.resolution_from_enid = resolution_from_enid_;
+    return d;
+  }
+
+  // The options, each stored so that its default is 0 (a default receiver is all zeros).
+  bool echo_ = false;
+  bool skip_check_ = false;
+  std::uint8_t single_turn_x_ = 0;  // XOR the default resolution
+  std::uint8_t multi_turn_x_ = 0;
+  bool skip_unused_check_ = false;
+  bool resolution_from_enid_ = false;
   frame_buffer<max_response_size> buf_;
   std::uint8_t want_ = 0;  // bytes to hold before the next decision (0..11)
   std::uint8_t request_[max_request_size] = {};
