@@ -25,3 +25,6 @@ set(footprint_budget_tformat_encoder_rv32imc 1312 464)
 set(footprint_budget_tformat_master_cortex-m0plus 736 80)
 set(footprint_budget_tformat_master_cortex-m4 600 80)  # the project target
 set(footprint_budget_tformat_master_rv32imc 1072 80)
+set(footprint_budget_modbus_server_core_cortex-m0plus 1744 16)
+set(footprint_budget_modbus_server_core_cortex-m4 1700 16)  # the project target
+set(footprint_budget_modbus_server_core_rv32imc 2384 16)

@@ -304,3 +304,31 @@ TEST_CASE("server: serve_frame answers a frame the framer checked, without decod
   CHECK(serve_frame(dev, 0x11, f.value(), mutable_byte_view(out, 255)).error() ==
         errc::buffer_too_small);
 }
+
+namespace {
+
+// The array device restricted to reading registers: the other functions its accessors allow
+// are answered with 01, and their requests are not decoded (no 03 for a bad count).
+struct read_only_device : array_device {
+  static constexpr function_set functions = functions_of(0x03, 0x04);
+};
+
+}  // namespace
+
+TEST_CASE("server: a device's own function set narrows what its accessors allow") {
+  read_only_device dev;
+  dev.holding[1] = 0x0102;
+  CHECK(call(dev, 0x11, {0x03, 0x00, 0x01, 0x00, 0x01}) == bytes{0x03, 0x02, 0x01, 0x02});
+  CHECK(call(dev, 0x11, {0x06, 0x00, 0x01, 0x12, 0x34}) == bytes{0x86, 0x01});
+  CHECK(dev.holding[1] == 0x0102);
+  CHECK(call(dev, 0x11, {0x01, 0x00, 0x00, 0x07, 0xD1}) == bytes{0x81, 0x01});  // not 03
+  CHECK(call(dev, 0x11, {0x10, 0x00, 0x00, 0x00, 0x01, 0x02, 0x00, 0x01}) == bytes{0x90, 0x01});
+  CHECK(call(dev, 0x11, {0x03, 0x00, 0x00, 0x00, 0x7E}) == bytes{0x83, 0x03});  // its own: 03
+  static_assert(functions_of(0x01, 0x10) == ((function_set{1} << 1U) | (function_set{1} << 16U)),
+                "one bit per function");
+  static_assert(modbus::detail::served_functions<read_only_device>() == functions_of(0x03, 0x04),
+                "the device's set, within what its accessors allow");
+  static_assert(modbus::detail::served_functions<array_device>() ==
+                    functions_of(0x01, 0x02, 0x03, 0x04, 0x05, 0x06, 0x0F, 0x10, 0x11, 0x16, 0x17),
+                "every function the accessors allow");
+}

@@ -76,7 +76,11 @@ enum class report_id_format : std::uint8_t { standard = 0, two_bytes_no_count = 
 
 /// A request as a server sees it (fields as the function has them).
 struct request {
-  std::uint8_t function = 0;
+  // (The fields are ordered by size, so that the struct has no padding: 28 bytes on 32-bit
+  // targets.)
+  /// FC0F packed coils, FC10/FC17 register bytes (big-endian pairs), FC08 data, or the whole
+  /// data part of a function this codec does not frame. A view into the decoded input.
+  byte_view data{};
   std::uint16_t address = 0;         ///< starting address (FC01-06, 0F, 10, 16; FC17 read address)
   std::uint16_t quantity = 0;        ///< FC01-04, 0F, 10; FC17 read quantity
   std::uint16_t value = 0;           ///< FC05 (0xFF00/0x0000), FC06
@@ -85,12 +89,10 @@ struct request {
   std::uint16_t write_address = 0;   ///< FC17
   std::uint16_t write_quantity = 0;  ///< FC17
   std::uint16_t sub_function = 0;    ///< FC08
-  std::uint8_t mei_type = 0;         ///< FC2B (0x0E: read device identification)
-  std::uint8_t read_code = 0;        ///< FC2B/0E: 1 basic, 2 regular, 3 extended, 4 one object
-  std::uint8_t object_id = 0;        ///< FC2B/0E
-  /// FC0F packed coils, FC10/FC17 register bytes (big-endian pairs), FC08 data, or the whole
-  /// data part of a function this codec does not frame. A view into the decoded input.
-  byte_view data{};
+  std::uint8_t function = 0;
+  std::uint8_t mei_type = 0;   ///< FC2B (0x0E: read device identification)
+  std::uint8_t read_code = 0;  ///< FC2B/0E: 1 basic, 2 regular, 3 extended, 4 one object
+  std::uint8_t object_id = 0;  ///< FC2B/0E
 };
 
 /// A response as a client sees it.
@@ -453,6 +455,24 @@ constexpr result<device_object> object_at(const response& r, std::size_t index) 
 // ---------------------------------------------------------------------------------------------
 // Server: requests in, responses out
 
+/// A set of function codes (bit f for function f, 1..63), for a server that decodes only the
+/// functions its device serves: the others then cost no code (server dispatch passes the set
+/// its device's accessors allow).
+using function_set = std::uint64_t;
+inline constexpr function_set all_functions = ~function_set{0};
+/// Whether function `f` is in `Set` (two 32-bit halves: no 64-bit shift on a 32-bit core).
+template <function_set Set>
+constexpr bool in_function_set(std::uint8_t f) noexcept {
+  constexpr auto low = static_cast<std::uint32_t>(Set);
+  constexpr auto high = static_cast<std::uint32_t>(Set >> 32U);
+  return f < 32U ? ((low >> f) & 1U) != 0U : (f < 64U && ((high >> (f - 32U)) & 1U) != 0U);
+}
+/// The set of the given function codes (each 1..63).
+template <class... Codes>
+constexpr function_set functions_of(Codes... codes) noexcept {
+  return (function_set{0} | ... | (function_set{1} << (static_cast<unsigned>(codes) & 63U)));
+}
+
 /// Decodes a complete request PDU (e.g. an RTU ADU without address and CRC). Complete: the
 /// request (consumed = PDU size). Failed (consumed = PDU size), in the order a server checks:
 /// modbus_pdu_length (empty or > 253 bytes), modbus_illegal_function (exception flag set),
@@ -460,6 +480,7 @@ constexpr result<device_object> object_at(const response& r, std::size_t index) 
 /// modbus_coil_value (exception 03), modbus_address_overflow (exception 02). Extra bytes after
 /// a fixed-size request are modbus_byte_count. Functions this codec does not frame decode as
 /// raw (function and data).
+template <function_set Served = all_functions>
 constexpr decode_result<request> decode_request(byte_view pdu) noexcept {
   const std::size_t n = pdu.size();
   if (n < 1U || n > max_pdu_size) {
@@ -471,19 +492,24 @@ constexpr decode_result<request> decode_request(byte_view pdu) noexcept {
   if ((f & exception_flag) != 0U || f == 0U) {
     return decode_failure{errc::modbus_illegal_function, n};
   }
+  // A function outside `Served` takes the raw branch below (the server answers 01); the
+  // branches of functions outside it are compiled out.
+  constexpr auto serves = [](unsigned code) { return ((Served >> code) & 1U) != 0U; };
+  const bool served = in_function_set<Served>(f);
   auto need = [&](std::size_t fixed) { return n < fixed; };
   auto exact = [&](std::size_t size) -> errc {
     return n < size ? errc::truncated : (n > size ? errc::modbus_byte_count : errc::ok);
   };
   errc e = errc::ok;
-  if (detail::is_read_bits(f) || detail::is_read_registers(f)) {
+  if ((serves(0x01) || serves(0x02) || serves(0x03) || serves(0x04)) && served &&
+      (detail::is_read_bits(f) || detail::is_read_registers(f))) {
     e = exact(5);
     if (e == errc::ok) {
       q.address = detail::be16(pdu, 1);
       q.quantity = detail::be16(pdu, 3);
       e = detail::check_read(f, q.address, q.quantity);
     }
-  } else if (f == 0x05 || f == 0x06) {
+  } else if ((serves(0x05) || serves(0x06)) && served && (f == 0x05 || f == 0x06)) {
     e = exact(5);
     if (e == errc::ok) {
       q.address = detail::be16(pdu, 1);
@@ -492,7 +518,7 @@ constexpr decode_result<request> decode_request(byte_view pdu) noexcept {
         e = errc::modbus_coil_value;
       }
     }
-  } else if (f == 0x0F || f == 0x10) {
+  } else if ((serves(0x0F) || serves(0x10)) && served && (f == 0x0F || f == 0x10)) {
     if (need(6)) {
       e = errc::truncated;
     } else {
@@ -512,14 +538,14 @@ constexpr decode_result<request> decode_request(byte_view pdu) noexcept {
         q.data = pdu.subspan(6, count);
       }
     }
-  } else if (f == 0x16) {
+  } else if (serves(0x16) && served && f == 0x16) {
     e = exact(7);
     if (e == errc::ok) {
       q.address = detail::be16(pdu, 1);
       q.and_mask = detail::be16(pdu, 3);
       q.or_mask = detail::be16(pdu, 5);
     }
-  } else if (f == 0x17) {
+  } else if (serves(0x17) && served && f == 0x17) {
     if (need(10)) {
       e = errc::truncated;
     } else {
@@ -540,9 +566,10 @@ constexpr decode_result<request> decode_request(byte_view pdu) noexcept {
         q.data = pdu.subspan(10, count);
       }
     }
-  } else if (f == 0x07 || f == 0x0B || f == 0x0C || f == 0x11) {
+  } else if ((serves(0x07) || serves(0x0B) || serves(0x0C) || serves(0x11)) && served &&
+             (f == 0x07 || f == 0x0B || f == 0x0C || f == 0x11)) {
     e = exact(1);  // no data: a longer PDU is not read as if it had an address (§3.2 CVEs)
-  } else if (f == 0x08) {
+  } else if (serves(0x08) && served && f == 0x08) {
     if (need(3)) {
       e = errc::truncated;
     } else {
@@ -558,12 +585,12 @@ constexpr decode_result<request> decode_request(byte_view pdu) noexcept {
         e = errc::modbus_coil_value;
       }
     }
-  } else if (f == 0x18) {
+  } else if (serves(0x18) && served && f == 0x18) {
     e = exact(3);
     if (e == errc::ok) {
       q.address = detail::be16(pdu, 1);
     }
-  } else if (f == 0x2B) {
+  } else if (serves(0x2B) && served && f == 0x2B) {
     if (need(2)) {
       e = errc::truncated;
     } else {

@@ -20,6 +20,11 @@
 //                                  std::uint16_t quantity, motionbus::mutable_byte_view out);
 //   std::uint8_t write_registers_be(std::uint16_t address, std::uint16_t quantity,
 //                                   motionbus::byte_view data);   // FC06 (2 bytes), FC10
+//   static constexpr motionbus::modbus::function_set functions = ...;  // optional: serve only
+//                                                  // these of the functions the accessors
+//                                                  // allow (e.g. not FC16/17 over registers);
+//                                                  // the others are answered with 01 and cost
+//                                                  // no code
 //   std::uint8_t admit(motionbus::byte_view pdu);  // optional: a device-specific first check
 //                                                  // of the raw request PDU (e.g. its own
 //                                                  // order of exceptions); 0 lets it through
@@ -89,6 +94,11 @@ struct has_write_registers_be<D, std::void_t<decltype(std::declval<D&>().write_r
     : std::true_type {};
 
 template <class D, class = void>
+struct has_function_set : std::false_type {};
+template <class D>
+struct has_function_set<D, std::void_t<decltype(function_set{D::functions})>> : std::true_type {};
+
+template <class D, class = void>
 struct has_admit : std::false_type {};
 template <class D>
 struct has_admit<D, std::void_t<decltype(std::declval<D&>().admit(byte_view{}))>> : std::true_type {
@@ -112,6 +122,35 @@ constexpr bool can_read_registers =
 template <class Device>
 constexpr bool can_write_registers =
     has_write_registers<Device>::value || has_write_registers_be<Device>::value;
+
+// The functions serve_pdu can serve for this device (its accessors): only those are decoded.
+template <class Device>
+constexpr function_set served_functions() noexcept {
+  auto bit = [](unsigned f) { return function_set{1} << f; };
+  function_set set = 0;
+  if constexpr (has_read_bits<Device>::value) {
+    set |= bit(0x01) | bit(0x02);
+  }
+  if constexpr (can_read_registers<Device>) {
+    set |= bit(0x03) | bit(0x04);
+  }
+  if constexpr (has_write_coils<Device>::value) {
+    set |= bit(0x05) | bit(0x0F);
+  }
+  if constexpr (can_write_registers<Device>) {
+    set |= bit(0x06) | bit(0x10);
+  }
+  if constexpr (can_read_registers<Device> && can_write_registers<Device>) {
+    set |= bit(0x16) | bit(0x17);
+  }
+  if constexpr (has_report_server_id<Device>::value) {
+    set |= bit(0x11);
+  }
+  if constexpr (has_function_set<Device>::value) {
+    set &= Device::functions;  // the device's own choice among those
+  }
+  return set;
+}
 
 // Reads q.quantity registers from `address` into the response PDU `pdu_out` (function, byte
 // count, values), through whichever accessor the device has. Returns 0 or the exception code.
@@ -264,10 +303,13 @@ constexpr result<std::size_t> serve_frame(Device& dev, std::uint8_t own_address,
   if constexpr (detail::has_admit<Device>::value) {
     admitted = dev.admit(frame.pdu);
   }
+  constexpr function_set served = detail::served_functions<Device>();
   if (admitted != 0U) {
     n = encode_exception(frame.pdu[0], admitted, pdu).value_or(0);
+  } else if (!in_function_set<served>(frame.pdu[0])) {
+    n = encode_exception(frame.pdu[0], detail::illegal_function_code, pdu).value_or(0);
   } else {
-    const decode_result<request> q = decode_request(frame.pdu);
+    const decode_result<request> q = decode_request<served>(frame.pdu);
     if (q.is_complete()) {
       n = detail::serve_pdu(dev, q.value(), pdu);
     } else {
