@@ -182,7 +182,10 @@ MOTIONBUS_INLINE constexpr decode_result<frame_info> decode_frame(
   frame_info info;
   info.ack = ack;
   info.start = start;
-  info.cds = start + 1U < n0 ? ((win << (start + 1U)) >> 63U) != 0U : field(start + 1U, 1) != 0U;
+  // The window from the CDS bit on (when the CDS bit is in it): the CDS bit, then the first
+  // slave's fields, from one shift.
+  const std::uint64_t from_cds = start + 1U < n0 ? win << (start + 1U) : 0U;
+  info.cds = start + 1U < n0 ? (from_cds >> 63U) != 0U : field(start + 1U, 1) != 0U;
   decode_failure first_bad{};
   bool bad = false;
   const bool in_window = end <= n0;
@@ -196,7 +199,7 @@ MOTIONBUS_INLINE constexpr decode_result<frame_info> decode_frame(
     std::uint32_t status = 0;
     if (in_window) {  // pos < 64 and pos + n <= 64 for every field here
       // The slave's fields left-aligned by one shift, then split at the layout's offsets.
-      const std::uint64_t fields = win << pos;
+      const std::uint64_t fields = i == 0U ? from_cds << 1U : win << pos;
       const auto take = [fields](unsigned at, unsigned n) {
         return n == 0U ? std::uint64_t{0} : ((fields << at) >> (64U - n));
       };

@@ -96,4 +96,15 @@
 #define MOTIONBUS_CONSTANT_EVALUATED() true
 #endif
 
+/// Asks the compiler to unroll the next loop up to `n` times (even at -Os).
+#if defined(__clang__)
+#define MOTIONBUS_PRAGMA(x) _Pragma(#x)
+#define MOTIONBUS_UNROLL(n) MOTIONBUS_PRAGMA(unroll n)
+#elif defined(__GNUC__)
+#define MOTIONBUS_PRAGMA(x) _Pragma(#x)
+#define MOTIONBUS_UNROLL(n) MOTIONBUS_PRAGMA(GCC unroll n)
+#else
+#define MOTIONBUS_UNROLL(n)
+#endif
+
 #endif  // MOTIONBUS_CORE_CONFIG_HPP

@@ -204,6 +204,8 @@ struct crc_kernel {
     std::uint64_t m = (bits ^ (static_cast<std::uint64_t>(reg) << (count - 8U)))
                       << (64U - 8U * bytes);
     std::uint32_t r = 0;
+    // A count known at compile time: unrolled into straight-line table steps.
+    MOTIONBUS_UNROLL(8)
     for (unsigned k = 0; k < bytes; ++k) {
       r = step_chunk<8>(r, static_cast<std::uint32_t>(m >> 56U));
       m <<= 8U;
