@@ -177,9 +177,11 @@ class [[nodiscard]] decode_result {
   constexpr explicit operator bool() const noexcept { return is_complete(); }
 
   /// The decoded value; value-initialised unless complete.
-  constexpr const T& value() const noexcept { return is_complete() ? u_.value : empty_; }
-  constexpr const T& operator*() const noexcept { return value(); }
-  constexpr const T* operator->() const noexcept { return &value(); }
+  MOTIONBUS_INLINE constexpr const T& value() const noexcept {
+    return is_complete() ? u_.value : empty_;
+  }
+  MOTIONBUS_INLINE constexpr const T& operator*() const noexcept { return value(); }
+  MOTIONBUS_INLINE constexpr const T* operator->() const noexcept { return &value(); }
   /// Complete: units used by the value. Failed: units the caller may drop. Else 0.
   constexpr std::size_t consumed() const noexcept { return is_incomplete() ? 0U : count_; }
   /// Sets consumed() of a complete or failed result (a stream object reports the input it
