@@ -107,4 +107,13 @@
 #define MOTIONBUS_UNROLL(n)
 #endif
 
+/// Forces inlining in the speed form only (MOTIONBUS_SMALL_CODE 0): where inlining a loop
+/// pays on a host (e.g. a CRC a caller's optimiser can then fold or vectorise) but would cost
+/// flash, and even speed, in a size-optimised build.
+#if MOTIONBUS_SMALL_CODE
+#define MOTIONBUS_SPEED_INLINE inline
+#else
+#define MOTIONBUS_SPEED_INLINE MOTIONBUS_INLINE
+#endif
+
 #endif  // MOTIONBUS_CORE_CONFIG_HPP

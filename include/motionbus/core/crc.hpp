@@ -349,8 +349,8 @@ class crc {
  private:
   // The register after feeding `data` to `reg_in` (a static function: a one-shot CRC keeps
   // its register in a register, no object on the stack).
-  MOTIONBUS_INLINE static constexpr std::uint32_t feed_bytes(std::uint32_t reg_in,
-                                                             byte_view data) noexcept {
+  MOTIONBUS_SPEED_INLINE static constexpr std::uint32_t feed_bytes(std::uint32_t reg_in,
+                                                                   byte_view data) noexcept {
     std::uint32_t reg_out = reg_in;
     if constexpr (chunk_bits == 8U && kernel::reg_bits == 8U &&
                   kernel::template identity_table<8>()) {
