@@ -315,3 +315,71 @@ TEST_CASE("receiver: random garbage between valid frames never loses a frame") {
     CHECK(frames == expected);
   }
 }
+
+TEST_CASE("receiver: one byte at a time (a receive interrupt), with garbage, an echo, a bad frame") {
+  const auto a = with_crc({0x1A, 0x00, 0x01, 0x02, 0x01, 0x11, 0x05, 0x00, 0x00, 0x00});
+  auto bad = a;
+  bad[3] ^= 0x40U;  // CRC mismatch
+  std::vector<std::uint8_t> stream = {0x00, 0xFF};  // garbage: no valid CF
+  stream.insert(stream.end(), bad.begin(), bad.end());
+  stream.insert(stream.end(), a.begin(), a.end());
+  receiver rx;
+  std::vector<errc> outcomes;
+  for (const std::uint8_t byte : stream) {
+    auto r = rx.feed(byte);
+    while (!r.is_incomplete()) {
+      outcomes.push_back(r.error());
+      CHECK(r.consumed() == 1);
+      if (r.is_complete()) {
+        CHECK(r->abs == 0x010201);
+      }
+      r = rx.feed(byte_view());  // a rejected frame: rescan what is held
+    }
+  }
+  REQUIRE(outcomes.size() == 2);
+  CHECK(outcomes[0] == errc::crc_mismatch);
+  CHECK(outcomes[1] == errc::ok);
+  CHECK(rx.dropped() >= 2);
+
+  // The echo of the request, byte by byte, then the response.
+  receiver echoing(receiver_options{echo::expected});
+  const std::uint8_t request[1] = {0x1A};
+  echoing.sent(byte_view(request, 1));
+  std::vector<std::uint8_t> line = {0x1A};
+  line.insert(line.end(), a.begin(), a.end());
+  int complete = 0;
+  for (const std::uint8_t byte : line) {
+    const auto r = echoing.feed(byte);
+    complete += r.is_complete() ? 1 : 0;
+  }
+  CHECK(complete == 1);
+  CHECK(echoing.echoes_skipped() == 1);
+}
+
+TEST_CASE("receiver: a bad frame followed by a whole good one in the same chunk") {
+  const auto a = with_crc({0x1A, 0x00, 0x01, 0x02, 0x01, 0x11, 0x05, 0x00, 0x00, 0x00});
+  std::vector<std::uint8_t> stream = a;
+  stream.insert(stream.end(), a.begin(), a.end());
+  stream.push_back(0x1A);  // and the start of a third
+  stream.at(3) = static_cast<std::uint8_t>(stream.at(3) ^ 0x40U);  // the first: CRC mismatch
+  receiver rx;
+  const auto first = rx.feed(byte_view(stream.data(), 11));
+  CHECK(first.error() == errc::crc_mismatch);
+  // The next call takes the good frame: the bad one's bytes after its CF are rescanned, and
+  // the good frame is whole once its bytes arrive.
+  byte_view rest(stream.data() + 11, stream.size() - 11);
+  int complete = 0;
+  for (int guard = 0; guard < 40; ++guard) {
+    const auto r = rx.feed(rest);
+    if (r.is_incomplete()) {
+      break;
+    }
+    rest = rest.subspan(r.consumed());
+    complete += r.is_complete() ? 1 : 0;
+  }
+  CHECK(complete == 1);
+  CHECK(rx.pending() == 1);
+  CHECK(rx.options().echo_mode == echo::none);
+  CHECK(rx.options().check_against_request);
+  CHECK(rx.options().decode.res.single_turn_bits == 17);
+}
