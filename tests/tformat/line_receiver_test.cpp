@@ -316,10 +316,11 @@ TEST_CASE("receiver: random garbage between valid frames never loses a frame") {
   }
 }
 
-TEST_CASE("receiver: one byte at a time (a receive interrupt), with garbage, an echo, a bad frame") {
+TEST_CASE(
+    "receiver: one byte at a time (a receive interrupt), with garbage, an echo, a bad frame") {
   const auto a = with_crc({0x1A, 0x00, 0x01, 0x02, 0x01, 0x11, 0x05, 0x00, 0x00, 0x00});
   auto bad = a;
-  bad[3] ^= 0x40U;  // CRC mismatch
+  bad[3] ^= 0x40U;                                  // CRC mismatch
   std::vector<std::uint8_t> stream = {0x00, 0xFF};  // garbage: no valid CF
   stream.insert(stream.end(), bad.begin(), bad.end());
   stream.insert(stream.end(), a.begin(), a.end());
@@ -360,7 +361,7 @@ TEST_CASE("receiver: a bad frame followed by a whole good one in the same chunk"
   const auto a = with_crc({0x1A, 0x00, 0x01, 0x02, 0x01, 0x11, 0x05, 0x00, 0x00, 0x00});
   std::vector<std::uint8_t> stream = a;
   stream.insert(stream.end(), a.begin(), a.end());
-  stream.push_back(0x1A);  // and the start of a third
+  stream.push_back(0x1A);                                          // and the start of a third
   stream.at(3) = static_cast<std::uint8_t>(stream.at(3) ^ 0x40U);  // the first: CRC mismatch
   receiver rx;
   const auto first = rx.feed(byte_view(stream.data(), 11));
@@ -382,4 +383,18 @@ TEST_CASE("receiver: a bad frame followed by a whole good one in the same chunk"
   CHECK(rx.options().echo_mode == echo::none);
   CHECK(rx.options().check_against_request);
   CHECK(rx.options().decode.res.single_turn_bits == 17);
+}
+
+TEST_CASE("receiver: a shorter frame inside a rejected one is found in the bytes held") {
+  // An ID3 response with a bad CRC whose fields 1..6 are a whole ID0 response (02 00 05 06 01,
+  // CRC 00): rescanned from its second byte, the ID0 frame is decoded from what is held.
+  const std::uint8_t line[11] = {0x1A, 0x02, 0x00, 0x05, 0x06, 0x01, 0x00, 0x00, 0x00, 0x00, 0x55};
+  receiver rx;
+  const auto first = rx.feed(byte_view(line, sizeof line));
+  CHECK(first.error() == errc::crc_mismatch);
+  const auto second = rx.feed(byte_view());
+  REQUIRE(second.is_complete());
+  CHECK(second->id == data_id::read_abs);
+  CHECK(second->abs == 0x010605);
+  CHECK(second.consumed() == 0);  // nothing of this call's (empty) input
 }
