@@ -192,3 +192,13 @@ TEST_CASE("reverse_bits") {
     CHECK(reverse_bits(reverse_bits(x, width), width) == masked);
   }
 }
+
+TEST_CASE("leading zero counts of 32- and 64-bit values agree") {
+  CHECK(countl_zero32(0) == 32);
+  CHECK(countl_zero32(1) == 31);
+  CHECK(countl_zero32(0x80000000U) == 0);
+  for (unsigned k = 0; k < 32; ++k) {
+    const std::uint32_t v = (std::uint32_t{1} << k) | (std::uint32_t{1} << (k / 2U));
+    CHECK(countl_zero32(v) == countl_zero64(v) - 32U);
+  }
+}

@@ -29,7 +29,7 @@ TEST_CASE("frame_buffer: push, drop and append keep the bytes held contiguous, i
   b.drop(3);  // everything dropped: back to the front
   CHECK(b.empty());
   const std::uint8_t in[6] = {10, 11, 12, 13, 14, 15};
-  CHECK(b.append(byte_view(in, 6), 2) == 2);  // at most n
+  CHECK(b.append(byte_view(in, 6), 2) == 2);      // at most n
   CHECK(b.append(byte_view(in + 2, 1), 3) == 1);  // at most what `in` holds
   b.drop(1);
   CHECK(b.append(byte_view(in + 3, 3), 3) == 2);  // what fits, after moving to the front

@@ -144,8 +144,18 @@ MOTIONBUS_INLINE constexpr decode_result<frame_info> decode_frame(
     win = field(0, n0) << (64U - n0);
   }
   // Ack: the first 0 within max_idle_bits + 1 samples.
-  std::size_t ack = countl_zero64(~win);  // leading ones, at most n0
-  if (ack >= n0) {                        // no 0 in the window: search on past it
+  // (The window's high word first: with a short line delay the Ack, and the Start bit after it,
+  // are there, and 32-bit counts and shifts do.)
+  const auto high = static_cast<std::uint32_t>(win >> 32U);
+  std::size_t ack = 0;         // leading ones, at most n0
+  std::uint32_t from_ack = 0;  // the high word from the Ack on (0: the Ack is not in it)
+  if (MOTIONBUS_FAST_CLZ != 0 && high != 0xFFFFFFFFU) {
+    ack = countl_zero32(~high);
+    from_ack = high << ack;
+  } else {
+    ack = countl_zero64(~win);
+  }
+  if (ack >= n0) {  // no 0 in the window: search on past it
     ack =
         n0 == 64U && opt.max_idle_bits >= 64U ? r.find(false, 64, opt.max_idle_bits - 63U) : r.npos;
   }
@@ -158,7 +168,8 @@ MOTIONBUS_INLINE constexpr decode_result<frame_info> decode_frame(
   // Start: the first 1 after the Ack began, within max_ack_bits + 1 samples.
   std::size_t start = r.npos;
   if (ack < n0) {
-    const std::size_t k = countl_zero64(win << ack);  // zeros from the Ack on (padding too)
+    // Zeros from the Ack on (padding too): in the high word when the Start bit is there too.
+    const std::size_t k = from_ack != 0U ? countl_zero32(from_ack) : countl_zero64(win << ack);
     if (ack + k < n0) {
       start = ack + k;
     }

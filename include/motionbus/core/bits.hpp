@@ -86,6 +86,18 @@ constexpr unsigned countl_zero64(std::uint64_t v) noexcept {
 #endif
 }
 
+/// Leading zero bits of a 32-bit value (32 for 0).
+constexpr unsigned countl_zero32(std::uint32_t v) noexcept {
+  if (v == 0U) {
+    return 32U;
+  }
+#if (defined(__GNUC__) || defined(__clang__)) && __SIZEOF_INT__ == 4
+  return static_cast<unsigned>(__builtin_clz(v));
+#else
+  return countl_zero64(v) - 32U;
+#endif
+}
+
 /// Trailing zero bits of a 64-bit value (64 for 0).
 constexpr unsigned countr_zero64(std::uint64_t v) noexcept {
   if (v == 0U) {

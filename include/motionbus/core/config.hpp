@@ -116,4 +116,16 @@
 #define MOTIONBUS_SPEED_INLINE MOTIONBUS_INLINE
 #endif
 
+/// 1 where the core counts leading zeros in one instruction (Cortex-M3 and up, x86, AArch64,
+/// RISC-V with Zbb): code may then prefer 32-bit counts to 64-bit ones. Cores without it
+/// (Cortex-M0+, rv32imc) call a library routine either way.
+#ifndef MOTIONBUS_FAST_CLZ
+#if defined(__ARM_FEATURE_CLZ) || defined(__x86_64__) || defined(__i386__) || \
+    defined(__aarch64__) || defined(__riscv_zbb)
+#define MOTIONBUS_FAST_CLZ 1
+#else
+#define MOTIONBUS_FAST_CLZ 0
+#endif
+#endif
+
 #endif  // MOTIONBUS_CORE_CONFIG_HPP
