@@ -8,7 +8,7 @@ set(footprint_budget_biss_decoder_cortex-m0plus 448 288)
 set(footprint_budget_biss_decoder_cortex-m4 400 288)  # the project target: 400 B
 set(footprint_budget_biss_decoder_rv32imc 2432 320)
 set(footprint_budget_biss_master_cortex-m0plus 1120 576)
-set(footprint_budget_biss_master_cortex-m4 992 576)
+set(footprint_budget_biss_master_cortex-m4 960 576)
 set(footprint_budget_biss_master_rv32imc 3568 640)
 set(footprint_budget_biss_slave_cortex-m0plus 2544 656)
 set(footprint_budget_biss_slave_cortex-m4 2592 656)
