@@ -287,3 +287,41 @@ TEST_CASE("TCP: MBAP header around the same PDU codec") {
   CHECK(decode_tcp(byte_view(out, 12)).error() == errc::invalid_argument);
   CHECK(encode_tcp(1, 1, byte_view{}, out).error() == errc::modbus_pdu_length);
 }
+
+TEST_CASE("fixed-role framers frame as the run-time role does") {
+  const bytes request = rtu(0x11, {0x03, 0x00, 0x6B, 0x00, 0x03});
+  const bytes response = rtu(0x11, {0x03, 0x06, 0x02, 0x2B, 0x00, 0x00, 0x00, 0x64});
+  bytes requests = request;
+  requests.insert(requests.end(), request.begin(), request.end());
+  for (std::size_t chunk = 1; chunk <= requests.size(); chunk += 5) {
+    rtu_server_framer s({framer_role::client /* not used: the type's role */, 0x11});
+    rtu_framer either({framer_role::server, 0x11});
+    std::vector<event> a;
+    std::vector<event> b;
+    for (std::size_t at = 0; at < requests.size(); at += chunk) {
+      const std::size_t n = std::min(chunk, requests.size() - at);
+      for (auto* pair : {&a, &b}) {
+        byte_view in(requests.data() + at, n);
+        for (;;) {
+          const auto r = pair == &a ? s.feed(in) : either.feed(in);
+          if (r.is_incomplete()) {
+            break;
+          }
+          in = in.subspan(r.consumed());
+          pair->push_back(
+              {r.is_complete(), r.error(), r->slave, bytes(r->pdu.begin(), r->pdu.end())});
+        }
+      }
+    }
+    CAPTURE(chunk);
+    REQUIRE(a.size() == 2);
+    REQUIRE(b.size() == 2);
+    CHECK(a[1].pdu == b[1].pdu);
+  }
+  rtu_client_framer c({framer_role::server /* not used */, 0x11});
+  c.sent(0x11, 0x03);
+  const auto r = c.feed(byte_view(response.data(), response.size()));
+  REQUIRE(r.is_complete());
+  CHECK(r->pdu.size() == 8);
+  static_assert(sizeof(rtu_server_framer) == sizeof(rtu_framer), "the same state");
+}

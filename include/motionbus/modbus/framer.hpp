@@ -151,9 +151,15 @@ struct framer_options {
   report_id_format fc11 = report_id_format::standard;  ///< client: FC11 response layout
 };
 
-template <crc_table_size Table = default_crc_table>
+/// The roles a framer type can take: either (framer_options::role chooses at run time), or one
+/// fixed by the type, so that a server links only the request length rule (no client code)
+/// and a client only the response's.
+enum class framer_roles : std::uint8_t { either = 0, server_only = 1, client_only = 2 };
+
+template <crc_table_size Table = default_crc_table, framer_roles Roles = framer_roles::either>
 class basic_rtu_framer {
  public:
+  /// A fixed-role type takes its role from the type (options.role is not used).
   constexpr explicit basic_rtu_framer(framer_options options = {}) noexcept : options_(options) {}
 
   /// Client: records the request just sent (its function selects the response layout).
@@ -259,9 +265,7 @@ class basic_rtu_framer {
         want_ = 2;
         return need_input{1};
       }
-      const std::size_t total = options_.role == framer_role::server
-                                    ? predict_request_size(buf_.view())
-                                    : predict_response_size(buf_.view(), function_, options_.fc11);
+      const std::size_t total = predict(buf_.view());
       if (total >= min_rtu_size && total <= max_rtu_size && buf_[1] != 0x08U) {
         want_ = static_cast<std::uint16_t>(total);
         framing_ = true;
@@ -315,8 +319,24 @@ class basic_rtu_framer {
     waiting_ = false;
   }
 
+  constexpr bool server() const noexcept {
+    if constexpr (Roles == framer_roles::server_only) {
+      return true;
+    } else if constexpr (Roles == framer_roles::client_only) {
+      return false;
+    } else {
+      return options_.role == framer_role::server;
+    }
+  }
+
+  // The frame size the length rule gives for the bytes held (see predict_request_size).
+  constexpr std::size_t predict(byte_view held) const noexcept {
+    return server() ? predict_request_size(held)
+                    : predict_response_size(held, function_, options_.fc11);
+  }
+
   constexpr bool for_us(std::uint8_t slave) const noexcept {
-    if (options_.role == framer_role::server) {
+    if (server()) {
       return slave == options_.address || slave == broadcast_address;
     }
     return options_.address == 0U || slave == options_.address;
@@ -388,9 +408,7 @@ class basic_rtu_framer {
         return need_input{2U - size};
       }
       const byte_view held = buf_.view();
-      std::size_t total = options_.role == framer_role::server
-                              ? predict_request_size(held)
-                              : predict_response_size(held, function_, options_.fc11);
+      std::size_t total = predict(held);
       if (total == unknown_length) {
         if (at_end) {
           total = size;  // the t3.5 silence says where it ends
@@ -450,8 +468,11 @@ class basic_rtu_framer {
   std::size_t skipped_ = 0;
 };
 
-/// The framer with the default CRC table.
+/// The framer with the default CRC table, either role (framer_options::role).
 using rtu_framer = basic_rtu_framer<>;
+/// A server's framer (links no client code) and a client's, default CRC table.
+using rtu_server_framer = basic_rtu_framer<default_crc_table, framer_roles::server_only>;
+using rtu_client_framer = basic_rtu_framer<default_crc_table, framer_roles::client_only>;
 
 }  // namespace modbus
 }  // namespace motionbus
