@@ -350,6 +350,27 @@ def expect(name, got, want):
         raise MeterError(f"{name}: output {got!r}, expected {want!r}")
 
 
+def stream_per_byte(m, op, prefix, report, first, first_out, frame, frame_out):
+    """A stream object (`prefix`_start, `prefix`_byte) in its steady state: `first` fed byte by
+    byte (its report must begin with `first_out`), then `frame`, measured: incomplete before
+    its last byte, `frame_out` after it. Returns the instructions in all and the worst stack."""
+    m.call(prefix + "_start")
+    for b in first:
+        m.call(prefix + "_byte", b)
+    m.call(report)
+    expect(op + " (the first frame)", m.out(len(first_out)), first_out)
+    m.clear_out()
+    total, worst = 0, 0
+    for i, b in enumerate(frame):
+        _, n, s = m.call(prefix + "_byte", b)
+        total, worst = total + n, max(worst, s)
+        m.call(report)
+        if i < len(frame) - 1:
+            expect(op + " (before the last byte)", m.out(1)[0], STATUS_INCOMPLETE)
+    expect(op, m.out(len(frame_out)), frame_out)
+    return total, worst
+
+
 def measure(m):
     results = []
 
@@ -384,24 +405,11 @@ def measure(m):
         record(op, n, s)
 
     # The receiver in its steady state: a first response, then the measured one.
-    m.call("op_tformat_receiver_start")
-    for b in tformat_id3(1, 0x17, 2):
-        m.call("op_tformat_receiver_byte", b)
-    m.call("op_report_tformat")
-    expect("tformat.receiver.id3_per_byte (the first frame)", m.out(3), [STATUS_COMPLETE, 0, 1])
-    m.clear_out()
-    total, worst = 0, 0
-    for i, b in enumerate(id3):
-        _, n, s = m.call("op_tformat_receiver_byte", b)
-        total, worst = total + n, max(worst, s)
-        m.call("op_report_tformat")
-        if i < len(id3) - 1:
-            expect("tformat.receiver.id3_per_byte (before the last byte)", m.out(1)[0],
-                   STATUS_INCOMPLETE)
-    o = m.out(8)
-    expect("tformat.receiver.id3_per_byte", o[:6], [STATUS_COMPLETE, 0, 123456, 3898, 0, 0x17])
-    record("tformat.receiver.id3_per_byte", round(total / len(id3), 1), worst, per="byte",
-           units=len(id3), total=total)
+    n, s = stream_per_byte(m, "tformat.receiver.id3_per_byte", "op_tformat_receiver",
+                           "op_report_tformat", tformat_id3(1, 0x17, 2), [STATUS_COMPLETE, 0, 1],
+                           id3, [STATUS_COMPLETE, 0, 123456, 3898, 0, 0x17])
+    record("tformat.receiver.id3_per_byte", round(n / len(id3), 1), s, per="byte",
+           units=len(id3), total=n)
 
     samples = [1] * 5
     for b in id3:
@@ -437,24 +445,12 @@ def measure(m):
 
     # The framer in its steady state: a first frame, then the measured one.
     request = rtu(1, [0x03, 0x00, 0x05, 0x00, 0x0A])
-    m.call("op_modbus_framer_start")
-    for b in rtu(1, [0x06, 0x00, 0x01, 0x00, 0x03]):
-        m.call("op_modbus_framer_byte", b)
-    m.call("op_report_rtu")
-    expect("modbus.framer.per_byte (the first frame)", m.out(4), [STATUS_COMPLETE, 0, 1, 5])
-    m.clear_out()
-    total, worst = 0, 0
-    for i, b in enumerate(request):
-        _, n, s = m.call("op_modbus_framer_byte", b)
-        total, worst = total + n, max(worst, s)
-        m.call("op_report_rtu")
-        if i < len(request) - 1:
-            expect("modbus.framer.per_byte (before the last byte)", m.out(1)[0],
-                   STATUS_INCOMPLETE)
-    expect("modbus.framer.per_byte", m.out(6),
-           [STATUS_COMPLETE, 0, 1, 5, 3, request[-2] | (request[-1] << 8)])
-    record("modbus.framer.per_byte", round(total / len(request), 1), worst, per="byte",
-           units=len(request), total=total)
+    n, s = stream_per_byte(m, "modbus.framer.per_byte", "op_modbus_framer", "op_report_rtu",
+                           rtu(1, [0x06, 0x00, 0x01, 0x00, 0x03]), [STATUS_COMPLETE, 0, 1, 5],
+                           request, [STATUS_COMPLETE, 0, 1, 5, 3,
+                                     request[-2] | (request[-1] << 8)])
+    record("modbus.framer.per_byte", round(n / len(request), 1), s, per="byte",
+           units=len(request), total=n)
 
     m.write("meter_in", request)
     m.write_u32("meter_in_size", len(request))

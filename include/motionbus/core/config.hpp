@@ -86,16 +86,6 @@
 #endif
 #endif
 
-/// True in constant evaluation. Where the compiler cannot tell (neither GCC, clang nor C++20),
-/// true: code takes its constant-evaluation path, which is correct at run time too.
-#if defined(__GNUC__) || defined(__clang__)
-#define MOTIONBUS_CONSTANT_EVALUATED() __builtin_is_constant_evaluated()
-#elif defined(__cpp_lib_is_constant_evaluated)
-#define MOTIONBUS_CONSTANT_EVALUATED() std::is_constant_evaluated()
-#else
-#define MOTIONBUS_CONSTANT_EVALUATED() true
-#endif
-
 /// Asks the compiler to unroll the next loop up to `n` times (even at -Os).
 #if defined(__clang__)
 #define MOTIONBUS_PRAGMA(x) _Pragma(#x)

@@ -51,6 +51,20 @@ class frame_buffer {
     bytes_[end] = b;
     return true;
   }
+  /// The per-byte step of a stream object: appends `b` when, with it, fewer than `want` bytes
+  /// are held (a byte inside a frame whose length is known), sets `missing` to how many are
+  /// still missing then and returns true; false (nothing appended) when `b` would complete
+  /// `want` or more: a decision is due.
+  MOTIONBUS_INLINE constexpr bool push_before(std::uint8_t b, std::size_t want,
+                                              std::size_t& missing) noexcept {
+    const std::size_t held = size() + 1U;
+    if (held >= want) {
+      return false;
+    }
+    missing = want - held;  // before the store, which may alias nothing but looks as if it could
+    push(b);
+    return true;
+  }
   /// Appends up to `n` bytes of `in` (as many as fit); returns how many.
   constexpr std::size_t append(byte_view in, std::size_t n) noexcept {
     if (n > in.size()) {

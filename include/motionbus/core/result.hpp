@@ -13,7 +13,6 @@
 
 #include <cstddef>
 #include <cstdint>
-#include <new>
 #include <type_traits>
 
 #include "motionbus/core/config.hpp"
@@ -219,11 +218,7 @@ class [[nodiscard]] decode_result {
   MOTIONBUS_INLINE constexpr void set_value(std::size_t consumed, const T& v) noexcept {
     status_ = decode_status::complete;
     count_ = consumed;
-    if (MOTIONBUS_CONSTANT_EVALUATED()) {
-      u_ = storage(v);  // constant evaluation: the member is made active by assignment
-    } else {
-      ::new (static_cast<void*>(&u_.value)) T(v);  // at run time: stored once, in place
-    }
+    u_ = storage(v);  // makes the value the union's active member (also in constant evaluation)
   }
 
   static constexpr T empty_{};

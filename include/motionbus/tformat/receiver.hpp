@@ -101,10 +101,8 @@ class receiver {
   /// feed() of one byte (a UART interrupt handler's call). A byte inside a frame whose length
   /// is known is stored here, inline at the call site; everything else is decided out of line.
   MOTIONBUS_INLINE constexpr decode_result<response> feed(std::uint8_t byte) noexcept {
-    const std::size_t held = buf_.size() + 1U;
-    if (held < want_) {
-      const std::size_t missing = want_ - held;  // read before the store
-      buf_.push(byte);
+    std::size_t missing = 0;
+    if (buf_.push_before(byte, want_, missing)) {
       return need_input{missing};
     }
     return decide_byte(byte);
