@@ -50,3 +50,51 @@ TEST_CASE("frame_buffer: a default one is all zeros (a static one is in .bss)") 
   frame_buffer<256> b;
   CHECK(b.size() == 0);
 }
+
+TEST_CASE("frame_buffer: push_before takes bytes until the owner's decision point") {
+  frame_buffer<8> b;
+  std::size_t at_least = 99;
+  CHECK(!b.push_before(1, at_least));  // want 0: every byte is a decision
+  CHECK(b.empty());
+  b.want(3);
+  CHECK(b.wanted() == 3);
+  CHECK(b.push_before(1, at_least));
+  CHECK(at_least == 2);
+  CHECK(b.push_before(2, at_least));
+  CHECK(at_least == 1);
+  CHECK(!b.push_before(3, at_least));  // the third byte makes 3 held: a decision
+  CHECK(b.size() == 2);
+  CHECK(b.completes_want());
+  b.put_last(3);
+  CHECK(b.size() == 3);
+  CHECK(b[2] == 3);
+  b.drop(1);  // the bytes wanted count from the new front: 2 held, 3 wanted
+  CHECK(b.wanted() == 3);
+  CHECK(b.completes_want());
+  CHECK(!b.push_before(4, at_least));  // 3 held with it: a decision
+  b.want(5);
+  CHECK(!b.completes_want());
+  CHECK(b.push_before(4, at_least));
+  CHECK(at_least == 2);
+  CHECK(b.size() == 3);
+}
+
+TEST_CASE("frame_buffer: push_before stops at the capacity, a push makes room") {
+  frame_buffer<4> b;
+  b.want(4);
+  std::size_t at_least = 0;
+  CHECK(b.push_before(1, at_least));
+  CHECK(b.push_before(2, at_least));
+  CHECK(b.push_before(3, at_least));
+  b.drop(2);  // two held at the end of the storage
+  b.want(4);  // 4 wanted from index 2: the decision point is capped at the capacity
+  CHECK(!b.push_before(4, at_least));  // index 3 is free, but the end would reach capacity
+  CHECK(!b.completes_want());          // not because 4 are held: room is made out of line
+  CHECK(b.push(4));
+  CHECK(b.push(5));  // moves the held bytes to the front, then appends
+  CHECK(b.size() == 3);
+  CHECK(b[0] == 3);
+  CHECK(b[2] == 5);
+  CHECK(!b.push_before(6, at_least));  // with it 4 would be held: a decision
+  CHECK(b.completes_want());
+}

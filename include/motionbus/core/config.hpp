@@ -49,6 +49,18 @@
 #endif
 #endif
 
+/// Keeps a decision out of line, so that the per-byte path inlined at a stream object's call
+/// site stays a leaf that ends in a tail call (the receiver's and the framer's decide_byte).
+#ifndef MOTIONBUS_NOINLINE
+#if defined(__GNUC__) || defined(__clang__)
+#define MOTIONBUS_NOINLINE __attribute__((noinline))
+#elif defined(_MSC_VER)
+#define MOTIONBUS_NOINLINE __declspec(noinline)
+#else
+#define MOTIONBUS_NOINLINE
+#endif
+#endif
+
 /// Marks a small hot path (a few dozen instructions) that should be inlined into its caller
 /// even where the compiler's heuristics would not (clang does not inline the ID3 decoder).
 /// Both may be defined empty to leave every choice to the compiler (constexpr implies inline).

@@ -4,6 +4,12 @@
 // end reaches the capacity (at most once per `N` bytes appended). The bytes held are always
 // contiguous, so a frame is handed over as a view into the buffer.
 //
+// The buffer also keeps its owner's decision point: want(n) says that the owner decides
+// nothing until `n` bytes are held. push_before() is the per-byte step of a stream object
+// (a byte inside a frame whose length is known): two loads, a compare, two stores. The bytes
+// are the first member, so that the store is one instruction from the object's address when
+// the buffer is the owner's first member too (the receiver and the framer put it first).
+//
 // A default-constructed buffer is all zeros: a stream object that holds one can be a `static`
 // in .bss. No heap, no I/O.
 #ifndef MOTIONBUS_CORE_FRAME_BUFFER_HPP
@@ -21,6 +27,7 @@ namespace motionbus {
 template <std::size_t N>
 class frame_buffer {
   static_assert(N >= 1U && N <= 65535U, "frame_buffer: 1 to 65535 bytes");
+  // holds 0..N (want_ and stop_ reach N)
   using index = std::conditional_t<(N < 256U), std::uint8_t, std::uint16_t>;
 
  public:
@@ -51,18 +58,38 @@ class frame_buffer {
     bytes_[end] = b;
     return true;
   }
-  /// The per-byte step of a stream object: appends `b` when, with it, fewer than `want` bytes
-  /// are held (a byte inside a frame whose length is known), sets `missing` to how many are
-  /// still missing then and returns true; false (nothing appended) when `b` would complete
-  /// `want` or more: a decision is due.
-  MOTIONBUS_INLINE constexpr bool push_before(std::uint8_t b, std::size_t want,
-                                              std::size_t& missing) noexcept {
-    const std::size_t held = size() + 1U;
-    if (held >= want) {
+  /// Appends one byte where push_before() refused it only because wanted() bytes are then
+  /// held (there is room: the end had not reached the capacity).
+  MOTIONBUS_INLINE constexpr void put_last(std::uint8_t b) noexcept {
+    const index end = end_;
+    bytes_[end] = b;
+    end_ = static_cast<index>(end + 1U);
+  }
+  /// True when push_before() refused `b` because it is the byte that makes wanted() held.
+  MOTIONBUS_INLINE constexpr bool completes_want() const noexcept {
+    return end_ + 1U == static_cast<std::size_t>(start_) + want_;
+  }
+  /// The owner decides when `n` (<= N) bytes are held: push_before() refuses the byte that
+  /// would make `n` (or more) held.
+  MOTIONBUS_INLINE constexpr void want(std::size_t n) noexcept {
+    want_ = static_cast<index>(n);
+    set_stop();
+  }
+  /// The `n` of the last want() (0: decide at every byte).
+  MOTIONBUS_INLINE constexpr std::size_t wanted() const noexcept { return want_; }
+  /// The per-byte step of a stream object: appends `b` when, with it, fewer than wanted()
+  /// bytes are held and there is room at the end, sets `at_least` to how many more bytes
+  /// arrive before the next decision (a lower bound of those still wanted), and returns true.
+  /// False (nothing appended) otherwise: a decision is due, or room must be made first.
+  MOTIONBUS_INLINE constexpr bool push_before(std::uint8_t b, std::size_t& at_least) noexcept {
+    const index end = end_;
+    const std::size_t next = end + 1U;
+    if (next >= stop_) {
       return false;
     }
-    missing = want - held;  // before the store, which may alias nothing but looks as if it could
-    push(b);
+    bytes_[end] = b;
+    end_ = static_cast<index>(next);
+    at_least = stop_ - next;
     return true;
   }
   /// Appends up to `n` bytes of `in` (as many as fit); returns how many.
@@ -82,16 +109,20 @@ class frame_buffer {
     end_ = static_cast<index>(end_ + n);
     return n;
   }
-  /// Drops the first `n` bytes held (n <= size()).
-  MOTIONBUS_INLINE constexpr void drop(std::size_t n) noexcept {
+  /// Drops the first `n` bytes held (n <= size()); wanted() then counts from the new front.
+  constexpr void drop(std::size_t n) noexcept {
     start_ = static_cast<index>(start_ + n);
     if (start_ == end_) {
-      clear();
+      start_ = 0;
+      end_ = 0;
     }
+    set_stop();
   }
-  MOTIONBUS_INLINE constexpr void clear() noexcept {
+  /// Drops everything held; wanted() is kept.
+  constexpr void clear() noexcept {
     start_ = 0;
     end_ = 0;
+    set_stop();
   }
 
  private:
@@ -115,12 +146,22 @@ class frame_buffer {
     }
     start_ = 0;
     end_ = static_cast<index>(n);
+    set_stop();
     return true;
   }
 
-  std::uint8_t bytes_[N] = {};
+  // The end index at which push_before() refuses: where wanted() bytes are held, or the
+  // capacity (room is made, and the stop moved, out of line when the end reaches it).
+  MOTIONBUS_INLINE constexpr void set_stop() noexcept {
+    const std::size_t stop = static_cast<std::size_t>(start_) + want_;
+    stop_ = static_cast<index>(stop < N ? stop : N);
+  }
+
+  std::uint8_t bytes_[N] = {};  // first: see the comment at the top
   index start_ = 0;
   index end_ = 0;
+  index stop_ = 0;  // start_ + want_, at most N
+  index want_ = 0;
 };
 
 }  // namespace motionbus

@@ -50,27 +50,41 @@ enum class framer_role : std::uint8_t { server = 0, client = 1 };
 /// has no length rule here (the user's t3.5 signal then ends the frame).
 inline constexpr std::size_t unknown_length = static_cast<std::size_t>(-1);
 
+namespace detail {
+// The request size that the function code alone gives (address, function, fields, CRC); 0: a
+// count tells (0F, 10, 17), or no length rule here. FC08 is 8 bytes but for Return Query Data
+// (see basic_rtu_framer::query_data). One bit per function code 0x00-0x1F for each size: a
+// few instructions and no table.
+constexpr std::size_t fixed_request_size(std::uint8_t function) noexcept {
+  constexpr std::uint32_t size8 = 0x17EU;    // 01-06, 08
+  constexpr std::uint32_t size4 = 0x21880U;  // 07, 0B, 0C, 11
+  constexpr std::uint32_t size10 = 1UL << 0x16U;
+  constexpr std::uint32_t size6 = 1UL << 0x18U;
+  if (function >= 32U) {
+    return 0;
+  }
+  const std::uint32_t bit = 1UL << function;
+  return (bit & size8) != 0U    ? 8U
+         : (bit & size4) != 0U  ? 4U
+         : (bit & size10) != 0U ? 10U
+         : (bit & size6) != 0U  ? 6U
+                                : 0U;
+}
+}  // namespace detail
+
 constexpr std::size_t predict_request_size(byte_view in) noexcept {
   if (in.size() < 2U) {
     return 0;
   }
-  switch (in[1]) {
-    case 0x01:
-    case 0x02:
-    case 0x03:
-    case 0x04:
-    case 0x05:
-    case 0x06:
-    case 0x08: return 8;  // address, function, 4 bytes, CRC
-    case 0x07:
-    case 0x0B:
-    case 0x0C:
-    case 0x11: return 4;
+  const std::uint8_t f = in[1];
+  const std::size_t fixed = detail::fixed_request_size(f);
+  if (fixed != 0U) {
+    return fixed;
+  }
+  switch (f) {
     case 0x0F:
     case 0x10: return in.size() < 7U ? 0 : 9U + in[6];
-    case 0x16: return 10;
     case 0x17: return in.size() < 11U ? 0 : 13U + in[10];
-    case 0x18: return 6;
     case 0x2B: return 7;  // MEI type, read device ID code, object ID
     default: return unknown_length;
   }
@@ -166,8 +180,8 @@ class basic_rtu_framer {
   constexpr void sent(std::uint8_t slave, std::uint8_t function) noexcept {
     options_.address = slave;
     function_ = function;
+    buf_.want(0);
     buf_.clear();
-    want_ = 0;
     waiting_ = false;
     framing_ = false;
   }
@@ -188,9 +202,9 @@ class basic_rtu_framer {
   /// feed() of one byte (a UART interrupt handler's call). A byte inside a frame whose length
   /// is known is stored here, inline at the call site; everything else is decided out of line.
   MOTIONBUS_INLINE constexpr decode_result<rtu_frame> feed(std::uint8_t byte) noexcept {
-    std::size_t missing = 0;
-    if (buf_.push_before(byte, want_, missing)) {
-      return need_input{missing};
+    std::size_t at_least = 0;
+    if (buf_.push_before(byte, at_least)) {
+      return need_input{at_least};
     }
     return decide_byte(byte);
   }
@@ -239,8 +253,8 @@ class basic_rtu_framer {
     // The silence ends whatever is held: the framer starts the next frame empty (a frame
     // handed over stays readable in the buffer until the next call).
     dropped_ += buf_.size();
+    buf_.want(0);
     buf_.clear();
-    want_ = 0;
     waiting_ = false;
     framing_ = false;
     return r;
@@ -253,42 +267,56 @@ class basic_rtu_framer {
 
  private:
   // feed() of one byte that decides something. The common cases of a clean line take a short
-  // path: the first byte, the function code (the length rule gives the frame's size), and the
-  // last byte of a frame for this node whose CRC matches. Anything else goes through scan().
-  constexpr decode_result<rtu_frame> decide_byte(std::uint8_t byte) noexcept {
+  // path: the last byte of a frame for this node whose CRC matches (end_frame(), a tail call),
+  // the first byte, and the function code (the length rule gives the frame's size). Anything
+  // else goes through scan().
+  MOTIONBUS_NOINLINE constexpr decode_result<rtu_frame> decide_byte(std::uint8_t byte) noexcept {
+    if (framing_ && buf_.completes_want()) {
+      buf_.put_last(byte);
+      return end_frame();
+    }
+    return decide_start(byte);
+  }
+
+  // feed() of one byte that is not the last of a frame: the first byte, the function code, or
+  // anything scan() must sort out.
+  MOTIONBUS_NOINLINE constexpr decode_result<rtu_frame> decide_start(std::uint8_t byte) noexcept {
     const std::size_t size = buf_.size();
     if (!waiting_ && size < 2U) {
       buf_.push(byte);
       if (size == 0U) {
-        want_ = 2;
+        buf_.want(2);
         return need_input{1};
       }
-      const std::size_t total = predict(buf_.view());
+      // a request whose function code alone gives its size: one table read; else the rule
+      const std::size_t total = server() ? detail::fixed_request_size(byte) : predict(buf_.view());
       if (total >= min_rtu_size && total <= max_rtu_size && buf_[1] != 0x08U) {
-        want_ = static_cast<std::uint16_t>(total);
+        buf_.want(total);
         framing_ = true;
         return need_input{total - 2U};
       }
-      return decide(byte_view(), 1);  // no plain length: scan() decides
+      return decide_one(byte, true);  // no plain length: scan() decides
     }
-    if (framing_ && size + 1U == want_) {
-      buf_.push(byte);
-      return end_frame();
-    }
-    return decide(byte_view(&byte, 1), 0);
+    return decide_one(byte, false);
   }
 
-  // The last byte of a frame whose size the length rule gave (want_, all held) was taken: a
+  // decide() of one byte (`taken`: already appended), out of line: decide_byte() then needs
+  // no stack frame.
+  MOTIONBUS_NOINLINE constexpr decode_result<rtu_frame> decide_one(std::uint8_t byte,
+                                                                   bool taken) noexcept {
+    return taken ? decide(byte_view(), 1) : decide(byte_view(&byte, 1), 0);
+  }
+
+  // The last byte of a frame whose size the length rule gave (wanted(), all held) was taken: a
   // frame for this node whose CRC matches is handed over; anything else goes to scan().
   constexpr decode_result<rtu_frame> end_frame() noexcept {
     framing_ = false;
-    const std::size_t total = want_;
+    const std::size_t total = buf_.wanted();
     const byte_view frame = buf_.first(total);
     const auto received = static_cast<std::uint16_t>(frame[total - 2U] | (frame[total - 1U] << 8U));
     const std::uint8_t slave = frame[0];
     if (crc16_modbus<Table>::compute(frame.first(total - 2U)) == received &&
         slave <= max_unicast_address && for_us(slave)) {
-      want_ = 2;  // the next frame's first byte takes the inline path
       return hand_over(rtu_frame{slave, frame.subspan(1, total - 3U), received}, total, 1);
     }
     return decide(byte_view(), 1);  // a bad CRC or another address: scan() decides
@@ -298,17 +326,17 @@ class basic_rtu_framer {
   // `used`: bytes of the caller's input already taken.
   constexpr decode_result<rtu_frame> decide(byte_view in, std::size_t used) noexcept {
     for (;;) {
-      if (buf_.size() >= want_) {
+      if (buf_.size() >= buf_.wanted()) {
         const decode_result<rtu_frame> r = scan(used, false);
         if (!r.is_incomplete()) {
           return r;
         }
       }
-      // here want_ > size and want_ <= 256
+      // here wanted() > size and wanted() <= 256
       if (used >= in.size()) {
-        return need_input{want_ - buf_.size()};
+        return need_input{buf_.wanted() - buf_.size()};
       }
-      used += buf_.append(in.subspan(used), want_ - buf_.size());
+      used += buf_.append(in.subspan(used), buf_.wanted() - buf_.size());
     }
   }
 
@@ -364,18 +392,21 @@ class basic_rtu_framer {
   }
 
   // Hands `frame` (a view of the first `total` bytes held) over and drops those bytes from the
-  // buffer, where they stay readable until the next call.
+  // buffer, where they stay readable until the next call. The next frame's first byte takes
+  // the inline path.
   constexpr decode_result<rtu_frame> hand_over(const rtu_frame& frame, std::size_t total,
                                                std::size_t used) noexcept {
     drop_front(total);
+    buf_.want(2);
     return decode_result<rtu_frame>::complete(frame, used);
   }
 
   // The length rule cannot frame the bytes held. With frame_end::silence (and room to hold
-  // more) they wait for idle(): true, want_ set. Otherwise the oldest byte is dropped: false.
+  // more) they wait for idle(): true, the bytes wanted set. Otherwise the oldest byte is dropped:
+  // false.
   constexpr bool wait_for_silence(bool at_end) noexcept {
     if (options_.ends == frame_end::silence && !at_end && buf_.size() < max_rtu_size) {
-      want_ = static_cast<std::uint16_t>(buf_.size() + 1U);
+      buf_.want(buf_.size() + 1U);
       waiting_ = true;  // no more length decisions on these bytes until idle() or a full buffer
       return true;
     }
@@ -384,13 +415,13 @@ class basic_rtu_framer {
     return false;
   }
 
-  // Decides on the bytes held. Incomplete: want_ (> size) is how many to hold before the next
-  // decision.
+  // Decides on the bytes held. Incomplete: wanted() (> size) is how many to hold before the
+  // next decision.
   constexpr decode_result<rtu_frame> scan(std::size_t used, bool at_end) noexcept {
     framing_ = false;
     if (waiting_) {
       if (!at_end && buf_.size() < max_rtu_size) {
-        want_ = static_cast<std::uint16_t>(buf_.size() + 1U);
+        buf_.want(buf_.size() + 1U);
         return need_input{1};
       }
       waiting_ = false;
@@ -400,7 +431,7 @@ class basic_rtu_framer {
       }
     }
     for (;;) {
-      want_ = 2;
+      buf_.want(2);
       const std::size_t size = buf_.size();
       if (size < 2U) {
         return need_input{2U - size};
@@ -417,7 +448,7 @@ class basic_rtu_framer {
         }
       }
       if (total == 0U) {  // a count byte is still missing
-        want_ = static_cast<std::uint16_t>(size + 1U);
+        buf_.want(size + 1U);
         return need_input{1};
       }
       if (total > max_rtu_size || total < min_rtu_size) {
@@ -427,7 +458,7 @@ class basic_rtu_framer {
         return decode_failure{errc::modbus_pdu_length, used};
       }
       if (size < total) {
-        want_ = static_cast<std::uint16_t>(total);
+        buf_.want(total);
         return need_input{total - size};
       }
       if (query_data(total)) {
@@ -435,7 +466,7 @@ class basic_rtu_framer {
         if (at <= size) {
           total = at;  // the CRC confirms this length
         } else if (at <= max_rtu_size && !at_end) {
-          want_ = static_cast<std::uint16_t>(at);
+          buf_.want(at);
           return need_input{at - size};
         }
       }
@@ -456,12 +487,11 @@ class basic_rtu_framer {
     }
   }
 
+  frame_buffer<max_rtu_size> buf_;  // first: feed(byte) stores at the object's address
   framer_options options_;
   std::uint8_t function_ = 0;
-  bool waiting_ = false;    // the length rule failed on the bytes held: only idle() decides
-  bool framing_ = false;    // want_ is the size of the frame held, from its function code
-  std::uint16_t want_ = 0;  // bytes to hold before the next decision (0: as 2)
-  frame_buffer<max_rtu_size> buf_;
+  bool waiting_ = false;  // the length rule failed on the bytes held: only idle() decides
+  bool framing_ = false;  // wanted() is the size of the frame held, from its function code
   std::size_t dropped_ = 0;
   std::size_t skipped_ = 0;
 };

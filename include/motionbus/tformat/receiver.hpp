@@ -74,7 +74,7 @@ class receiver {
   /// Records the request just sent (up to 4 bytes): its echo is skipped when echo::expected,
   /// and responses are checked against it. Drops any partial frame.
   constexpr void sent(byte_view request_frame) noexcept {
-    want_ = 0;
+    buf_.want(0);
     request_size_ = static_cast<std::uint8_t>(
         request_frame.size() < max_request_size ? request_frame.size() : max_request_size);
     for (std::size_t i = 0; i < request_size_; ++i) {
@@ -101,9 +101,9 @@ class receiver {
   /// feed() of one byte (a UART interrupt handler's call). A byte inside a frame whose length
   /// is known is stored here, inline at the call site; everything else is decided out of line.
   MOTIONBUS_INLINE constexpr decode_result<response> feed(std::uint8_t byte) noexcept {
-    std::size_t missing = 0;
-    if (buf_.push_before(byte, want_, missing)) {
-      return need_input{missing};
+    std::size_t at_least = 0;
+    if (buf_.push_before(byte, at_least)) {
+      return need_input{at_least};
     }
     return decide_byte(byte);
   }
@@ -114,8 +114,8 @@ class receiver {
   constexpr decode_result<response> idle() noexcept {
     const std::size_t held = buf_.size();
     dropped_ += held;
+    buf_.want(0);
     buf_.clear();
-    want_ = 0;
     framing_ = false;
     echo_pending_ = false;
     if (held > 0U) {
@@ -132,10 +132,11 @@ class receiver {
   constexpr std::size_t pending() const noexcept { return buf_.size(); }
 
  private:
-  // feed() of one byte that completes something: the last byte of a frame, or a first byte.
-  constexpr decode_result<response> decide_byte(std::uint8_t byte) noexcept {
-    if (framing_) {  // the last byte of a frame whose CF was checked
-      buf_.push(byte);
+  // feed() of one byte that completes something: the last byte of a frame (decoded without a
+  // stack frame of its own here: a tail call), or else a first byte.
+  MOTIONBUS_NOINLINE constexpr decode_result<response> decide_byte(std::uint8_t byte) noexcept {
+    if (framing_ && buf_.completes_want()) {  // the last byte of a frame whose CF was checked
+      buf_.put_last(byte);
       return finish(1);
     }
     if (buf_.empty() && !echo_pending_) {  // the first byte: a CF, or garbage
@@ -145,10 +146,16 @@ class receiver {
         return need_input{1};
       }
       buf_.push(byte);
-      want_ = response_sizes[code];
+      const std::uint8_t frame_size = response_sizes[code];
+      buf_.want(frame_size);
       framing_ = true;
-      return need_input{want_ - 1U};
+      return need_input{frame_size - 1U};
     }
+    return decide_one(byte);
+  }
+
+  // decide() of one byte, out of line: decide_byte() then needs no stack frame.
+  MOTIONBUS_NOINLINE constexpr decode_result<response> decide_one(std::uint8_t byte) noexcept {
     return decide(byte_view(&byte, 1));
   }
 
@@ -156,7 +163,7 @@ class receiver {
   constexpr decode_result<response> decide(byte_view in) noexcept {
     std::size_t used = 0;
     for (;;) {
-      if (buf_.size() >= want_) {  // enough held to decide something
+      if (buf_.size() >= buf_.wanted()) {  // enough held to decide something
         if (framing_) {
           return finish(used);
         }
@@ -164,20 +171,21 @@ class receiver {
         if (!r.is_incomplete()) {
           return r;
         }
-        continue;  // scan() raised want_
+        continue;  // scan() raised the bytes wanted
       }
       if (used >= in.size()) {
-        return need_input{want_ - buf_.size()};
+        return need_input{buf_.wanted() - buf_.size()};
       }
-      used += buf_.append(in.subspan(used), want_ - buf_.size());
+      used += buf_.append(in.subspan(used), buf_.wanted() - buf_.size());
     }
   }
 
-  // Decides on the bytes held (at least want_): skips an echo, drops garbage, decodes a
-  // complete frame. Incomplete: want_ was raised to the bytes needed before the next decision.
+  // Decides on the bytes held (at least wanted()): skips an echo, drops garbage, decodes a
+  // complete frame. Incomplete: the bytes wanted were raised to those needed before the next
+  // decision.
   constexpr decode_result<response> scan(std::size_t used) noexcept {
     for (;;) {
-      want_ = 1;
+      buf_.want(1);
       const std::size_t held = buf_.size();
       if (held == 0U) {
         return need_input{1};
@@ -194,7 +202,7 @@ class receiver {
           continue;
         }
         if (match == held) {
-          want_ = request_size_;
+          buf_.want(request_size_);
           return need_input{request_size_ - match};
         }
         echo_pending_ = false;  // not an echo after all: parse as a response
@@ -206,7 +214,7 @@ class receiver {
         continue;
       }
       const std::uint8_t frame_size = response_sizes[code];
-      want_ = frame_size;
+      buf_.want(frame_size);
       framing_ = true;
       if (held < frame_size) {
         return need_input{frame_size - held};
@@ -215,11 +223,11 @@ class receiver {
     }
   }
 
-  // The frame held at the front (want_ bytes, its CF checked) is complete: decodes it, and
+  // The frame held at the front (wanted() bytes, its CF checked) is complete: decodes it, and
   // checks it against the request. A rejected frame is rescanned from its second byte.
   constexpr decode_result<response> finish(std::size_t used) noexcept {
-    const std::size_t n = want_;
-    want_ = 0;
+    const std::size_t n = buf_.wanted();
+    buf_.want(0);
     framing_ = false;
     // One result, returned from one place (built in the caller's slot: no copy).
     decode_result<response> r = decode_response(buf_.first(n), decode_opts());
@@ -251,6 +259,7 @@ class receiver {
     return d;
   }
 
+  frame_buffer<max_response_size> buf_;  // first: feed(byte) stores at the object's address
   // The options, each stored so that its default is 0 (a default receiver is all zeros).
   bool echo_ = false;
   bool skip_check_ = false;
@@ -258,12 +267,10 @@ class receiver {
   std::uint8_t multi_turn_x_ = 0;
   bool skip_unused_check_ = false;
   bool resolution_from_enid_ = false;
-  frame_buffer<max_response_size> buf_;
-  std::uint8_t want_ = 0;  // bytes to hold before the next decision (0..11)
   std::uint8_t request_[max_request_size] = {};
   std::uint8_t request_size_ = 0;
   bool echo_pending_ = false;
-  bool framing_ = false;  // buf_ starts with a checked CF and want_ is its frame's size
+  bool framing_ = false;  // buf_ starts with a checked CF and wanted() is its frame's size
   bool check_ = false;    // check responses against request_ (a valid request, and the option)
   std::size_t dropped_ = 0;
   std::size_t echoes_ = 0;
