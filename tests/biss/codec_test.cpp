@@ -1,5 +1,5 @@
 // BiSS-C sensor data: CRCs against an independent long-division reference, frames built here
-// bit by bit from PROTOCOL_NOTES §2.1 (never by the encoder under test), the start search at
+// bit by bit from docs/biss.md §1 and §5 (never by the encoder under test), the start search at
 // every line delay and Ack length, every error path, chains of 1–3 slaves.
 #include "motionbus/biss/codec.hpp"
 

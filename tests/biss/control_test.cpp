@@ -1,6 +1,6 @@
 // BiSS-C control communication: master and slave state machines talking frame by frame, with
 // reads, writes, sequential access, wait states, aborts and injected bit errors. The CDM
-// sequence is also checked against the slot table of PROTOCOL_NOTES §2.2, built here.
+// sequence is also checked against the slot table of docs/biss.md §3, built here.
 #include "motionbus/biss/control.hpp"
 
 #include <doctest/doctest.h>

@@ -1,5 +1,5 @@
 // BiSS-C through the CLI: the decode/encode contract, with frames built here from
-// PROTOCOL_NOTES §2.1 (the CRC by long division) rather than by the library.
+// docs/biss.md §5 (the CRC by long division) rather than by the library.
 #include <doctest/doctest.h>
 
 #include <cstdint>

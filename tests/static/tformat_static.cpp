@@ -10,7 +10,7 @@ namespace ts = motionbus::devices::ts5700n8500;
 
 namespace {
 
-// Control fields (spec Table 1; PROTOCOL_NOTES §1.2).
+// Control fields (TS5700N8500 specification Table 1; docs/tformat.md §2, §7).
 static_assert(tf::control_field(tf::data_id::read_abs) == 0x02, "ID0");
 static_assert(tf::control_field(tf::data_id::read_abm) == 0x8A, "ID1");
 static_assert(tf::control_field(tf::data_id::read_enid) == 0x92, "ID2");

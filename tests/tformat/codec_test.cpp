@@ -50,7 +50,7 @@ constexpr table1_row table1[] = {
 };
 
 std::uint8_t cf_from_table(const table1_row& row) {
-  // sync 010 in bits 0..2, cc0..cc4 in bits 3..7 (PROTOCOL_NOTES §1.2)
+  // sync 010 in bits 0..2, cc0..cc4 in bits 3..7 (docs/tformat.md §7: bit order on the line)
   unsigned v = 0x02;
   for (unsigned i = 0; i < 5; ++i) {
     v |= static_cast<unsigned>(row.cc[i]) << (3U + i);
@@ -75,7 +75,7 @@ std::vector<std::vector<std::uint8_t>> valid_responses() {
 
 }  // namespace
 
-TEST_CASE("control field bytes follow spec Table 1 and PROTOCOL_NOTES") {
+TEST_CASE("control field bytes follow the specification's Table 1, sent least significant bit first") {
   for (const auto& row : table1) {
     CAPTURE(static_cast<int>(row.id));
     CHECK(control_field(row.id) == cf_from_table(row));

@@ -294,7 +294,7 @@ TEST_CASE("TS5700N8500: over-heat threshold, temperature, alarms, timing") {
     CHECK(std::string(ts::info(a).symbol) == symbol(a));
     CHECK(ts::info(a).latched == ((static_cast<std::uint8_t>(a) & latched_alarms) != 0));
   }
-  // PROTOCOL_NOTES §1.5: ID0 28 us, ID3 48 us, IDD 28 us, ID6 32 us at 2.5 Mbps
+  // docs/tformat.md §7 (timing): ID0 28 us, ID3 48 us, IDD 28 us, ID6 32 us at 2.5 Mbps
   CHECK(ts::transaction_ns(data_id::read_abs) == 28000);
   CHECK(ts::transaction_ns(data_id::read_all) == 48000);
   CHECK(ts::transaction_ns(data_id::eeprom_read) == 28000);

@@ -5,7 +5,7 @@
 // significant bit (SPI order; bit_order::lsb_first is accepted too), starting at any sample
 // from the first clock. The decoder finds the Ack as the first 0 and the Start bit as the
 // first 1 after it: it never assumes the Ack length or the CDS value and never looks for a
-// fixed pattern (PROTOCOL_NOTES §2.1). Bits after the last CRC are ignored.
+// fixed pattern (docs/biss.md §5). Bits after the last CRC are ignored.
 //
 // Outcomes of decode_frame:
 //   complete      frame_info (start offset, Ack length, CDS), every slave's fields in `out`,

@@ -1,5 +1,5 @@
 // motionbus — BiSS-C control communication: register access spread over sensor data frames,
-// one CDM bit from the master and one CDS bit back per frame (PROTOCOL_NOTES §2.2).
+// one CDM bit from the master and one CDS bit back per frame (docs/biss.md §3, §5).
 //
 // Both sides are per-frame state machines without allocation:
 //   control_master::step(cds) -> cdm   given the CDS bit of the frame just read, the CDM bit to

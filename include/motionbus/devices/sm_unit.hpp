@@ -1,7 +1,7 @@
 // motionbus — Tsubaki SM unit (gear-motor monitor, Modbus RTU 9600 8E1, slaves 1..16): typed
 // register map, units, warning bits, settings limits, request builders and response decoders,
-// on top of the generic Modbus codec. Source: SM Unit Communication Guidelines §2, §5–§11;
-// PROTOCOL_NOTES §3.3.
+// on top of the generic Modbus codec. Source: Tsubaki, SM Unit Communication Guidelines §2,
+// §5–§11; docs/modbus.md §4.
 #ifndef MOTIONBUS_DEVICES_SM_UNIT_HPP
 #define MOTIONBUS_DEVICES_SM_UNIT_HPP
 

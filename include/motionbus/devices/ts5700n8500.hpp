@@ -1,7 +1,7 @@
 // motionbus — Tamagawa Smart-Abs TS5700N8500 (17-bit single-turn, 16-bit multi-turn, ENID 0x11):
 // reset and EEPROM sequences as plans the user's I/O executes, over-heat and temperature
 // registers, alarm meanings and timing. Built on the generic T-format codec.
-// Source: TS5700N8500 specification §5.4, §6.1, §6.5, §7, §10; PROTOCOL_NOTES §1.4–1.5.
+// Source: TS5700N8500 specification §5.4, §6.1, §6.5, §7, §10; docs/tformat.md §6, §7.
 #ifndef MOTIONBUS_DEVICES_TS5700N8500_HPP
 #define MOTIONBUS_DEVICES_TS5700N8500_HPP
 
@@ -22,7 +22,7 @@ inline constexpr std::uint8_t enid = 0x11;
 inline constexpr tformat::resolution resolution{17, 16};
 inline constexpr std::uint32_t counts_per_turn = 1U << 17U;
 
-// --- timing (spec §6.1, §8.1, §10; PROTOCOL_NOTES §1.5) --------------------------------------
+// --- timing (spec §6.1, §8.1, §10; docs/tformat.md §7) ----------------------------------------
 /// Bit and field times in nanoseconds at a bit rate (bits/s); a field is 10 bits.
 constexpr std::uint32_t bit_ns(std::uint32_t bit_rate) noexcept {
   return bit_rate == 0U ? 0U : 1000000000U / bit_rate;
@@ -37,7 +37,7 @@ inline constexpr std::uint32_t response_delay_ns = 3000;  ///< typ., after the r
 constexpr std::uint32_t transaction_fields(tformat::data_id id) noexcept {
   return static_cast<std::uint32_t>(tformat::request_size(id) + tformat::layout_of(id).size);
 }
-/// Transaction time in ns: fields only (PROTOCOL_NOTES §1.5: ID0 28 µs, ID3 48 µs at 2.5 Mbps).
+/// Transaction time in ns: fields only (docs/tformat.md §7: ID0 28 µs, ID3 48 µs at 2.5 Mbps).
 constexpr std::uint32_t transaction_ns(tformat::data_id id,
                                        std::uint32_t bit_rate = standard_bit_rate) noexcept {
   return transaction_fields(id) * field_ns(bit_rate);
@@ -174,8 +174,8 @@ constexpr overheat_setting decode_overheat_threshold(std::uint8_t value) noexcep
   return {true, static_cast<int>(value) - 128};
 }
 
-/// Substrate temperature: two's complement °C (spec §7.3; its table's "0000 0001 = -1 °C" is a
-/// misprint for +1 °C, PROTOCOL_NOTES §1.4).
+/// Substrate temperature: two's complement °C (spec §7.3; its table's "0000 0001 = -1 °C" is
+/// read as +1 °C, as a two's complement table and §7.3.1's example say: docs/tformat.md §7).
 constexpr int decode_temperature(std::uint8_t value) noexcept {
   return value >= 0x80U ? static_cast<int>(value) - 256 : static_cast<int>(value);
 }

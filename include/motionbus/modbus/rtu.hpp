@@ -1,5 +1,5 @@
 // motionbus — Modbus RTU ADU: slave address + PDU + CRC-16/MODBUS (low byte first)
-// (Modbus over Serial Line V1.02 §2.5.1, §6.2.2; PROTOCOL_NOTES §3.1).
+// (Modbus over Serial Line V1.02 §2.5.1, §6.2.2; docs/modbus.md §4).
 #ifndef MOTIONBUS_MODBUS_RTU_HPP
 #define MOTIONBUS_MODBUS_RTU_HPP
 

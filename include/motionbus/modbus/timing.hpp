@@ -1,5 +1,5 @@
 // motionbus — Modbus RTU timing as plain computations the user's timers apply
-// (Modbus over Serial Line V1.02 §2.5.1.1; PROTOCOL_NOTES §3.1).
+// (Modbus over Serial Line V1.02 §2.5.1.1; docs/modbus.md §4).
 //
 // A character is 11 bits (start, 8 data, parity, stop — or 2 stop bits without parity; the
 // spec asks for 11 bits in every case). Inside a frame the line must not stay silent for more

@@ -9,7 +9,7 @@
 // Decoders return decode_result<T>: complete (value, bytes consumed), incomplete (need more
 // bytes), or failed (error, bytes the caller may drop to resynchronise, evidence). Inputs are
 // never trusted: every length is checked before use.
-// Sources: T-format spec §6.2–6.3, §8.4, §9.4, Table 5; PROTOCOL_NOTES §1.
+// Sources: TS5700N8500 specification §6.2–6.3, §8.4, §9.4, Table 5; docs/tformat.md §7.
 #ifndef MOTIONBUS_TFORMAT_CODEC_HPP
 #define MOTIONBUS_TFORMAT_CODEC_HPP
 

@@ -2,7 +2,7 @@
 // hardware-in-the-loop rigs. Give it each received request (the bytes up to the line's idle)
 // with the current time; it returns the reply the encoder would send.
 //
-// Modelled (T-format spec §6.1.1, §6.3, §6.5, §7–§10; PROTOCOL_NOTES §1.4):
+// Modelled (TS5700N8500 specification §6.1.1, §6.3, §6.5, §7–§10; docs/tformat.md §7):
 //  - position and turns, with single-turn resolution and ENID from the config;
 //  - ALMC flags: latched (OS, CE case II, OF, OH, ME, BE) until an ID7/IDC reset while their
 //    condition is gone, non-latched (FS, BA) following their condition;

@@ -3,7 +3,7 @@
 //
 // Bytes are the fields' 8 data bits as a UART delivers them (bit 0 first on the wire); the
 // start and delimiter bits of each 10-bit field are the line coding's business (line.hpp).
-// Sources: T-format spec (TS5700N8500) §6.2–6.3; PROTOCOL_NOTES §1.2–1.3.
+// Sources: TS5700N8500 specification §6.2–6.3, Tables 1 and 2; docs/tformat.md §2, §3, §7.
 #ifndef MOTIONBUS_TFORMAT_FRAME_HPP
 #define MOTIONBUS_TFORMAT_FRAME_HPP
 

@@ -1,6 +1,6 @@
 // motionbus — T-format line coding for masters and encoders that see raw bits (SPI, PIO, CLB,
 // FPGA soft-cores): every field is 10 bits — start 0, 8 data bits LSB first, delimiter 1 —
-// and the idle line is 1 (spec §6.3, Figures 4–8; PROTOCOL_NOTES §1.1).
+// and the idle line is 1 (TS5700N8500 specification §6.3, §8; docs/tformat.md §1, §7).
 //
 // Streams are sequences of `Word`s (8/16/32/64-bit) packed MSB-first or LSB-first (see
 // core/bits.hpp), one sample per bit. A frame starts at the first 0 after idle whose next three
