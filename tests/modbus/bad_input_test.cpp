@@ -1,7 +1,7 @@
-// Regression tests for the classes of input behind published Modbus CVEs (docs/modbus.md §4, "Counts against bytes"):
-// count fields that disagree with the bytes present (FC 0F/10/17), the FC 17 write range,
-// truncated PDUs, minimum-length FC 07/11 read as if they had an address, oversize ADUs,
-// exceptions without CRC, frames for other slaves; plus every prefix and single-bit flip of
+// Regression tests for the classes of input behind published Modbus CVEs (docs/modbus.md §4,
+// "Counts against bytes"): count fields that disagree with the bytes present (FC 0F/10/17), the FC
+// 17 write range, truncated PDUs, minimum-length FC 07/11 read as if they had an address, oversize
+// ADUs, exceptions without CRC, frames for other slaves; plus every prefix and single-bit flip of
 // valid RTU frames.
 #include <doctest/doctest.h>
 

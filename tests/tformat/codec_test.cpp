@@ -75,7 +75,8 @@ std::vector<std::vector<std::uint8_t>> valid_responses() {
 
 }  // namespace
 
-TEST_CASE("control field bytes follow the specification's Table 1, sent least significant bit first") {
+TEST_CASE(
+    "control field bytes follow the specification's Table 1, sent least significant bit first") {
   for (const auto& row : table1) {
     CAPTURE(static_cast<int>(row.id));
     CHECK(control_field(row.id) == cf_from_table(row));

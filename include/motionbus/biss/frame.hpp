@@ -1,6 +1,7 @@
 // motionbus — BiSS-C cyclic sensor data frames: layouts and decoded values.
 //
-// On SL, as a master samples it from its first clock (ABSYS document Figure 1; docs/biss.md §1, §5):
+// On SL, as a master samples it from its first clock (ABSYS document Figure 1; docs/biss.md §1,
+// §5):
 //
 //   idle 1…1 | Ack 0…0 | Start 1 | CDS | slave 1: data, nE, nW, CRC | slave 2: … | timeout 0…
 //
