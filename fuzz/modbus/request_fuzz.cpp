@@ -1,7 +1,8 @@
 // Modbus request decoder (server side). Oracles: never out of bounds; a complete request
 // re-encodes with the client encoders to exactly the input bytes; a rejected one maps to an
 // exception code 01, 02 or 03.
-#include <motionbus/modbus/pdu.hpp>
+#include <motionbus/modbus/pdu_client.hpp>
+#include <motionbus/modbus/pdu_server.hpp>
 
 #include <cstring>
 #include <vector>

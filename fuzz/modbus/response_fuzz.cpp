@@ -2,7 +2,8 @@
 // response. Oracles: never out of bounds; a complete normal response has data consistent with
 // the request (byte count = bits/8 rounded up, or 2 per register) and lies inside the input;
 // the per-function client decoders agree with decode_response.
-#include <motionbus/modbus/pdu.hpp>
+#include <motionbus/modbus/pdu_client.hpp>
+#include <motionbus/modbus/pdu_server.hpp>
 
 #include "../fuzz_check.hpp"
 

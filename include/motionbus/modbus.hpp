@@ -5,6 +5,8 @@
 
 #include "motionbus/modbus/framer.hpp"
 #include "motionbus/modbus/pdu.hpp"
+#include "motionbus/modbus/pdu_client.hpp"
+#include "motionbus/modbus/pdu_server.hpp"
 #include "motionbus/modbus/rtu.hpp"
 #include "motionbus/modbus/server.hpp"
 #include "motionbus/modbus/tcp.hpp"

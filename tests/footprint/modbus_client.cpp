@@ -3,7 +3,7 @@
 // parameters of the entry function (no globals), so nothing folds away; the link keeps only what
 // the entry reaches (--gc-sections).
 
-#include <motionbus/modbus/pdu.hpp>
+#include <motionbus/modbus/pdu_client.hpp>
 #include <motionbus/modbus/rtu.hpp>
 
 namespace mb = motionbus;

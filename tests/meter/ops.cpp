@@ -8,7 +8,8 @@
 #include <motionbus/biss/codec.hpp>
 #include <motionbus/biss/control.hpp>
 #include <motionbus/modbus/framer.hpp>
-#include <motionbus/modbus/pdu.hpp>
+#include <motionbus/modbus/pdu_client.hpp>
+#include <motionbus/modbus/pdu_server.hpp>
 #include <motionbus/modbus/rtu.hpp>
 #include <motionbus/modbus/server.hpp>
 #include <motionbus/tformat/codec.hpp>

@@ -1,6 +1,7 @@
 // Modbus PDU and RTU ADU. Vectors are the worked examples of the Modbus Application Protocol
 // V1.1b3 §6 (request / response bytes per function) and Modbus over Serial Line V1.02 §6.2.2.
-#include "motionbus/modbus/pdu.hpp"
+#include "motionbus/modbus/pdu_client.hpp"
+#include "motionbus/modbus/pdu_server.hpp"
 
 #include <doctest/doctest.h>
 

@@ -2,7 +2,7 @@
 #ifndef MOTIONBUS_TOOLS_MODBUS_IO_HPP
 #define MOTIONBUS_TOOLS_MODBUS_IO_HPP
 
-#include <motionbus/modbus/pdu.hpp>
+#include <motionbus/modbus/pdu_client.hpp>
 
 #include <cstdint>
 #include <string>

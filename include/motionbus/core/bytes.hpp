@@ -1,9 +1,10 @@
 // motionbus — multi-byte loads from byte views, usable in constant expressions.
 //
-// `load_le<N>` and `load_be<N>` assemble N (1..8) bytes starting at `at` into an integer. In a
-// constant expression they assemble byte by byte; at run time, on a little-endian GCC or clang
-// target, they do one unaligned load (plus a byte swap for big-endian order), which some
-// compilers do not derive from the byte-by-byte form on their own. The caller guarantees that
+// `load_be16`, `load_le16`, `store_be16` and `store_le16` read and write the 16-bit fields of
+// the byte protocols. `load_le<N>` and `load_be<N>` assemble N (1..8) bytes starting at `at` into
+// an integer. In a constant expression they assemble byte by byte; at run time, on a little-endian
+// GCC or clang target, they do one unaligned load (plus a byte swap for big-endian order), which
+// some compilers do not derive from the byte-by-byte form on their own. The caller guarantees that
 // `at + N <= in.size()`; these are building blocks for decoders that have checked lengths.
 #ifndef MOTIONBUS_CORE_BYTES_HPP
 #define MOTIONBUS_CORE_BYTES_HPP
@@ -60,6 +61,27 @@ MOTIONBUS_INLINE constexpr std::uint64_t load_be(byte_view in, std::size_t at) n
     v = (v << 8U) | in[at + k];
   }
   return v;
+}
+
+/// The 16-bit big-endian value at `in[at]` (a Modbus register, a length field).
+MOTIONBUS_INLINE constexpr std::uint16_t load_be16(byte_view in, std::size_t at) noexcept {
+  return static_cast<std::uint16_t>((in[at] << 8U) | in[at + 1U]);
+}
+/// The 16-bit little-endian value at `in[at]` (a Modbus CRC as sent).
+MOTIONBUS_INLINE constexpr std::uint16_t load_le16(byte_view in, std::size_t at) noexcept {
+  return static_cast<std::uint16_t>(in[at] | (in[at + 1U] << 8U));
+}
+/// Writes `v` big-endian at `out[at]` (at + 2 <= out.size(), checked by the caller).
+MOTIONBUS_INLINE constexpr void store_be16(mutable_byte_view out, std::size_t at,
+                                           std::uint16_t v) noexcept {
+  out[at] = static_cast<std::uint8_t>(v >> 8U);
+  out[at + 1U] = static_cast<std::uint8_t>(v & 0xFFU);
+}
+/// Writes `v` little-endian at `out[at]` (at + 2 <= out.size(), checked by the caller).
+MOTIONBUS_INLINE constexpr void store_le16(mutable_byte_view out, std::size_t at,
+                                           std::uint16_t v) noexcept {
+  out[at] = static_cast<std::uint8_t>(v & 0xFFU);
+  out[at + 1U] = static_cast<std::uint8_t>(v >> 8U);
 }
 
 }  // namespace motionbus

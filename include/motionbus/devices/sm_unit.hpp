@@ -11,7 +11,7 @@
 #include "motionbus/core/errc.hpp"
 #include "motionbus/core/result.hpp"
 #include "motionbus/core/span.hpp"
-#include "motionbus/modbus/pdu.hpp"
+#include "motionbus/modbus/pdu_client.hpp"
 #include "motionbus/modbus/rtu.hpp"
 
 namespace motionbus {

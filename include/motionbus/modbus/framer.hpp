@@ -33,6 +33,7 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "motionbus/core/bytes.hpp"
 #include "motionbus/core/errc.hpp"
 #include "motionbus/core/frame_buffer.hpp"
 #include "motionbus/core/result.hpp"
@@ -120,22 +121,16 @@ constexpr std::size_t predict_response_size(
     case 0x16: return 10;
     case 0x11:
       return fc11 == report_id_format::two_bytes_no_count ? 6 : (in.size() < 3U ? 0 : 5U + in[2]);
-    case 0x18: return in.size() < 4U ? 0 : 6U + static_cast<std::size_t>((in[2] << 8U) | in[3]);
+    case 0x18: return in.size() < 4U ? 0 : 6U + std::size_t{load_be16(in, 2)};
     case 0x2B: {  // read device identification: walk the objects as they arrive
       if (in.size() < 8U) {
         return 0;
       }
-      std::size_t at = 8;
-      for (unsigned k = 0; k < in[7]; ++k) {
-        if (in.size() < at + 2U) {
-          return 0;
-        }
-        at += 2U + in[at + 1U];
-        if (at > max_rtu_size) {
-          return at;  // the caller rejects it as too long
-        }
+      const detail::object_walk w = detail::walk_objects(in, 8, in[7]);
+      if (w.inside) {
+        return w.end + 2U;
       }
-      return at + 2U;
+      return w.end > max_rtu_size ? w.end : 0;  // too long (the caller rejects it), or wait
     }
     default: return unknown_length;
   }
@@ -313,7 +308,7 @@ class basic_rtu_framer {
     framing_ = false;
     const std::size_t total = buf_.wanted();
     const byte_view frame = buf_.first(total);
-    const auto received = static_cast<std::uint16_t>(frame[total - 2U] | (frame[total - 1U] << 8U));
+    const std::uint16_t received = load_le16(frame, total - 2U);
     const std::uint8_t slave = frame[0];
     if (crc16_modbus<Table>::compute(frame.first(total - 2U)) == received &&
         slave <= max_unicast_address && for_us(slave)) {
@@ -384,7 +379,7 @@ class basic_rtu_framer {
     for (; at <= to; at += 2U) {
       c.update(held.subspan(fed, at - 2U - fed));
       fed = at - 2U;
-      if (c.value() == static_cast<std::uint16_t>(held[at - 2U] | (held[at - 1U] << 8U))) {
+      if (c.value() == load_le16(held, at - 2U)) {
         break;
       }
     }

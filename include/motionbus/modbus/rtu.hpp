@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "motionbus/core/bytes.hpp"
 #include "motionbus/core/crc.hpp"
 #include "motionbus/core/errc.hpp"
 #include "motionbus/core/result.hpp"
@@ -51,8 +52,7 @@ constexpr result<std::size_t> encode_rtu(std::uint8_t slave, byte_view pdu,
     out[1U + i] = pdu[i];
   }
   const std::uint16_t c = crc16_modbus<Table>::compute(byte_view(out.data(), n - 2U));
-  out[n - 2U] = static_cast<std::uint8_t>(c & 0xFFU);
-  out[n - 1U] = static_cast<std::uint8_t>(c >> 8U);
+  store_le16(out, n - 2U, c);
   return n;
 }
 
@@ -65,7 +65,7 @@ constexpr decode_result<rtu_frame> decode_rtu(byte_view adu) noexcept {
   if (n < min_rtu_size || n > max_rtu_size) {
     return decode_failure{errc::modbus_pdu_length, n};
   }
-  const auto received = static_cast<std::uint16_t>(adu[n - 2U] | (adu[n - 1U] << 8U));
+  const std::uint16_t received = load_le16(adu, n - 2U);
   const std::uint16_t computed = crc16_modbus<Table>::compute(adu.first(n - 2U));
   if (computed != received) {
     return decode_failure{errc::crc_mismatch, n, computed, received};

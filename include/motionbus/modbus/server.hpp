@@ -42,7 +42,7 @@
 #include "motionbus/core/errc.hpp"
 #include "motionbus/core/result.hpp"
 #include "motionbus/core/span.hpp"
-#include "motionbus/modbus/pdu.hpp"
+#include "motionbus/modbus/pdu_server.hpp"
 #include "motionbus/modbus/rtu.hpp"
 
 namespace motionbus {
@@ -322,8 +322,7 @@ constexpr result<std::size_t> serve_frame(Device& dev, std::uint8_t own_address,
   }
   out[0] = own_address;
   const std::uint16_t c = crc16_modbus<Table>::compute(byte_view(out.data(), n + 1U));
-  out[n + 1U] = static_cast<std::uint8_t>(c & 0xFFU);
-  out[n + 2U] = static_cast<std::uint8_t>(c >> 8U);
+  store_le16(out, n + 1U, c);
   return n + 3U;
 }
 

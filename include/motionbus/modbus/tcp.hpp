@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "motionbus/core/bytes.hpp"
 #include "motionbus/core/errc.hpp"
 #include "motionbus/core/result.hpp"
 #include "motionbus/core/span.hpp"
@@ -35,12 +36,9 @@ constexpr result<std::size_t> encode_tcp(std::uint16_t transaction, std::uint8_t
     return errc::buffer_too_small;
   }
   const auto length = static_cast<std::uint16_t>(pdu.size() + 1U);  // unit id + PDU
-  out[0] = static_cast<std::uint8_t>(transaction >> 8U);
-  out[1] = static_cast<std::uint8_t>(transaction & 0xFFU);
-  out[2] = 0;
-  out[3] = 0;
-  out[4] = static_cast<std::uint8_t>(length >> 8U);
-  out[5] = static_cast<std::uint8_t>(length & 0xFFU);
+  store_be16(out, 0, transaction);
+  store_be16(out, 2, 0);  // protocol: Modbus
+  store_be16(out, 4, length);
   out[6] = unit;
   for (std::size_t i = 0; i < pdu.size(); ++i) {
     out[mbap_size + i] = pdu[i];
@@ -57,9 +55,9 @@ constexpr decode_result<tcp_frame> decode_tcp(byte_view in) noexcept {
     return need_input{mbap_size - in.size()};
   }
   tcp_frame f;
-  f.transaction = static_cast<std::uint16_t>((in[0] << 8U) | in[1]);
-  f.protocol = static_cast<std::uint16_t>((in[2] << 8U) | in[3]);
-  const std::size_t length = static_cast<std::size_t>((in[4] << 8U) | in[5]);
+  f.transaction = load_be16(in, 0);
+  f.protocol = load_be16(in, 2);
+  const std::size_t length = load_be16(in, 4);
   if (length < 2U || length > max_pdu_size + 1U) {
     return decode_failure{errc::modbus_pdu_length, in.size()};
   }

@@ -1,0 +1,562 @@
+// motionbus — the client's side of the Modbus PDU codec (MODBUS Application Protocol
+// Specification V1.1b3 §6): encode_* build requests into a caller's buffer;
+// decode_response(pdu, request) checks an answer against the request it belongs to, and
+// decode_response_unpaired(pdu) checks what a response carries on its own (a bus monitor).
+// Vocabulary in modbus/pdu.hpp.
+#ifndef MOTIONBUS_MODBUS_PDU_CLIENT_HPP
+#define MOTIONBUS_MODBUS_PDU_CLIENT_HPP
+
+#include <cstddef>
+#include <cstdint>
+
+#include "motionbus/core/errc.hpp"
+#include "motionbus/core/result.hpp"
+#include "motionbus/core/span.hpp"
+#include "motionbus/modbus/pdu.hpp"
+
+namespace motionbus {
+namespace modbus {
+
+// ---------------------------------------------------------------------------------------------
+// Client: requests
+
+/// FC01/02/03/04: read `quantity` bits or registers from `address`. Errors: invalid_argument
+/// (not a read function), modbus_quantity, modbus_address_overflow, buffer_too_small.
+constexpr result<std::size_t> encode_read(function_code fc, std::uint16_t address,
+                                          std::uint16_t quantity, mutable_byte_view out) noexcept {
+  const auto f = static_cast<std::uint8_t>(fc);
+  if (!detail::is_read_bits(f) && !detail::is_read_registers(f)) {
+    return errc::invalid_argument;
+  }
+  const errc e = detail::check_read(f, address, quantity);
+  if (e != errc::ok) {
+    return e;
+  }
+  return detail::encode_words(f, {address, quantity}, out);
+}
+
+/// FC05: one coil on (0xFF00) or off (0x0000).
+constexpr result<std::size_t> encode_write_single_coil(std::uint16_t address, bool on,
+                                                       mutable_byte_view out) noexcept {
+  return detail::encode_words(static_cast<std::uint8_t>(function_code::write_single_coil),
+                              {address, on ? coil_on : coil_off}, out);
+}
+
+/// FC06: one holding register.
+constexpr result<std::size_t> encode_write_single_register(std::uint16_t address,
+                                                           std::uint16_t value,
+                                                           mutable_byte_view out) noexcept {
+  return detail::encode_words(static_cast<std::uint8_t>(function_code::write_single_register),
+                              {address, value}, out);
+}
+
+/// FC0F: `quantity` coils from `packed` (LSB of the first byte first; unused high bits of the
+/// last byte are sent as 0). Errors: modbus_quantity (1..1968), modbus_byte_count (`packed`
+/// shorter than ceil(quantity/8)), modbus_address_overflow, buffer_too_small.
+constexpr result<std::size_t> encode_write_multiple_coils(std::uint16_t address,
+                                                          std::uint16_t quantity, byte_view packed,
+                                                          mutable_byte_view out) noexcept {
+  if (quantity < 1U || quantity > max_write_coils) {
+    return errc::modbus_quantity;
+  }
+  const std::size_t n = detail::bytes_for_bits(quantity);
+  if (packed.size() < n) {
+    return errc::modbus_byte_count;
+  }
+  if (detail::overflows(address, quantity)) {
+    return errc::modbus_address_overflow;
+  }
+  if (out.size() < 6U + n) {
+    return errc::buffer_too_small;
+  }
+  out[0] = static_cast<std::uint8_t>(function_code::write_multiple_coils);
+  store_be16(out, 1, address);
+  store_be16(out, 3, quantity);
+  out[5] = static_cast<std::uint8_t>(n);
+  return 6U + detail::copy_packed_bits(packed, quantity, out, 6);
+}
+
+/// FC10: registers `values` from `address`. Errors: modbus_quantity (1..123),
+/// modbus_address_overflow, buffer_too_small.
+constexpr result<std::size_t> encode_write_multiple_registers(std::uint16_t address,
+                                                              span<const std::uint16_t> values,
+                                                              mutable_byte_view out) noexcept {
+  if (values.size() < 1U || values.size() > max_write_registers) {
+    return errc::modbus_quantity;
+  }
+  const auto q = static_cast<std::uint16_t>(values.size());
+  if (detail::overflows(address, q)) {
+    return errc::modbus_address_overflow;
+  }
+  if (out.size() < 6U + 2U * values.size()) {
+    return errc::buffer_too_small;
+  }
+  out[0] = static_cast<std::uint8_t>(function_code::write_multiple_registers);
+  store_be16(out, 1, address);
+  store_be16(out, 3, q);
+  out[5] = static_cast<std::uint8_t>(2U * q);
+  detail::put_registers(out, 6, values);
+  return 6U + 2U * values.size();
+}
+
+/// FC16: register = (register AND and_mask) OR (or_mask AND NOT and_mask).
+constexpr result<std::size_t> encode_mask_write_register(std::uint16_t address,
+                                                         std::uint16_t and_mask,
+                                                         std::uint16_t or_mask,
+                                                         mutable_byte_view out) noexcept {
+  return detail::encode_words(static_cast<std::uint8_t>(function_code::mask_write_register),
+                              {address, and_mask, or_mask}, out);
+}
+
+/// FC17: write `values` at `write_address`, then read `read_quantity` registers from
+/// `read_address`. Errors: modbus_quantity (read 1..125, write 1..121),
+/// modbus_address_overflow, buffer_too_small.
+constexpr result<std::size_t> encode_read_write_multiple_registers(std::uint16_t read_address,
+                                                                   std::uint16_t read_quantity,
+                                                                   std::uint16_t write_address,
+                                                                   span<const std::uint16_t> values,
+                                                                   mutable_byte_view out) noexcept {
+  if (read_quantity < 1U || read_quantity > max_read_registers || values.size() < 1U ||
+      values.size() > max_rw_write_registers) {
+    return errc::modbus_quantity;
+  }
+  const auto wq = static_cast<std::uint16_t>(values.size());
+  if (detail::overflows(read_address, read_quantity) || detail::overflows(write_address, wq)) {
+    return errc::modbus_address_overflow;
+  }
+  if (out.size() < 10U + 2U * values.size()) {
+    return errc::buffer_too_small;
+  }
+  out[0] = static_cast<std::uint8_t>(function_code::read_write_multiple_registers);
+  store_be16(out, 1, read_address);
+  store_be16(out, 3, read_quantity);
+  store_be16(out, 5, write_address);
+  store_be16(out, 7, wq);
+  out[9] = static_cast<std::uint8_t>(2U * wq);
+  detail::put_registers(out, 10, values);
+  return 10U + 2U * values.size();
+}
+
+/// Any function with an opaque data part (FC07, 0B, 0C, 11 with no data; custom functions).
+/// Errors: invalid_argument (function 0 or with the exception flag), modbus_pdu_length,
+/// buffer_too_small.
+constexpr result<std::size_t> encode_raw(std::uint8_t function, byte_view data,
+                                         mutable_byte_view out) noexcept {
+  if (function == 0U || (function & exception_flag) != 0U) {
+    return errc::invalid_argument;
+  }
+  if (1U + data.size() > max_pdu_size) {
+    return errc::modbus_pdu_length;
+  }
+  if (out.size() < 1U + data.size()) {
+    return errc::buffer_too_small;
+  }
+  out[0] = function;
+  for (std::size_t i = 0; i < data.size(); ++i) {
+    out[1U + i] = data[i];
+  }
+  return 1U + data.size();
+}
+
+/// FC08 diagnostics: sub-function and its data (2 bytes for all but 00, which echoes any even
+/// number of bytes). Errors: modbus_illegal_function (undefined sub-function),
+/// modbus_byte_count, modbus_pdu_length, buffer_too_small.
+constexpr result<std::size_t> encode_diagnostics(std::uint16_t sub_function, byte_view data,
+                                                 mutable_byte_view out) noexcept {
+  if (!diagnostic::is_defined(sub_function)) {
+    return errc::modbus_illegal_function;
+  }
+  if (sub_function == diagnostic::return_query_data ? data.size() % 2U != 0U : data.size() != 2U) {
+    return errc::modbus_byte_count;
+  }
+  if (3U + data.size() > max_pdu_size) {
+    return errc::modbus_pdu_length;
+  }
+  if (out.size() < 3U + data.size()) {
+    return errc::buffer_too_small;
+  }
+  out[0] = static_cast<std::uint8_t>(function_code::diagnostics);
+  store_be16(out, 1, sub_function);
+  for (std::size_t i = 0; i < data.size(); ++i) {
+    out[3U + i] = data[i];
+  }
+  return 3U + data.size();
+}
+
+/// FC18: read the FIFO queue at `address`.
+constexpr result<std::size_t> encode_read_fifo_queue(std::uint16_t address,
+                                                     mutable_byte_view out) noexcept {
+  if (out.size() < 3U) {
+    return errc::buffer_too_small;
+  }
+  out[0] = static_cast<std::uint8_t>(function_code::read_fifo_queue);
+  store_be16(out, 1, address);
+  return std::size_t{3};
+}
+
+/// FC2B / MEI 0E: read device identification (read code 1 basic, 2 regular, 3 extended,
+/// 4 one object) from `object_id`. Errors: modbus_quantity (read code), buffer_too_small.
+constexpr result<std::size_t> encode_read_device_identification(std::uint8_t read_code,
+                                                                std::uint8_t object_id,
+                                                                mutable_byte_view out) noexcept {
+  if (read_code < 1U || read_code > 4U) {
+    return errc::modbus_quantity;
+  }
+  if (out.size() < 4U) {
+    return errc::buffer_too_small;
+  }
+  out[0] = static_cast<std::uint8_t>(function_code::encapsulated_interface);
+  out[1] = mei_read_device_identification;
+  out[2] = read_code;
+  out[3] = object_id;
+  return std::size_t{4};
+}
+
+/// One object of a read-device-identification response.
+struct device_object {
+  std::uint8_t id = 0;
+  byte_view value{};
+};
+
+/// The i-th object (0-based) of a checked FC2B/0E response's data; errc::out_of_range past the
+/// last one.
+constexpr result<device_object> object_at(const response& r, std::size_t index) noexcept {
+  if (index >= r.object_count) {
+    return detail::walk_objects(r.data, 0, r.object_count).inside ? errc::out_of_range
+                                                                  : errc::modbus_byte_count;
+  }
+  const std::size_t at = detail::walk_objects(r.data, 0, index).end;
+  if (!detail::walk_objects(r.data, 0, index + 1U).inside) {
+    return errc::modbus_byte_count;
+  }
+  return device_object{r.data[at], r.data.subspan(at + 2U, r.data[at + 1U])};
+}
+
+// ---------------------------------------------------------------------------------------------
+// Client: responses in
+
+namespace detail {
+
+// The checks every response shares, in order: PDU length (modbus_pdu_length), the function
+// echo (modbus_mismatch, evidence: sent and received function), and an exception response
+// (exactly function | 0x80 and a code: complete with r.exception set). Returns true when they
+// settle the outcome: `error` (with evidence), or ok for an exception response.
+constexpr bool response_head(byte_view pdu, std::uint8_t function, response& r, errc& error,
+                             std::uint32_t& expected, std::uint32_t& received) noexcept {
+  const std::size_t n = pdu.size();
+  if (n < 1U || n > max_pdu_size) {
+    error = errc::modbus_pdu_length;
+    return true;
+  }
+  r.function = static_cast<std::uint8_t>(pdu[0] & static_cast<std::uint8_t>(~exception_flag));
+  if (r.function != function) {
+    error = errc::modbus_mismatch;
+    expected = function;
+    received = r.function;
+    return true;
+  }
+  if ((pdu[0] & exception_flag) != 0U) {
+    if (n != 2U) {
+      error = n < 2U ? errc::truncated : errc::modbus_byte_count;
+    } else {
+      r.exception = true;
+      r.exception_code = pdu[1];
+    }
+    return true;
+  }
+  return false;
+}
+
+}  // namespace detail
+
+/// Client, one function: decodes the response PDU to a read of `quantity` bits (FC01, FC02)
+/// or registers (FC03, FC04, and the read part of FC17) by `function`. Complete: r.data holds
+/// the packed bits or register bytes, r.byte_count and r.quantity are set; an exception
+/// response is complete with r.exception set. Failed (consumed = PDU size): modbus_pdu_length,
+/// invalid_argument (`function` is not a read), modbus_mismatch (another function; expected =
+/// sent, received = received function), truncated, modbus_byte_count (byte count vs quantity
+/// vs bytes present), reserved_bits (unused high bits of the last bit byte set).
+/// Links only what a client of these functions needs (decode_response handles every function
+/// from the request bytes).
+constexpr decode_result<response> decode_read_response(byte_view pdu, function_code function,
+                                                       std::uint16_t quantity) noexcept {
+  const auto f = static_cast<std::uint8_t>(function);
+  const std::size_t n = pdu.size();
+  if (!detail::is_read_bits(f) && !detail::is_read_registers(f) && f != 0x17U) {
+    return decode_failure{errc::invalid_argument, n};
+  }
+  response r;
+  errc e = errc::ok;
+  std::uint32_t want = 0;
+  std::uint32_t got = 0;
+  if (!detail::response_head(pdu, f, r, e, want, got)) {
+    const std::size_t bytes =
+        detail::is_read_bits(f) ? detail::bytes_for_bits(quantity) : 2U * quantity;
+    if (n < 2U) {
+      e = errc::truncated;
+    } else if (pdu[1] != bytes || n != 2U + bytes) {
+      e = n < 2U + bytes && pdu[1] == bytes ? errc::truncated : errc::modbus_byte_count;
+    } else {
+      r.byte_count = pdu[1];
+      r.data = pdu.subspan(2, bytes);
+      r.quantity = quantity;
+      const unsigned spare = static_cast<unsigned>(bytes * 8U - quantity);
+      if (detail::is_read_bits(f) && spare > 0U &&
+          (r.data[bytes - 1U] & static_cast<std::uint8_t>(0xFFU << (8U - spare))) != 0U) {
+        e = errc::reserved_bits;
+      }
+    }
+  }
+  if (e != errc::ok) {
+    return decode_failure{e, n, want, got};
+  }
+  return decode_result<response>::complete(r, n);
+}
+
+/// Client, one function: decodes the response PDU to a write (FC05, FC06, FC0F, FC10) at
+/// `address` of `second` (the value for FC05/06, the quantity for FC0F/10), which the response
+/// must echo. Complete: r.address and r.value or r.quantity; an exception response is complete
+/// with r.exception set. Failed (consumed = PDU size): modbus_pdu_length, invalid_argument
+/// (`function` is not one of these), modbus_mismatch (another function, or an echo that
+/// differs), truncated, modbus_byte_count (not 5 bytes).
+constexpr decode_result<response> decode_write_response(byte_view pdu, function_code function,
+                                                        std::uint16_t address,
+                                                        std::uint16_t second) noexcept {
+  const auto f = static_cast<std::uint8_t>(function);
+  const std::size_t n = pdu.size();
+  if (f != 0x05U && f != 0x06U && f != 0x0FU && f != 0x10U) {
+    return decode_failure{errc::invalid_argument, n};
+  }
+  response r;
+  errc e = errc::ok;
+  std::uint32_t want = 0;
+  std::uint32_t got = 0;
+  if (!detail::response_head(pdu, f, r, e, want, got)) {
+    if (n != 5U) {
+      e = n < 5U ? errc::truncated : errc::modbus_byte_count;
+    } else {
+      r.address = load_be16(pdu, 1);
+      const std::uint16_t echoed = load_be16(pdu, 3);
+      if (f == 0x05U || f == 0x06U) {
+        r.value = echoed;
+      } else {
+        r.quantity = echoed;
+      }
+      if (r.address != address || echoed != second) {
+        e = errc::modbus_mismatch;
+      }
+    }
+  }
+  if (e != errc::ok) {
+    return decode_failure{e, n, want, got};
+  }
+  return decode_result<response>::complete(r, n);
+}
+
+namespace detail {
+
+// The part of a response after the head (function echo, exception) for the functions other
+// than the reads and writes with their own decoders, checked against the request `q` when there
+// is one (nullptr: only what the response carries itself). Sets `e` on failure.
+constexpr void response_body(byte_view pdu, std::uint8_t f, const request* q, report_id_format fc11,
+                             response& r, errc& e) noexcept {
+  const std::size_t n = pdu.size();
+  if (is_read_bits(f) || is_read_registers(f) || f == 0x17U) {  // only when unpaired
+    if (n < 2U) {
+      e = errc::truncated;
+    } else if (pdu[1] != n - 2U || (!is_read_bits(f) && pdu[1] % 2U != 0U)) {
+      e = errc::modbus_byte_count;
+    } else {
+      r.byte_count = pdu[1];
+      r.data = pdu.subspan(2);
+      r.quantity = static_cast<std::uint16_t>(is_read_bits(f) ? 8U * pdu[1] : pdu[1] / 2U);
+    }
+  } else if (f == 0x05U || f == 0x06U || f == 0x0FU || f == 0x10U) {  // only when unpaired
+    if (n != 5U) {
+      e = n < 5U ? errc::truncated : errc::modbus_byte_count;
+    } else {
+      r.address = load_be16(pdu, 1);
+      (f == 0x05U || f == 0x06U ? r.value : r.quantity) = load_be16(pdu, 3);
+    }
+  } else if (f == 0x16) {
+    if (n != 7U) {
+      e = n < 7U ? errc::truncated : errc::modbus_byte_count;
+    } else {
+      r.address = load_be16(pdu, 1);
+      r.and_mask = load_be16(pdu, 3);
+      r.or_mask = load_be16(pdu, 5);
+      if (q != nullptr &&
+          (r.address != q->address || r.and_mask != q->and_mask || r.or_mask != q->or_mask)) {
+        e = errc::modbus_mismatch;
+      }
+    }
+  } else if (f == 0x07) {
+    if (n != 2U) {
+      e = n < 2U ? errc::truncated : errc::modbus_byte_count;
+    } else {
+      r.status = pdu[1];
+    }
+  } else if (f == 0x08) {
+    if (n < 3U) {
+      e = errc::truncated;
+    } else {
+      r.sub_function = load_be16(pdu, 1);
+      r.data = pdu.subspan(3);
+      if (q != nullptr && r.sub_function != q->sub_function) {
+        e = errc::modbus_mismatch;
+      } else if (r.sub_function == diagnostic::return_query_data) {
+        // the query data echoed: exactly (paired), an even count (unpaired)
+        if (q != nullptr ? r.data.size() != q->data.size() : r.data.size() % 2U != 0U) {
+          e = errc::modbus_byte_count;
+        } else if (q != nullptr) {
+          for (std::size_t i = 0; i < r.data.size(); ++i) {
+            if (r.data[i] != q->data[i]) {
+              e = errc::modbus_mismatch;  // the echo must be exact
+            }
+          }
+        }
+      } else if (r.data.size() != 2U) {
+        e = errc::modbus_byte_count;
+      }
+    }
+  } else if (f == 0x0B) {
+    if (n != 5U) {
+      e = n < 5U ? errc::truncated : errc::modbus_byte_count;
+    } else {
+      r.status = load_be16(pdu, 1);
+      r.event_count = load_be16(pdu, 3);
+    }
+  } else if (f == 0x0C) {
+    if (n < 8U) {
+      e = errc::truncated;
+    } else if (pdu[1] != n - 2U || pdu[1] > 6U + 64U) {
+      e = errc::modbus_byte_count;
+    } else {
+      r.byte_count = pdu[1];
+      r.status = load_be16(pdu, 2);
+      r.event_count = load_be16(pdu, 4);
+      r.message_count = load_be16(pdu, 6);
+      r.data = pdu.subspan(8);
+    }
+  } else if (f == 0x18) {
+    if (n < 5U) {
+      e = errc::truncated;
+    } else {
+      const std::size_t count = load_be16(pdu, 1);
+      r.fifo_count = load_be16(pdu, 3);
+      if (r.fifo_count > max_fifo_count) {
+        e = errc::modbus_quantity;
+      } else if (count != 2U + 2U * r.fifo_count || n != 3U + count) {
+        e = errc::modbus_byte_count;
+      } else {
+        r.data = pdu.subspan(5);
+      }
+    }
+  } else if (f == 0x2B && (q != nullptr ? q->mei_type == mei_read_device_identification
+                                        : n >= 2U && pdu[1] == mei_read_device_identification)) {
+    if (n < 7U) {
+      e = errc::truncated;
+    } else if (pdu[1] != mei_read_device_identification ||
+               (q != nullptr && pdu[2] != q->read_code)) {
+      e = errc::modbus_mismatch;
+    } else {
+      r.conformity = pdu[3];
+      r.more_follows = pdu[4] == 0xFFU;
+      r.next_object = pdu[5];
+      r.object_count = pdu[6];
+      // every object inside the PDU, and nothing after the last
+      const detail::object_walk w = detail::walk_objects(pdu, 7, r.object_count);
+      if (!w.inside || w.end != n) {
+        e = errc::modbus_byte_count;
+      }
+      r.data = pdu.subspan(7);
+    }
+  } else if (f == 0x11 && fc11 == report_id_format::standard) {
+    if (n < 2U) {
+      e = errc::truncated;
+    } else if (pdu[1] != n - 2U) {
+      e = errc::modbus_byte_count;
+    } else {
+      r.byte_count = pdu[1];
+      r.data = pdu.subspan(2);
+    }
+  } else if (f == 0x11) {  // SM unit: exactly two bytes, no byte count
+    if (n != 3U) {
+      e = n < 3U ? errc::truncated : errc::modbus_byte_count;
+    } else {
+      r.data = pdu.subspan(1);
+    }
+  } else {
+    r.data = pdu.subspan(1);  // raw
+  }
+}
+
+}  // namespace detail
+
+/// Decodes a complete response PDU to `sent` (the request as encoded, itself decodable).
+/// Complete: the response; an exception response (function | 0x80, any code) is a complete
+/// response with `exception` set. Failed (consumed = PDU size): modbus_pdu_length,
+/// invalid_argument (`sent` is no valid request), modbus_mismatch (function or echoed fields
+/// differ from the request), truncated, modbus_byte_count (byte count vs quantity vs bytes
+/// present), reserved_bits (unused high bits of a bit response set).
+/// `fc11`: the FC11 layout (report_id_format::two_bytes_no_count for the Tsubaki SM unit).
+constexpr decode_result<response> decode_response(
+    byte_view pdu, byte_view sent, report_id_format fc11 = report_id_format::standard) noexcept {
+  const std::size_t n = pdu.size();
+  if (n < 1U || n > max_pdu_size) {
+    return decode_failure{errc::modbus_pdu_length, n};
+  }
+  const decode_result<request> dq = decode_request(sent);
+  if (!dq.is_complete()) {
+    return decode_failure{errc::invalid_argument, n};
+  }
+  const request& q = dq.value();
+  const std::uint8_t f = q.function;
+  if (detail::is_read_bits(f) || detail::is_read_registers(f) || f == 0x17U) {
+    return decode_read_response(pdu, static_cast<function_code>(f), q.quantity);
+  }
+  if (f == 0x05U || f == 0x06U || f == 0x0FU || f == 0x10U) {
+    const bool single = f == 0x05U || f == 0x06U;
+    return decode_write_response(pdu, static_cast<function_code>(f), q.address,
+                                 single ? q.value : q.quantity);
+  }
+  response r;
+  errc e = errc::ok;
+  std::uint32_t want = 0;
+  std::uint32_t got = 0;
+  if (!detail::response_head(pdu, f, r, e, want, got)) {
+    detail::response_body(pdu, f, &q, fc11, r, e);
+  }
+  if (e != errc::ok) {
+    return decode_failure{e, n, want, got};
+  }
+  return decode_result<response>::complete(r, n);
+}
+
+/// Decodes a response PDU seen without its request (a bus monitor, a log, a capture): every
+/// check the response carries itself (byte counts against the bytes present, fixed sizes,
+/// FC08 query data of even length, FC2B objects inside the PDU, the FC11 layout `fc11`), none
+/// that needs the request (quantities, echoed fields). Bit reads report quantity = 8 x byte
+/// count. Complete and failed as decode_response (no modbus_mismatch from echoes, no
+/// invalid_argument, no reserved_bits).
+constexpr decode_result<response> decode_response_unpaired(
+    byte_view pdu, report_id_format fc11 = report_id_format::standard) noexcept {
+  const std::size_t n = pdu.size();
+  response r;
+  errc e = errc::ok;
+  std::uint32_t want = 0;
+  std::uint32_t got = 0;
+  const std::uint8_t f = n == 0U ? std::uint8_t{0} : static_cast<std::uint8_t>(pdu[0] & 0x7FU);
+  if (!detail::response_head(pdu, f, r, e, want, got)) {
+    detail::response_body(pdu, f, nullptr, fc11, r, e);
+  }
+  if (e != errc::ok) {
+    return decode_failure{e, n, want, got};
+  }
+  return decode_result<response>::complete(r, n);
+}
+
+}  // namespace modbus
+}  // namespace motionbus
+
+#endif  // MOTIONBUS_MODBUS_PDU_CLIENT_HPP
