@@ -34,3 +34,4 @@ function(motionbus_project_target target)
 endfunction()
 
 find_program(MOTIONBUS_CLANG_FORMAT NAMES clang-format clang-format-14 clang-format-15 clang-format-16)
+find_program(MOTIONBUS_CLANG_TIDY NAMES clang-tidy clang-tidy-14 clang-tidy-15 clang-tidy-16)

@@ -106,7 +106,14 @@ struct crc_kernel {
   static_assert((Poly & ~low_mask32(Width)) == 0U,
                 "CRC polynomial must be given without its x^width term and fit the width");
 
-  static constexpr unsigned reg_bits = Reflected ? Width : (Width < 8U ? 8U : Width);
+  // A normal CRC narrower than 8 bits runs in an 8-bit register, its value aligned at the top.
+  static constexpr unsigned register_width() noexcept {
+    if (Reflected || Width >= 8U) {
+      return Width;
+    }
+    return 8U;
+  }
+  static constexpr unsigned reg_bits = register_width();
   static constexpr unsigned align = reg_bits - Width;  // 0 when reflected
   static constexpr std::uint32_t reg_mask = low_mask32(reg_bits);
   static constexpr std::uint32_t poly = Reflected ? reflect32(Poly, Width) : (Poly << align);

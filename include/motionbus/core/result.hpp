@@ -160,11 +160,11 @@ class [[nodiscard]] decode_result {
     steps(outcome(r));
     return r;
   }
-  MOTIONBUS_INLINE constexpr decode_result(
-      need_input n) noexcept  // NOLINT(google-explicit-constructor)
+  // NOLINTNEXTLINE(google-explicit-constructor): `return need_input{n};` from a decoder
+  MOTIONBUS_INLINE constexpr decode_result(need_input n) noexcept
       : count_(n.at_least == 0 ? 1 : n.at_least), status_(decode_status::incomplete) {}
-  MOTIONBUS_INLINE constexpr decode_result(
-      decode_failure f) noexcept  // NOLINT(google-explicit-constructor)
+  // NOLINTNEXTLINE(google-explicit-constructor): `return decode_failure{...};` likewise
+  MOTIONBUS_INLINE constexpr decode_result(decode_failure f) noexcept
       : u_(evidence{f.code == errc::ok ? errc::invalid_argument : f.code, f.expected, f.received}),
         count_(f.consumed),
         status_(decode_status::failed) {}

@@ -43,8 +43,8 @@ class span {
   constexpr span() noexcept = default;
   constexpr span(T* data, std::size_t size) noexcept : data_(data), size_(size) {}
   template <std::size_t N>
-  constexpr span(T (&array)[N]) noexcept
-      : data_(array), size_(N) {}  // NOLINT(google-explicit-constructor)
+  // NOLINTNEXTLINE(google-explicit-constructor): an array converts, as to std::span
+  constexpr span(T (&array)[N]) noexcept : data_(array), size_(N) {}
   template <class U, std::size_t N,
             class = std::enable_if_t<std::is_convertible<U (*)[], T (*)[]>::value>>
   constexpr span(std::array<U, N>& array) noexcept  // NOLINT(google-explicit-constructor)

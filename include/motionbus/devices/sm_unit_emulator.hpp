@@ -293,18 +293,18 @@ class emulator {
       return settings_[a];
     }
     if (a >= holding::password && a < holding::password + holding::password_registers) {
-      const std::size_t i = 2U * (a - holding::password);
+      const std::size_t i = std::size_t{2} * (a - holding::password);
       return static_cast<std::uint16_t>((password_[i] << 8U) | password_[i + 1U]);
     }
     const char* product = "SM01";
     const char* mfg = "2611220042";
     if (a >= holding::product_code && a < holding::product_code + holding::product_code_registers) {
-      const std::size_t i = 2U * (a - holding::product_code);
+      const std::size_t i = std::size_t{2} * (a - holding::product_code);
       return static_cast<std::uint16_t>((static_cast<unsigned>(product[i]) << 8U) |
                                         static_cast<unsigned>(product[i + 1U]));
     }
     if (a >= holding::mfg_number && a < holding::mfg_number + holding::mfg_number_registers) {
-      const std::size_t i = 2U * (a - holding::mfg_number);
+      const std::size_t i = std::size_t{2} * (a - holding::mfg_number);
       return static_cast<std::uint16_t>((static_cast<unsigned>(mfg[i]) << 8U) |
                                         static_cast<unsigned>(mfg[i + 1U]));
     }

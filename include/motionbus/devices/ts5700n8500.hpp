@@ -182,29 +182,31 @@ constexpr int decode_temperature(std::uint8_t value) noexcept {
 
 // --- alarms (spec §6.5) ---------------------------------------------------------------------
 struct alarm_info {
-  tformat::almc_bit flag;
   const char* symbol;
   const char* name;
-  bool latched;
   const char* action;
+  tformat::almc_bit flag;
+  bool latched;
 };
 
 inline constexpr alarm_info alarm_table[8] = {
-    {tformat::almc_bit::os, "OS", "over-speed", true,
-     "reset errors (ID7 or IDC); the multi-turn data may be wrong"},
-    {tformat::almc_bit::fs, "FS", "full absolute status", false,
-     "slow below 100 rpm and wait: the single-turn data has only 5 bits of accuracy meanwhile"},
-    {tformat::almc_bit::ce, "CE", "counting error", true,
-     "stop the servo; reset errors or cycle power"},
-    {tformat::almc_bit::of, "OF", "counter overflow", true, "reset errors (ID7 or IDC)"},
-    {tformat::almc_bit::oh, "OH", "over-heat", true,
-     "let the encoder cool, then reset errors (ID7 or IDC)"},
-    {tformat::almc_bit::me, "ME", "multi-turn error", true,
-     "return to the origin and reset errors (ID7 or IDC)"},
-    {tformat::almc_bit::be, "BE", "battery error", true,
-     "check or replace the battery, then reset errors and multi-turn data (IDC)"},
-    {tformat::almc_bit::ba, "BA", "battery alarm", false,
-     "check or replace the battery; clears itself when the voltage recovers"},
+    {"OS", "over-speed", "reset errors (ID7 or IDC); the multi-turn data may be wrong",
+     tformat::almc_bit::os, true},
+    {"FS", "full absolute status",
+     "slow below 100 rpm and wait: the single-turn data has only 5 bits of accuracy meanwhile",
+     tformat::almc_bit::fs, false},
+    {"CE", "counting error", "stop the servo; reset errors or cycle power", tformat::almc_bit::ce,
+     true},
+    {"OF", "counter overflow", "reset errors (ID7 or IDC)", tformat::almc_bit::of, true},
+    {"OH", "over-heat", "let the encoder cool, then reset errors (ID7 or IDC)",
+     tformat::almc_bit::oh, true},
+    {"ME", "multi-turn error", "return to the origin and reset errors (ID7 or IDC)",
+     tformat::almc_bit::me, true},
+    {"BE", "battery error",
+     "check or replace the battery, then reset errors and multi-turn data (IDC)",
+     tformat::almc_bit::be, true},
+    {"BA", "battery alarm", "check or replace the battery; clears itself when the voltage recovers",
+     tformat::almc_bit::ba, false},
 };
 
 constexpr const alarm_info& info(tformat::almc_bit a) noexcept {

@@ -341,7 +341,8 @@ constexpr decode_result<request> decode_request(byte_view pdu) noexcept {
       const std::size_t count = pdu[5];
       const bool coils = f == 0x0F;
       const std::uint16_t max = coils ? max_write_coils : max_write_registers;
-      const std::size_t want = coils ? detail::bytes_for_bits(q.quantity) : 2U * q.quantity;
+      const std::size_t want =
+          coils ? detail::bytes_for_bits(q.quantity) : std::size_t{2} * q.quantity;
       if (q.quantity < 1U || q.quantity > max) {
         e = errc::modbus_quantity;
       } else if (count != want || n != 6U + count) {
@@ -371,7 +372,7 @@ constexpr decode_result<request> decode_request(byte_view pdu) noexcept {
       if (q.quantity < 1U || q.quantity > max_read_registers || q.write_quantity < 1U ||
           q.write_quantity > max_rw_write_registers) {
         e = errc::modbus_quantity;
-      } else if (count != 2U * q.write_quantity || n != 10U + count) {
+      } else if (count != std::size_t{2} * q.write_quantity || n != 10U + count) {
         e = errc::modbus_byte_count;
       } else if (detail::overflows(q.address, q.quantity) ||
                  detail::overflows(q.write_address, q.write_quantity)) {

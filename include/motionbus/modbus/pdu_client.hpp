@@ -81,7 +81,7 @@ constexpr result<std::size_t> encode_write_multiple_coils(std::uint16_t address,
 constexpr result<std::size_t> encode_write_multiple_registers(std::uint16_t address,
                                                               span<const std::uint16_t> values,
                                                               mutable_byte_view out) noexcept {
-  if (values.size() < 1U || values.size() > max_write_registers) {
+  if (values.empty() || values.size() > max_write_registers) {
     return errc::modbus_quantity;
   }
   const auto q = static_cast<std::uint16_t>(values.size());
@@ -116,7 +116,7 @@ constexpr result<std::size_t> encode_read_write_multiple_registers(std::uint16_t
                                                                    std::uint16_t write_address,
                                                                    span<const std::uint16_t> values,
                                                                    mutable_byte_view out) noexcept {
-  if (read_quantity < 1U || read_quantity > max_read_registers || values.size() < 1U ||
+  if (read_quantity < 1U || read_quantity > max_read_registers || values.empty() ||
       values.size() > max_rw_write_registers) {
     return errc::modbus_quantity;
   }
@@ -291,7 +291,7 @@ constexpr decode_result<response> decode_read_response(byte_view pdu, function_c
   std::uint32_t got = 0;
   if (!detail::response_head(pdu, f, r, e, want, got)) {
     const std::size_t bytes =
-        detail::is_read_bits(f) ? detail::bytes_for_bits(quantity) : 2U * quantity;
+        detail::is_read_bits(f) ? detail::bytes_for_bits(quantity) : std::size_t{2} * quantity;
     if (n < 2U) {
       e = errc::truncated;
     } else if (pdu[1] != bytes || n != 2U + bytes) {

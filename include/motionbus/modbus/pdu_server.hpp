@@ -59,7 +59,7 @@ constexpr result<std::size_t> encode_read_registers_response(std::uint8_t functi
   if (!detail::is_read_registers(function) && function != 0x17U) {
     return errc::invalid_argument;
   }
-  if (values.size() < 1U || values.size() > max_read_registers) {
+  if (values.empty() || values.size() > max_read_registers) {
     return errc::modbus_quantity;
   }
   if (out.size() < 2U + 2U * values.size()) {

@@ -161,7 +161,8 @@ constexpr std::uint8_t read_registers_into(Device& dev, std::uint8_t f, std::uin
   pdu_out[0] = f;
   pdu_out[1] = static_cast<std::uint8_t>(2U * quantity);
   if constexpr (has_read_registers_be<Device>::value) {
-    return dev.read_registers_be(f, address, quantity, pdu_out.subspan(2, 2U * quantity));
+    return dev.read_registers_be(f, address, quantity,
+                                 pdu_out.subspan(2, std::size_t{2} * quantity));
   } else {
     std::uint16_t regs[max_read_registers] = {};
     const std::uint8_t code = dev.read_registers(f, address, span<std::uint16_t>(regs, quantity));

@@ -29,7 +29,8 @@ constexpr std::uint32_t character_time_us(std::uint32_t baud, parity p, unsigned
   }
   const std::uint64_t bit_us_x2 =
       std::uint64_t{characters_x2} * bits_per_character(p, stop_bits) * 1000000U;
-  return static_cast<std::uint32_t>((bit_us_x2 + 2U * baud - 1U) / (2U * baud));
+  return static_cast<std::uint32_t>((bit_us_x2 + std::uint64_t{2} * baud - 1U) /
+                                    (std::uint64_t{2} * baud));
 }
 
 /// t1.5: the longest silence allowed inside a frame (750 us above 19200 baud).
