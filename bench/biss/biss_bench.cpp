@@ -90,9 +90,9 @@ std::vector<std::uint32_t> captures(std::size_t slaves, std::size_t words) {
     line.idle_bits = 1U + i % 8U;
     line.ack_bits = 1U + i % 4U;
     line.cds = (i & 1U) != 0U;
-    (void)bs::encode_frame(mb::span<std::uint32_t>(w.data(), w.size()),
-                           mb::span<const bs::slave_layout>(chain.data(), chain.size()),
-                           mb::span<const bs::slave_values>(v.data(), v.size()), line);
+    (void)bs::encode_frame(mb::span<const bs::slave_layout>(chain.data(), chain.size()),
+                           mb::span<const bs::slave_values>(v.data(), v.size()),
+                           mb::span<std::uint32_t>(w.data(), w.size()), line);
     out.insert(out.end(), w.begin(), w.end());
   }
   return out;

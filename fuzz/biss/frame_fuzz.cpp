@@ -18,7 +18,7 @@ namespace {
 const bs::slave_layout layouts[] = {
     bs::absys_layout,
     {12, 13, 2, true, false, bs::crc_from_biss_notation(0x25)},
-    {0, 18, 0, false, false, bs::crc_from_biss_notation(0x97, 0x15, false)},
+    {0, 18, 0, false, false, bs::crc_from_biss_notation(0x97, 0x15, bs::crc_output::plain)},
     {24, 40, 0, true, true, bs::crc_from_biss_notation(0x1021 | 0x10000, 0x1D0F)},
 };
 
@@ -75,10 +75,9 @@ void run(const std::uint8_t* data, std::size_t size, std::size_t chain_len, std:
   line.ack_bits = f.ack_bits();
   line.cds = f.cds;
   std::vector<Word> copy(words);
-  const auto w =
-      bs::encode_frame(mb::span<Word>(copy.data(), copy.size()),
-                       mb::span<const bs::slave_layout>(chain.data(), chain.size()),
-                       mb::span<const bs::slave_values>(values.data(), values.size()), line);
+  const auto w = bs::encode_frame(mb::span<const bs::slave_layout>(chain.data(), chain.size()),
+                                  mb::span<const bs::slave_values>(values.data(), values.size()),
+                                  mb::span<Word>(copy.data(), copy.size()), line);
   MOTIONBUS_FUZZ_CHECK(w.ok() && w.value() == r.consumed());
   MOTIONBUS_FUZZ_CHECK(filler_set || copy == words);  // the same bits were there already
 }

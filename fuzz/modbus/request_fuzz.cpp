@@ -34,9 +34,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     case 0x01:
     case 0x02:
     case 0x03:
-    case 0x04:
-      n = mo::encode_read(static_cast<mo::function_code>(q.function), q.address, q.quantity, out);
-      break;
+    case 0x04: n = mo::encode_read(q.function, q.address, q.quantity, out); break;
     case 0x05: n = mo::encode_write_single_coil(q.address, q.value == mo::coil_on, out); break;
     case 0x06: n = mo::encode_write_single_register(q.address, q.value, out); break;
     case 0x0F: n = mo::encode_write_multiple_coils(q.address, q.quantity, q.data, out); break;

@@ -26,7 +26,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const auto sent = mo::decode_request(request);
   if (sent.is_complete()) {
     const mo::request& s = sent.value();
-    const auto fc = static_cast<mo::function_code>(s.function);
+    const auto fc = s.function;
     const bool read = s.function <= 0x04U || s.function == 0x17U;
     const bool write =
         s.function == 0x05U || s.function == 0x06U || s.function == 0x0FU || s.function == 0x10U;

@@ -56,7 +56,7 @@ void run(const std::uint8_t* data, std::size_t size, mb::bit_order order) {
   if (q.is_complete()) {
     std::uint8_t bytes[tf::max_request_size] = {};
     const auto n =
-        tf::encode_request(q.value().frame.id, bytes, q.value().frame.address, q.value().frame.edf);
+        tf::encode_request(q.value().frame.id, q.value().frame.address, q.value().frame.edf, bytes);
     MOTIONBUS_FUZZ_CHECK(n.ok());
     check_round_trip<Word, tf::request>(words, order, q.value().start_bit, q.consumed(), bytes,
                                         n.value());

@@ -15,7 +15,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   if (q.is_complete()) {
     MOTIONBUS_FUZZ_CHECK(q.consumed() == tf::request_size(q.value().id) && q.consumed() <= size);
     std::uint8_t out[tf::max_request_size] = {};
-    const auto n = tf::encode_request(q.value().id, out, q.value().address, q.value().edf);
+    const auto n = tf::encode_request(q.value().id, q.value().address, q.value().edf, out);
     MOTIONBUS_FUZZ_CHECK(n.ok() && n.value() == q.consumed());
     for (std::size_t i = 0; i < n.value(); ++i) {
       MOTIONBUS_FUZZ_CHECK(out[i] == data[i]);
@@ -35,7 +35,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const mb::byte_view frame(data + at, take);
     const bool delimiter_error = take > 0 && (data[at] & 0x40U) != 0 && (data[at] & 0x20U) != 0;
     now += 37U * static_cast<std::uint32_t>(take + 1U) * 100U;
-    const tf::reply r = enc.respond(frame, now, delimiter_error);
+    const tf::reply r = enc.respond(
+        frame, now, delimiter_error ? tf::request_line::delimiter_error : tf::request_line::ok);
     if (take == 0 || !tf::sync_ok(frame[0])) {
       MOTIONBUS_FUZZ_CHECK(r.size == 0);
     } else {

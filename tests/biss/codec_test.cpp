@@ -87,7 +87,8 @@ decode_result<frame_info> decode_string(const std::string& s,
 // A 25-bit multi-turn/single-turn slave with alignment, nE only and a 5-bit CRC (0x25), and an
 // 18-bit slave without status bits, a 7-bit CRC (0x97) with a start value, not inverted.
 const slave_layout mt_layout{12, 13, 2, true, false, crc_from_biss_notation(0x25)};
-const slave_layout plain_layout{0, 18, 0, false, false, crc_from_biss_notation(0x97, 0x15, false)};
+const slave_layout plain_layout{
+    0, 18, 0, false, false, crc_from_biss_notation(0x97, 0x15, crc_output::plain)};
 // 64 data bits and a 16-bit CRC: 82 bits, more than one 64-bit read.
 const slave_layout wide_layout{24, 40, 0, true, true, crc_from_biss_notation(0x11021, 0x1D0F)};
 
@@ -116,7 +117,7 @@ TEST_CASE("CRC6 0x43 and CRC4 0x13 match long division on every input up to 16 b
 TEST_CASE("CRC6, CRC4 and run-time CRCs match long division on random inputs up to 64 bits") {
   testutil::splitmix64 rng(0xB155);
   const crc_format formats[] = {crc6_43, crc_from_biss_notation(0x13), crc_from_biss_notation(0x25),
-                                crc_from_biss_notation(0x97, 0x15, false),
+                                crc_from_biss_notation(0x97, 0x15, crc_output::plain),
                                 crc_from_biss_notation(0x1021 | 0x10000, 0xFFFF)};
   for (int i = 0; i < 4000; ++i) {
     const auto n = static_cast<unsigned>(17U + rng.below(48));
@@ -156,7 +157,7 @@ TEST_CASE("ABSYS frame: encoder output equals the frame built from the notes, de
     line.ack_bits = ack;
     line.cds = cds;
     const slave_values sv{0, v.st, v.ne, v.nw};
-    const auto n = encode_frame(span<std::uint32_t>(words, 4), absys_layout, sv, line);
+    const auto n = encode_frame(absys_layout, sv, span<std::uint32_t>(words, 4), line);
     REQUIRE(n.ok());
     REQUIRE(*n == want.size());
     std::string got;
@@ -402,9 +403,9 @@ TEST_CASE("chains of 1 to 3 slaves with different layouts") {
       line.idle_bits = idle;
       line.ack_bits = ack;
       line.cds = rep % 2 == 0;
-      const auto w = encode_frame(span<std::uint16_t>(words.data(), words.size()),
-                                  span<const slave_layout>(chain.data(), chain.size()),
-                                  span<const slave_values>(svals.data(), svals.size()), line);
+      const auto w = encode_frame(span<const slave_layout>(chain.data(), chain.size()),
+                                  span<const slave_values>(svals.data(), svals.size()),
+                                  span<std::uint16_t>(words.data(), words.size()), line);
       REQUIRE(w.ok());
       CHECK(*w == s.size());
       const auto packed = pack<std::uint16_t>(s);
@@ -450,16 +451,16 @@ TEST_CASE("invalid layouts, chains, buffers and values are refused") {
             .error() == errc::buffer_too_small);
 
   std::uint32_t small[1] = {};
-  CHECK(encode_frame(span<std::uint32_t>(small, 1), absys_layout, slave_values{}).error() ==
+  CHECK(encode_frame(absys_layout, slave_values{}, span<std::uint32_t>(small, 1)).error() ==
         errc::buffer_too_small);
   CHECK(small[0] == 0U);
   slave_values big;
   big.single_turn = std::uint64_t{1} << 32U;
-  CHECK(encode_frame(span<std::uint32_t>(words, 4), absys_layout, big).error() ==
+  CHECK(encode_frame(absys_layout, big, span<std::uint32_t>(words, 4)).error() ==
         errc::out_of_range);
   line_options no_ack;
   no_ack.ack_bits = 0;
-  CHECK(encode_frame(span<std::uint32_t>(words, 4), absys_layout, slave_values{}, no_ack).error() ==
+  CHECK(encode_frame(absys_layout, slave_values{}, span<std::uint32_t>(words, 4), no_ack).error() ==
         errc::invalid_argument);
   CHECK(encoded_bits(span<const slave_layout>(two, 2), line_options{}) == 3U + 80U);
 }

@@ -22,7 +22,7 @@ decode_result<frame_info> round_trip(const slave_layout& layout, const slave_val
   line_options line;
   line.idle_bits = 3;
   line.ack_bits = 2;
-  const auto n = encode_frame(span<std::uint32_t>(words, 6), layout, values, line);
+  const auto n = encode_frame(layout, values, span<std::uint32_t>(words, 6), line);
   REQUIRE(n.ok());
   return decode_frame(span<const std::uint32_t>(words, 6), n.value(), layout, d);
 }
@@ -61,7 +61,7 @@ TEST_CASE("BiSS-C encoder: an invalid layout is refused, and encoded_bits says 0
   const slave_layout chain[1] = {bad};
   CHECK(encoded_bits(span<const slave_layout>(chain, 1), line_options{}) == 0U);
   std::uint32_t words[4] = {};
-  CHECK(encode_frame(span<std::uint32_t>(words, 4), bad, slave_values{}).error() ==
+  CHECK(encode_frame(bad, slave_values{}, span<std::uint32_t>(words, 4)).error() ==
         errc::biss_layout);
 }
 

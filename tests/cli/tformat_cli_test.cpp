@@ -151,7 +151,7 @@ TEST_CASE("serve tformat-encoder: a master talks to the emulator over a pseudo-t
   } guard{pid};
   auto transact = [&](tf::data_id id, std::uint8_t address, std::uint8_t data) {
     std::uint8_t req[4] = {};
-    const std::size_t n = tf::encode_request(id, req, address, data).value();
+    const std::size_t n = tf::encode_request(id, address, data, req).value();
     for (int attempt = 0; attempt < 50; ++attempt) {  // until the emulator is up
       REQUIRE(write(pty.master, req, n) == static_cast<ssize_t>(n));
       tf::receiver rx;

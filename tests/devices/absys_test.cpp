@@ -292,17 +292,17 @@ TEST_CASE("ABSYS emulator: errors latch in 0x6B until command 06; nE follows the
   CHECK(b.read1(ab::reg::error_status) == 0x03);  // power-on default
   REQUIRE(b.write(ab::reg::command, {0x06}) == errc::ok);
   CHECK(b.read1(ab::reg::error_status) == 0x00);
-  enc.set_error(true);
+  enc.set_error(ab::sensor_error::in_operation);
   b.frame();
   CHECK(b.last.error());
-  enc.set_error(false);
+  enc.set_error(ab::sensor_error::none);
   b.frame();
   CHECK(!b.last.error());                                     // regained during operation
   CHECK(b.read1(ab::reg::error_status) == ab::status_error);  // but latched
   REQUIRE(b.write(ab::reg::command, {0x06}) == errc::ok);
   CHECK(b.read1(ab::reg::error_status) == 0x00);
-  enc.set_error(true, true);  // at power-on: stays
-  enc.set_error(false);
+  enc.set_error(ab::sensor_error::at_power_on);  // stays
+  enc.set_error(ab::sensor_error::none);
   b.frame();
   CHECK(b.last.error());
   // the user bank is free to write and read

@@ -29,6 +29,6 @@ extern "C" unsigned probe_entry(std::uint32_t* out, std::uint32_t position, bool
   v.single_turn = position;
   bs::line_options line;
   line.cds = control->step(cdm);
-  const auto n = bs::encode_frame(mb::span<std::uint32_t>(out, 2), bs::absys_layout, v, line);
+  const auto n = bs::encode_frame(bs::absys_layout, v, mb::span<std::uint32_t>(out, 2), line);
   return n.ok() ? static_cast<unsigned>(*n) : 0U;
 }

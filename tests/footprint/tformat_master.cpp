@@ -8,8 +8,8 @@ namespace mb = motionbus;
 namespace tf = motionbus::tformat;
 
 extern "C" unsigned probe_entry(const unsigned char* in, unsigned n, unsigned char* out) {
-  const auto q = tf::encode_request(static_cast<tf::data_id>(in[0] & 0xFU),
-                                    mb::mutable_byte_view(out, tf::max_request_size), in[1], in[2]);
+  const auto q = tf::encode_request(static_cast<tf::data_id>(in[0] & 0xFU), in[1], in[2],
+                                    mb::mutable_byte_view(out, tf::max_request_size));
   const auto r = tf::decode_response(mb::byte_view(in, n));
   return (q.ok() ? *q : 0U) +
          (r.is_complete() ? r->abs + r->abm + r->almc : static_cast<unsigned>(r.error()));

@@ -158,8 +158,8 @@ METER_OP void op_tformat_encode_request_id3() {
 }
 METER_OP void op_tformat_encode_request_id6(unsigned address, unsigned data) {
   const auto n =
-      tf::encode_request(tf::data_id::eeprom_write, mb::mutable_byte_view(meter_adu, 4),
-                         static_cast<std::uint8_t>(address), static_cast<std::uint8_t>(data));
+      tf::encode_request(tf::data_id::eeprom_write, static_cast<std::uint8_t>(address),
+                         static_cast<std::uint8_t>(data), mb::mutable_byte_view(meter_adu, 4));
   put_bytes(mb::byte_view(meter_adu, n.value_or(0)));
 }
 METER_OP void op_tformat_decode_response() {

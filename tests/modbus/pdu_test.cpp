@@ -288,9 +288,8 @@ TEST_CASE("client, one function: read and write decoders agree with decode_respo
       CAPTURE(a.size());
       const auto generic = decode_response(view(a), view(ex.request));
       const auto one =
-          read ? decode_read_response(view(a), static_cast<function_code>(f), q.quantity)
-               : decode_write_response(view(a), static_cast<function_code>(f), q.address,
-                                       f <= 0x06U ? q.value : q.quantity);
+          read ? decode_read_response(view(a), f, q.quantity)
+               : decode_write_response(view(a), f, q.address, f <= 0x06U ? q.value : q.quantity);
       REQUIRE(one.status() == generic.status());
       CHECK(one.error() == generic.error());
       CHECK(one.consumed() == generic.consumed());

@@ -14,7 +14,8 @@ namespace {
 // x^6 = x + 1 and x^7 = x^2 + x that is x^2 + 1 = 0b000101, on the wire 0b111010 = 0x3A.
 static_assert(mb::crc6_biss<>::compute_bits(0x3, 34) == 0x3A, "CRC6 of zero position, nE nW 1");
 static_assert(bs::wire_crc(bs::crc6_43, 0, 32, 0x3, 2) == 0x3A, "wire CRC, table path");
-static_assert(bs::wire_crc(bs::crc_from_biss_notation(0x43, 0, true), 0, 32, 0x3, 2) == 0x3A,
+static_assert(bs::wire_crc(bs::crc_from_biss_notation(0x43, 0, bs::crc_output::inverted), 0, 32,
+                           0x3, 2) == 0x3A,
               "wire CRC from the BiSS notation");
 static_assert(mb::dynamic_crc(bs::crc6_43.parameters()).update_bits(0x3, 34).value() == 0x3A,
               "run-time CRC, bit by bit");
@@ -37,7 +38,7 @@ constexpr bool frame_round_trip() {
   bs::slave_values v;
   v.single_turn = 0xDEADBEEF;
   v.nw = false;
-  const auto n = bs::encode_frame(mb::span<std::uint32_t>(words, 3), bs::absys_layout, v, line);
+  const auto n = bs::encode_frame(bs::absys_layout, v, mb::span<std::uint32_t>(words, 3), line);
   if (!n.ok() || *n != 5 + 3 + 2 + 40) {
     return false;
   }

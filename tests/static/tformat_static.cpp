@@ -66,7 +66,7 @@ static_assert(tf::decode_response(id3_bad_crc).error() == mb::errc::crc_mismatch
 // EEPROM request and its encoder-side decode.
 constexpr bool eeprom_round_trip() {
   std::uint8_t req[4] = {};
-  const auto n = tf::encode_request(tf::data_id::eeprom_write, req, 5, 0x12);
+  const auto n = tf::encode_request(tf::data_id::eeprom_write, 5, 0x12, req);
   const auto q = tf::decode_request(mb::byte_view(req, n.value()));
   return n.value() == 4 && req[3] == (0x32 ^ 0x05 ^ 0x12) && q.is_complete() &&
          q.value().address == 5 && q.value().edf == 0x12;

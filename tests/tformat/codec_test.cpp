@@ -99,20 +99,20 @@ TEST_CASE(
 TEST_CASE("encode_request: every Data ID, EEPROM frames, errors") {
   std::uint8_t out[4] = {};
   for (const auto& row : table1) {
-    const auto n = encode_request(row.id, out, 5, 0x12);
+    const auto n = encode_request(row.id, 5, 0x12, out);
     REQUIRE(n.ok());
     CHECK(out[0] == cf_from_table(row));
     CHECK(n.value() == request_size(row.id));
   }
-  REQUIRE(encode_request(data_id::eeprom_write, out, 5, 0x12).value() == 4);
+  REQUIRE(encode_request(data_id::eeprom_write, 5, 0x12, out).value() == 4);
   CHECK(std::vector<std::uint8_t>(out, out + 4) == with_crc({0x32, 0x05, 0x12}));
-  REQUIRE(encode_request(data_id::eeprom_read, out, 127).value() == 3);
+  REQUIRE(encode_request(data_id::eeprom_read, 127, 0, out).value() == 3);
   CHECK(std::vector<std::uint8_t>(out, out + 3) == with_crc({0xEA, 0x7F}));
 
   CHECK(encode_request(static_cast<data_id>(4), out).error() == errc::tformat_unknown_data_id);
-  CHECK(encode_request(data_id::eeprom_read, out, 128).error() == errc::out_of_range);
+  CHECK(encode_request(data_id::eeprom_read, 128, 0, out).error() == errc::out_of_range);
   std::uint8_t small[2] = {0xAA, 0xAA};
-  CHECK(encode_request(data_id::eeprom_read, small, 1).error() == errc::buffer_too_small);
+  CHECK(encode_request(data_id::eeprom_read, 1, 0, small).error() == errc::buffer_too_small);
   CHECK(small[0] == 0xAA);  // nothing written
   CHECK(encode_request(data_id::read_abs, mutable_byte_view{}).error() == errc::buffer_too_small);
 }
@@ -209,14 +209,14 @@ TEST_CASE("decode_response_for: CF, address, data, communication alarm") {
   CHECK(decode_response_for(byte_view(req, 1), view(alarm3b)).error() ==
         errc::tformat_communication_alarm);
 
-  REQUIRE(encode_request(data_id::eeprom_read, req, 9).ok());
+  REQUIRE(encode_request(data_id::eeprom_read, 9, 0, req).ok());
   CHECK(decode_response_for(byte_view(req, 3), view(with_crc({0xEA, 0x09, 0x42}))).value().edf ==
         0x42);
   CHECK(decode_response_for(byte_view(req, 3), view(with_crc({0xEA, 0x08, 0x42}))).error() ==
         errc::tformat_address_mismatch);
   CHECK(decode_response_for(byte_view(req, 3), view(with_crc({0xEA, 0x89, 0x00}))).value().busy);
 
-  REQUIRE(encode_request(data_id::eeprom_write, req, 9, 0x55).ok());
+  REQUIRE(encode_request(data_id::eeprom_write, 9, 0x55, req).ok());
   CHECK(decode_response_for(byte_view(req, 4), view(with_crc({0x32, 0x09, 0x55}))).is_complete());
   CHECK(decode_response_for(byte_view(req, 4), view(with_crc({0x32, 0x09, 0x54}))).error() ==
         errc::tformat_data_mismatch);
@@ -263,7 +263,7 @@ TEST_CASE("every single-bit flip of every valid response is detected") {
 TEST_CASE("decode_request (encoder side): every ID, EEPROM CRC and busy bit") {
   for (const auto& row : table1) {
     std::uint8_t out[4] = {};
-    const auto n = encode_request(row.id, out, 100, 0xA5).value();
+    const auto n = encode_request(row.id, 100, 0xA5, out).value();
     const auto q = decode_request(byte_view(out, n));
     REQUIRE(q.is_complete());
     CHECK(q->id == row.id);
@@ -337,11 +337,11 @@ TEST_CASE("round trip: master request -> encoder model -> master decode, every D
     CAPTURE(static_cast<int>(row.id));
     std::uint8_t req[4] = {};
     if (row.id == data_id::eeprom_read) {  // a write reads back once the page is specified again
-      const std::size_t k = encode_request(data_id::eeprom_write, req, 127, 0).value();
+      const std::size_t k = encode_request(data_id::eeprom_write, 127, 0, req).value();
       REQUIRE(enc.respond(byte_view(req, k), now).size > 0U);
       now += 100000;
     }
-    const std::size_t n = encode_request(row.id, req, 3, 0x5A).value();
+    const std::size_t n = encode_request(row.id, 3, 0x5A, req).value();
     const reply rep = enc.respond(byte_view(req, n), now);
     now += 100000;  // past any busy window
     REQUIRE(rep.size == layout_of(row.id).size);
@@ -505,7 +505,7 @@ TEST_CASE("the size form of decode_response agrees with the speed form on every 
 TEST_CASE("every single-bit flip of every valid request is detected by the encoder side") {
   for (const auto& row : table1) {
     std::uint8_t req[4] = {};
-    const std::size_t n = encode_request(row.id, req, 0x2C, 0x96).value();
+    const std::size_t n = encode_request(row.id, 0x2C, 0x96, req).value();
     for (std::size_t byte = 0; byte < n; ++byte) {
       for (unsigned bit = 0; bit < 8; ++bit) {
         std::uint8_t bad[4] = {req[0], req[1], req[2], req[3]};

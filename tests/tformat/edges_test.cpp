@@ -67,7 +67,7 @@ TEST_CASE("receiver: bytes that are not the awaited echo are parsed as the respo
   opt.echo_mode = echo::expected;
   receiver rx(opt);
   std::uint8_t req[4] = {};
-  const std::size_t n = encode_request(data_id::eeprom_read, req, 5).value();
+  const std::size_t n = encode_request(data_id::eeprom_read, 5, 0, req).value();
   rx.sent(byte_view(req, n));
   // no echo on the line: the response comes straight away; its first two bytes equal the
   // request's (CF, ADF), the third does not

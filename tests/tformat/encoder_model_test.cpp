@@ -28,7 +28,7 @@ struct master {
   decode_result<response> ask(data_id id, std::uint8_t address = 0, std::uint8_t data = 0,
                               std::uint32_t advance_us = 100) {
     std::uint8_t req[4] = {};
-    const std::size_t n = encode_request(id, req, address, data).value();
+    const std::size_t n = encode_request(id, address, data, req).value();
     now += advance_us;
     const reply rep = enc.respond(byte_view(req, n), now);
     return decode_response_for(byte_view(req, n), rep.view());
@@ -55,7 +55,7 @@ TEST_CASE("abnormal requests: no reply on a bad sync code, ID3 data otherwise") 
   CHECK(d->abs == 1000);
 
   const std::uint8_t id0[] = {0x02};
-  r = enc.respond(id0, 0, true);  // the UART saw a bad delimiter
+  r = enc.respond(id0, 0, request_line::delimiter_error);  // the UART saw a bad delimiter
   d = decode_response(r.view());
   CHECK(d->id == data_id::read_all);
   CHECK(d->ca1());
@@ -68,7 +68,7 @@ TEST_CASE("abnormal requests: no reply on a bad sync code, ID3 data otherwise") 
   CHECK(!d->ca1());
 
   std::uint8_t eeprom[3] = {};
-  (void)encode_request(data_id::eeprom_read, eeprom, 3);
+  (void)encode_request(data_id::eeprom_read, 3, 0, eeprom);
   eeprom[2] ^= 0x01;  // bad CRC
   CHECK(decode_response(enc.respond(eeprom, 0).view())->id == data_id::read_all);
   CHECK(decode_response(enc.respond(byte_view(eeprom, 2), 0).view())->id == data_id::read_all);

@@ -148,7 +148,7 @@ TEST_CASE("line: requests encoded and decoded at the encoder side") {
   for (data_id id : {data_id::read_abs, data_id::read_all, data_id::eeprom_write,
                      data_id::eeprom_read, data_id::reset_multi_turn}) {
     std::uint8_t req[4] = {};
-    const std::size_t n = encode_request(id, req, 77, 0x3C).value();
+    const std::size_t n = encode_request(id, 77, 0x3C, req).value();
     std::uint32_t words[3] = {};
     const auto bits =
         encode_line(byte_view(req, n), span<std::uint32_t>(words, 3), bit_order::msb_first, 0, 13);
@@ -199,7 +199,7 @@ TEST_CASE("receiver: byte by byte and in chunks, lengths from the CF") {
 
 TEST_CASE("receiver: echo skipped, garbage dropped, no valid frame lost after a bad one") {
   std::uint8_t req[4] = {};
-  const std::size_t n = encode_request(data_id::eeprom_write, req, 4, 0x99).value();
+  const std::size_t n = encode_request(data_id::eeprom_write, 4, 0x99, req).value();
   const auto resp = with_crc({0x32, 0x04, 0x99});
 
   // The adapter echoes the request (identical bytes to the response!), then the response.

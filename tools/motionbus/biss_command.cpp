@@ -182,7 +182,7 @@ cli::outcome encode_csd(const cli::options& opts) {
   std::vector<std::uint8_t> words(
       (bs::encoded_bits(mb::span<const bs::slave_layout>(&layout, 1), line) + 7U) / 8U + 1U, 0);
   const auto n =
-      bs::encode_frame(mb::span<std::uint8_t>(words.data(), words.size()), layout, v, line);
+      bs::encode_frame(layout, v, mb::span<std::uint8_t>(words.data(), words.size()), line);
   if (!n) {
     return cli::outcome::failure(mb::to_string(n.error()));
   }

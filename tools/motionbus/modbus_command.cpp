@@ -228,10 +228,7 @@ std::vector<std::uint8_t> build_request(const cli::options& opts, std::string& e
     case 0x01:
     case 0x02:
     case 0x03:
-    case 0x04:
-      n = mo::encode_read(static_cast<mo::function_code>(fc), address,
-                          option16(opts, "quantity", 1), pdu);
-      break;
+    case 0x04: n = mo::encode_read(fc, address, option16(opts, "quantity", 1), pdu); break;
     case 0x05:
       n = mo::encode_write_single_coil(address, !values.empty() && values[0] != 0, pdu);
       break;

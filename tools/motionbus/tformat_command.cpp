@@ -157,8 +157,8 @@ cli::outcome encode_request(const cli::options& opts) {
   }
   std::uint8_t out[tf::max_request_size] = {};
   const auto n =
-      tf::encode_request(static_cast<tf::data_id>(*id), out, static_cast<std::uint8_t>(address),
-                         static_cast<std::uint8_t>(data));
+      tf::encode_request(static_cast<tf::data_id>(*id), static_cast<std::uint8_t>(address),
+                         static_cast<std::uint8_t>(data), out);
   if (!n) {
     return cli::outcome::failure(mb::to_string(n.error()));
   }
@@ -232,9 +232,10 @@ int read_encoder(const cli::options& opts) {
     throw cli::usage_error{"--id <hex digit> is required"};
   }
   std::uint8_t request[tf::max_request_size] = {};
-  const auto n = tf::encode_request(static_cast<tf::data_id>(*id), request,
-                                    static_cast<std::uint8_t>(option_uint(opts, "address", 0, 127)),
-                                    static_cast<std::uint8_t>(option_uint(opts, "data", 0, 255)));
+  const auto n =
+      tf::encode_request(static_cast<tf::data_id>(*id),
+                         static_cast<std::uint8_t>(option_uint(opts, "address", 0, 127)),
+                         static_cast<std::uint8_t>(option_uint(opts, "data", 0, 255)), request);
   if (!n) {
     cli::print(cli::outcome::failure(mb::to_string(n.error())));
     return 1;

@@ -296,8 +296,8 @@ constexpr std::size_t encoded_bits(span<const slave_layout> chain,
 /// invalid_argument (empty or mismatched chain/values, Ack length 0), biss_layout,
 /// out_of_range, buffer_too_small.
 template <crc_table_size Table = default_crc_table, class Word>
-constexpr result<std::size_t> encode_frame(span<Word> out, span<const slave_layout> chain,
-                                           span<const slave_values> values,
+constexpr result<std::size_t> encode_frame(span<const slave_layout> chain,
+                                           span<const slave_values> values, span<Word> out,
                                            const line_options& line = {},
                                            bit_order order = bit_order::msb_first,
                                            std::size_t bit_offset = 0) noexcept {
@@ -358,13 +358,13 @@ constexpr result<std::size_t> encode_frame(span<Word> out, span<const slave_layo
 
 /// Single-slave form.
 template <crc_table_size Table = default_crc_table, class Word>
-constexpr result<std::size_t> encode_frame(span<Word> out, const slave_layout& layout,
-                                           const slave_values& values,
-                                           const line_options& line = {},
+constexpr result<std::size_t> encode_frame(const slave_layout& layout, const slave_values& values,
+                                           span<Word> out, const line_options& line = {},
                                            bit_order order = bit_order::msb_first,
                                            std::size_t bit_offset = 0) noexcept {
-  return encode_frame<Table, Word>(out, span<const slave_layout>(&layout, 1),
-                                   span<const slave_values>(&values, 1), line, order, bit_offset);
+  return encode_frame<Table, Word>(span<const slave_layout>(&layout, 1),
+                                   span<const slave_values>(&values, 1), out, line, order,
+                                   bit_offset);
 }
 
 }  // namespace biss

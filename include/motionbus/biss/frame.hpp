@@ -47,11 +47,15 @@ struct crc_format {
   }
 };
 
+/// How a CRC goes on the wire: inverted (the BiSS default) or as computed.
+enum class crc_output : std::uint8_t { inverted = 0, plain = 1 };
+
 /// A crc_format from the BiSS notation, which includes the x^width term (0x43 = x^6 + x + 1;
 /// 0x13 = x^4 + x + 1; 0x25 = x^5 + x^2 + 1; 0x97 = x^7 + x^4 + x^2 + x + 1): the width is the
 /// position of the highest set bit. 0 or 1 gives width 0 (no CRC).
 constexpr crc_format crc_from_biss_notation(std::uint32_t poly, std::uint32_t start = 0,
-                                            bool inverted = true) noexcept {
+                                            crc_output output = crc_output::inverted) noexcept {
+  const bool inverted = output == crc_output::inverted;
   unsigned width = 0;
   for (unsigned b = 31; b > 0; --b) {
     if (((poly >> b) & 1U) != 0U) {
@@ -66,7 +70,7 @@ constexpr crc_format crc_from_biss_notation(std::uint32_t poly, std::uint32_t st
 /// A polynomial as stored in a BiSS electronic data sheet: bits (n:1) of the BiSS notation, the
 /// x^0 term implied (CPOLY 0x21 is 0x43).
 constexpr crc_format crc_from_eds(std::uint32_t cpoly, std::uint32_t start = 0) noexcept {
-  return crc_from_biss_notation((cpoly << 1U) | 1U, start, true);
+  return crc_from_biss_notation((cpoly << 1U) | 1U, start);
 }
 
 /// The CRC6 of BiSS sensor data (x^6 + x + 1, start 0, inverted): AMO ABSYS and most encoders.

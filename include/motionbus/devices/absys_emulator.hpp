@@ -42,6 +42,13 @@ struct emulator_config {
   std::uint8_t device_id[8] = {'X', 'X', 0x00, 0x11, 0xF5, 0x8E, '0', '1'};
 };
 
+/// The sensor error the emulator reports (nE active).
+enum class sensor_error : std::uint8_t {
+  none = 0,
+  in_operation = 1,  ///< clears when set_error(sensor_error::none) says it has gone
+  at_power_on = 2,   ///< stays until the emulator is built again (a power cycle)
+};
+
 class emulator {
  public:
   constexpr explicit emulator(const emulator_config& cfg = {}) noexcept
@@ -58,13 +65,14 @@ class emulator {
   /// Sets the measured (absolute) position.
   constexpr void set_position(std::uint32_t p) noexcept { position_ = p; }
   constexpr std::uint32_t absolute_position() const noexcept { return position_; }
-  /// Sets the sensor error condition (lost synchronisation, bad absolute reading). Latched in
-  /// the error status register; `at_power_on` makes nE stay active until power cycles (§1).
-  constexpr void set_error(bool active, bool at_power_on = false) noexcept {
-    error_ = active;
-    if (active) {
+  /// Sets the sensor error condition (lost synchronisation, bad absolute reading), latched in
+  /// the error status register. An error at power-on keeps nE active until power cycles; one
+  /// in operation clears when synchronisation comes back (ABSYS document, Figure 1 notes).
+  constexpr void set_error(sensor_error e) noexcept {
+    error_ = e != sensor_error::none;
+    if (error_) {
       status_ |= status_error;
-      power_on_error_ = power_on_error_ || at_power_on;
+      power_on_error_ = power_on_error_ || e == sensor_error::at_power_on;
     }
   }
   constexpr void set_functional_reserve(std::uint8_t value, std::uint8_t indicator) noexcept {
@@ -105,7 +113,7 @@ class emulator {
     line.idle_bits = idle_bits;
     line.ack_bits = ack_bits;
     line.cds = cds_;
-    return biss::encode_frame(out, layout, values(), line);
+    return biss::encode_frame(layout, values(), out, line);
   }
   /// The CDS bit the next frame carries.
   constexpr bool cds() const noexcept { return cds_; }

@@ -75,8 +75,8 @@ constexpr errc add_step(plan<N>& p, tformat::data_id id, std::uint32_t wait_us,
     return errc::buffer_too_small;
   }
   plan_step& s = p.steps[p.size];
-  const auto n = tformat::encode_request(
-      id, mutable_byte_view(s.request, tformat::max_request_size), address, data);
+  const auto n = tformat::encode_request(id, address, data,
+                                         mutable_byte_view(s.request, tformat::max_request_size));
   if (!n) {
     return n.error();
   }

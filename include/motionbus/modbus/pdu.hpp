@@ -30,25 +30,27 @@ namespace modbus {
 
 inline constexpr std::size_t max_pdu_size = 253;
 
-/// Function codes (Modbus App. Protocol §6).
-enum class function_code : std::uint8_t {
-  read_coils = 0x01,
-  read_discrete_inputs = 0x02,
-  read_holding_registers = 0x03,
-  read_input_registers = 0x04,
-  write_single_coil = 0x05,
-  write_single_register = 0x06,
-  read_exception_status = 0x07,
-  diagnostics = 0x08,
-  get_comm_event_counter = 0x0B,
-  get_comm_event_log = 0x0C,
-  write_multiple_coils = 0x0F,
-  write_multiple_registers = 0x10,
-  report_server_id = 0x11,
-  mask_write_register = 0x16,
-  read_write_multiple_registers = 0x17,
-  read_fifo_queue = 0x18,
-  encapsulated_interface = 0x2B,
+/// Function codes (Application Protocol §6): `function_code::read_holding_registers` is the
+/// byte 0x03. Every function code a codec takes or returns is a std::uint8_t (any byte can
+/// arrive on the wire, and a server answers the ones it does not know); these name them.
+struct function_code {
+  static constexpr std::uint8_t read_coils = 0x01;
+  static constexpr std::uint8_t read_discrete_inputs = 0x02;
+  static constexpr std::uint8_t read_holding_registers = 0x03;
+  static constexpr std::uint8_t read_input_registers = 0x04;
+  static constexpr std::uint8_t write_single_coil = 0x05;
+  static constexpr std::uint8_t write_single_register = 0x06;
+  static constexpr std::uint8_t read_exception_status = 0x07;
+  static constexpr std::uint8_t diagnostics = 0x08;
+  static constexpr std::uint8_t get_comm_event_counter = 0x0B;
+  static constexpr std::uint8_t get_comm_event_log = 0x0C;
+  static constexpr std::uint8_t write_multiple_coils = 0x0F;
+  static constexpr std::uint8_t write_multiple_registers = 0x10;
+  static constexpr std::uint8_t report_server_id = 0x11;
+  static constexpr std::uint8_t mask_write_register = 0x16;
+  static constexpr std::uint8_t read_write_multiple_registers = 0x17;
+  static constexpr std::uint8_t read_fifo_queue = 0x18;
+  static constexpr std::uint8_t encapsulated_interface = 0x2B;
 };
 
 /// Exception codes as sent on the wire (§7). Unknown codes pass through unchanged.

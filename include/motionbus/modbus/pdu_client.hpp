@@ -22,9 +22,9 @@ namespace modbus {
 
 /// FC01/02/03/04: read `quantity` bits or registers from `address`. Errors: invalid_argument
 /// (not a read function), modbus_quantity, modbus_address_overflow, buffer_too_small.
-constexpr result<std::size_t> encode_read(function_code fc, std::uint16_t address,
+constexpr result<std::size_t> encode_read(std::uint8_t function, std::uint16_t address,
                                           std::uint16_t quantity, mutable_byte_view out) noexcept {
-  const auto f = static_cast<std::uint8_t>(fc);
+  const std::uint8_t f = function;
   if (!detail::is_read_bits(f) && !detail::is_read_registers(f)) {
     return errc::invalid_argument;
   }
@@ -38,16 +38,15 @@ constexpr result<std::size_t> encode_read(function_code fc, std::uint16_t addres
 /// FC05: one coil on (0xFF00) or off (0x0000).
 constexpr result<std::size_t> encode_write_single_coil(std::uint16_t address, bool on,
                                                        mutable_byte_view out) noexcept {
-  return detail::encode_words(static_cast<std::uint8_t>(function_code::write_single_coil),
-                              {address, on ? coil_on : coil_off}, out);
+  return detail::encode_words(function_code::write_single_coil, {address, on ? coil_on : coil_off},
+                              out);
 }
 
 /// FC06: one holding register.
 constexpr result<std::size_t> encode_write_single_register(std::uint16_t address,
                                                            std::uint16_t value,
                                                            mutable_byte_view out) noexcept {
-  return detail::encode_words(static_cast<std::uint8_t>(function_code::write_single_register),
-                              {address, value}, out);
+  return detail::encode_words(function_code::write_single_register, {address, value}, out);
 }
 
 /// FC0F: `quantity` coils from `packed` (LSB of the first byte first; unused high bits of the
@@ -69,7 +68,7 @@ constexpr result<std::size_t> encode_write_multiple_coils(std::uint16_t address,
   if (out.size() < 6U + n) {
     return errc::buffer_too_small;
   }
-  out[0] = static_cast<std::uint8_t>(function_code::write_multiple_coils);
+  out[0] = function_code::write_multiple_coils;
   store_be16(out, 1, address);
   store_be16(out, 3, quantity);
   out[5] = static_cast<std::uint8_t>(n);
@@ -91,7 +90,7 @@ constexpr result<std::size_t> encode_write_multiple_registers(std::uint16_t addr
   if (out.size() < 6U + 2U * values.size()) {
     return errc::buffer_too_small;
   }
-  out[0] = static_cast<std::uint8_t>(function_code::write_multiple_registers);
+  out[0] = function_code::write_multiple_registers;
   store_be16(out, 1, address);
   store_be16(out, 3, q);
   out[5] = static_cast<std::uint8_t>(2U * q);
@@ -104,8 +103,8 @@ constexpr result<std::size_t> encode_mask_write_register(std::uint16_t address,
                                                          std::uint16_t and_mask,
                                                          std::uint16_t or_mask,
                                                          mutable_byte_view out) noexcept {
-  return detail::encode_words(static_cast<std::uint8_t>(function_code::mask_write_register),
-                              {address, and_mask, or_mask}, out);
+  return detail::encode_words(function_code::mask_write_register, {address, and_mask, or_mask},
+                              out);
 }
 
 /// FC17: write `values` at `write_address`, then read `read_quantity` registers from
@@ -127,7 +126,7 @@ constexpr result<std::size_t> encode_read_write_multiple_registers(std::uint16_t
   if (out.size() < 10U + 2U * values.size()) {
     return errc::buffer_too_small;
   }
-  out[0] = static_cast<std::uint8_t>(function_code::read_write_multiple_registers);
+  out[0] = function_code::read_write_multiple_registers;
   store_be16(out, 1, read_address);
   store_be16(out, 3, read_quantity);
   store_be16(out, 5, write_address);
@@ -175,7 +174,7 @@ constexpr result<std::size_t> encode_diagnostics(std::uint16_t sub_function, byt
   if (out.size() < 3U + data.size()) {
     return errc::buffer_too_small;
   }
-  out[0] = static_cast<std::uint8_t>(function_code::diagnostics);
+  out[0] = function_code::diagnostics;
   store_be16(out, 1, sub_function);
   for (std::size_t i = 0; i < data.size(); ++i) {
     out[3U + i] = data[i];
@@ -189,7 +188,7 @@ constexpr result<std::size_t> encode_read_fifo_queue(std::uint16_t address,
   if (out.size() < 3U) {
     return errc::buffer_too_small;
   }
-  out[0] = static_cast<std::uint8_t>(function_code::read_fifo_queue);
+  out[0] = function_code::read_fifo_queue;
   store_be16(out, 1, address);
   return std::size_t{3};
 }
@@ -205,7 +204,7 @@ constexpr result<std::size_t> encode_read_device_identification(std::uint8_t rea
   if (out.size() < 4U) {
     return errc::buffer_too_small;
   }
-  out[0] = static_cast<std::uint8_t>(function_code::encapsulated_interface);
+  out[0] = function_code::encapsulated_interface;
   out[1] = mei_read_device_identification;
   out[2] = read_code;
   out[3] = object_id;
@@ -278,9 +277,9 @@ constexpr bool response_head(byte_view pdu, std::uint8_t function, response& r, 
 /// vs bytes present), reserved_bits (unused high bits of the last bit byte set).
 /// Links only what a client of these functions needs (decode_response handles every function
 /// from the request bytes).
-constexpr decode_result<response> decode_read_response(byte_view pdu, function_code function,
+constexpr decode_result<response> decode_read_response(byte_view pdu, std::uint8_t function,
                                                        std::uint16_t quantity) noexcept {
-  const auto f = static_cast<std::uint8_t>(function);
+  const std::uint8_t f = function;
   const std::size_t n = pdu.size();
   if (!detail::is_read_bits(f) && !detail::is_read_registers(f) && f != 0x17U) {
     return decode_failure{errc::invalid_argument, n};
@@ -319,10 +318,10 @@ constexpr decode_result<response> decode_read_response(byte_view pdu, function_c
 /// with r.exception set. Failed (consumed = PDU size): modbus_pdu_length, invalid_argument
 /// (`function` is not one of these), modbus_mismatch (another function, or an echo that
 /// differs), truncated, modbus_byte_count (not 5 bytes).
-constexpr decode_result<response> decode_write_response(byte_view pdu, function_code function,
+constexpr decode_result<response> decode_write_response(byte_view pdu, std::uint8_t function,
                                                         std::uint16_t address,
                                                         std::uint16_t second) noexcept {
-  const auto f = static_cast<std::uint8_t>(function);
+  const std::uint8_t f = function;
   const std::size_t n = pdu.size();
   if (f != 0x05U && f != 0x06U && f != 0x0FU && f != 0x10U) {
     return decode_failure{errc::invalid_argument, n};
@@ -513,12 +512,11 @@ constexpr decode_result<response> decode_response(
   const request& q = dq.value();
   const std::uint8_t f = q.function;
   if (detail::is_read_bits(f) || detail::is_read_registers(f) || f == 0x17U) {
-    return decode_read_response(pdu, static_cast<function_code>(f), q.quantity);
+    return decode_read_response(pdu, f, q.quantity);
   }
   if (f == 0x05U || f == 0x06U || f == 0x0FU || f == 0x10U) {
     const bool single = f == 0x05U || f == 0x06U;
-    return decode_write_response(pdu, static_cast<function_code>(f), q.address,
-                                 single ? q.value : q.quantity);
+    return decode_write_response(pdu, f, q.address, single ? q.value : q.quantity);
   }
   response r;
   errc e = errc::ok;

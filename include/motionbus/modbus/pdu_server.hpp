@@ -92,7 +92,7 @@ constexpr result<std::size_t> encode_exception_status_response(std::uint8_t stat
   if (out.size() < 2U) {
     return errc::buffer_too_small;
   }
-  out[0] = static_cast<std::uint8_t>(function_code::read_exception_status);
+  out[0] = function_code::read_exception_status;
   out[1] = status;
   return std::size_t{2};
 }
@@ -101,8 +101,7 @@ constexpr result<std::size_t> encode_exception_status_response(std::uint8_t stat
 constexpr result<std::size_t> encode_comm_event_counter_response(std::uint16_t status,
                                                                  std::uint16_t event_count,
                                                                  mutable_byte_view out) noexcept {
-  return detail::encode_words(static_cast<std::uint8_t>(function_code::get_comm_event_counter),
-                              {status, event_count}, out);
+  return detail::encode_words(function_code::get_comm_event_counter, {status, event_count}, out);
 }
 
 /// FC0C response: status, event count, message count and 0..64 event bytes.
@@ -117,7 +116,7 @@ constexpr result<std::size_t> encode_comm_event_log_response(std::uint16_t statu
   if (out.size() < 8U + events.size()) {
     return errc::buffer_too_small;
   }
-  out[0] = static_cast<std::uint8_t>(function_code::get_comm_event_log);
+  out[0] = function_code::get_comm_event_log;
   out[1] = static_cast<std::uint8_t>(6U + events.size());
   store_be16(out, 2, status);
   store_be16(out, 4, event_count);
@@ -137,7 +136,7 @@ constexpr result<std::size_t> encode_fifo_response(span<const std::uint16_t> val
   if (out.size() < 5U + 2U * values.size()) {
     return errc::buffer_too_small;
   }
-  out[0] = static_cast<std::uint8_t>(function_code::read_fifo_queue);
+  out[0] = function_code::read_fifo_queue;
   store_be16(out, 1, static_cast<std::uint16_t>(2U + 2U * values.size()));
   store_be16(out, 3, static_cast<std::uint16_t>(values.size()));
   detail::put_registers(out, 5, values);
@@ -160,7 +159,7 @@ constexpr result<std::size_t> encode_device_identification_response(
   if (out.size() < 7U + objects.size()) {
     return errc::buffer_too_small;
   }
-  out[0] = static_cast<std::uint8_t>(function_code::encapsulated_interface);
+  out[0] = function_code::encapsulated_interface;
   out[1] = mei_read_device_identification;
   out[2] = read_code;
   out[3] = conformity;

@@ -83,12 +83,13 @@ constexpr errc check_cf(std::uint8_t cf) noexcept {
 // ---------------------------------------------------------------------------------------------
 // Master side
 
-/// Writes the request for `id` into `out`: CF for IDs 0,1,2,3,7,8,C; CF ADF CRC for IDD;
-/// CF ADF EDF CRC for ID6. Returns the bytes written. Errors: tformat_unknown_data_id,
-/// out_of_range (address above 127), buffer_too_small. Nothing is written on error.
-constexpr result<std::size_t> encode_request(data_id id, mutable_byte_view out,
-                                             std::uint8_t address = 0,
-                                             std::uint8_t data = 0) noexcept {
+/// Writes the request for `id` into `out`: CF for IDs 0,1,2,3,7,8,C; CF ADF CRC for IDD (the
+/// EEPROM `address`); CF ADF EDF CRC for ID6 (`data` written at `address`). `address` and
+/// `data` are not sent where the Data ID has no such field. Returns the bytes written.
+/// Errors: tformat_unknown_data_id, out_of_range (address above 127), buffer_too_small.
+/// Nothing is written on error. Arguments as everywhere in the library: input, output, options.
+constexpr result<std::size_t> encode_request(data_id id, std::uint8_t address, std::uint8_t data,
+                                             mutable_byte_view out) noexcept {
   if (!is_known(id)) {
     return errc::tformat_unknown_data_id;
   }
@@ -113,6 +114,11 @@ constexpr result<std::size_t> encode_request(data_id id, mutable_byte_view out,
     out[n - 1U] = crc;
   }
   return n;
+}
+
+/// The request for a Data ID without fields (0, 1, 2, 3, 7, 8, C): its CF.
+constexpr result<std::size_t> encode_request(data_id id, mutable_byte_view out) noexcept {
+  return encode_request(id, 0, 0, out);
 }
 
 namespace detail {

@@ -57,6 +57,12 @@ inline constexpr std::uint8_t latched_alarms = 0x01 | 0x04 | 0x08 | 0x10 | 0x20 
 inline constexpr std::uint8_t default_enid = 0x11;
 inline constexpr std::uint8_t default_overheat_threshold = 0xDA;
 
+/// What the UART or line decoder saw of a request's delimiter (stop) bits.
+enum class request_line : std::uint8_t {
+  ok = 0,
+  delimiter_error = 1,  ///< a bad delimiter: the encoder answers with ID3 data, ca1 set
+};
+
 class encoder_model {
  public:
   struct config {
@@ -138,14 +144,14 @@ class encoder_model {
 
   // --- the protocol --------------------------------------------------------------------------
   /// The reply to a received request frame (`frame`: the bytes up to the line's idle) at time
-  /// `now_us` (a free-running microsecond clock; wrap-around is handled). `delimiter_error`:
-  /// the UART or line decoder saw a bad delimiter (stop) bit in the request.
+  /// `now_us` (a free-running microsecond clock; wrap-around is handled). `line`: what the
+  /// UART or line decoder saw of the request's delimiter (stop) bits.
   constexpr reply respond(byte_view frame, std::uint32_t now_us,
-                          bool delimiter_error = false) noexcept {
+                          request_line line = request_line::ok) noexcept {
     if (frame.empty() || !sync_ok(frame[0])) {
       return reply{};  // bad sync code: no reply (spec §8.4 No.1)
     }
-    if (delimiter_error) {
+    if (line == request_line::delimiter_error) {
       return abnormal(false, true);
     }
     const decode_result<request> d = decode_request(frame);

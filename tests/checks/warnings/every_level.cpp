@@ -39,8 +39,8 @@ std::size_t modbus_round(const std::uint16_t* values, std::size_t count) {
 
 std::size_t tformat_round(std::uint8_t id) {
   std::uint8_t req[mb::tformat::max_request_size] = {};
-  const auto n = mb::tformat::encode_request(static_cast<mb::tformat::data_id>(id & 0xFU), req, id,
-                                             static_cast<std::uint8_t>(~id));
+  const auto n = mb::tformat::encode_request(static_cast<mb::tformat::data_id>(id & 0xFU), id,
+                                             static_cast<std::uint8_t>(~id), req);
   mb::tformat::encoder_model enc;
   const auto rep = enc.respond(mb::byte_view(req, n.value_or(0)), id);
   return rep.size + req[1];
