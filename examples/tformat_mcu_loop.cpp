@@ -1,6 +1,7 @@
 // The shape of T-format in servo-drive firmware: every control cycle, send ID0 and decode the
 // answer in the UART receive interrupt. No heap, no exceptions; the "UART" here is the
 // encoder model, so the loop runs on a host too.
+#include <motionbus/devices/ts5700n8500_emulator.hpp>
 #include <motionbus/tformat.hpp>
 
 #include <cstdint>
@@ -12,12 +13,13 @@ namespace tf = motionbus::tformat;
 namespace {
 
 // --- what the firmware provides ---------------------------------------------------------------
-tf::encoder_model simulated_encoder;  // stands in for the RS-485 line
+motionbus::devices::ts5700n8500::emulator simulated_encoder;  // stands in for the RS-485 line
 std::uint8_t rx_fifo[16];
 std::size_t rx_fifo_size = 0;
 
 void uart_send(const std::uint8_t* data, std::size_t size, std::uint32_t now_us) {
-  const tf::reply r = simulated_encoder.respond(mb::byte_view(data, size), now_us);
+  const motionbus::devices::ts5700n8500::reply r =
+      simulated_encoder.respond(mb::byte_view(data, size), now_us);
   for (std::size_t i = 0; i < r.size; ++i) {
     rx_fifo[rx_fifo_size++] = r.bytes[i];
   }

@@ -1,8 +1,8 @@
 // T-format request decoder and the encoder model (encoder side). Oracles: a complete request
 // re-encodes to exactly the bytes consumed; the model's reply to any input is either silence
 // (only for a bad sync code) or a response the master decodes without error.
+#include <motionbus/devices/ts5700n8500_emulator.hpp>
 #include <motionbus/tformat/codec.hpp>
-#include <motionbus/tformat/encoder_model.hpp>
 
 #include "../fuzz_check.hpp"
 
@@ -25,7 +25,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   }
 
   // Drive the model with the input as a sequence of frames: byte 0 of each chunk is its length.
-  tf::encoder_model enc;
+  motionbus::devices::ts5700n8500::emulator enc;
   std::uint32_t now = 0;
   std::size_t at = 0;
   while (at < size) {
@@ -35,8 +35,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const mb::byte_view frame(data + at, take);
     const bool delimiter_error = take > 0 && (data[at] & 0x40U) != 0 && (data[at] & 0x20U) != 0;
     now += 37U * static_cast<std::uint32_t>(take + 1U) * 100U;
-    const tf::reply r = enc.respond(
-        frame, now, delimiter_error ? tf::request_line::delimiter_error : tf::request_line::ok);
+    const motionbus::devices::ts5700n8500::reply r =
+        enc.respond(frame, now,
+                    delimiter_error ? motionbus::devices::ts5700n8500::request_line::delimiter_error
+                                    : motionbus::devices::ts5700n8500::request_line::ok);
     if (take == 0 || !tf::sync_ok(frame[0])) {
       MOTIONBUS_FUZZ_CHECK(r.size == 0);
     } else {

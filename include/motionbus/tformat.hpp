@@ -1,10 +1,9 @@
 // motionbus — T-format: frames, byte codec (master and encoder side), line coding, stream
-// receiver, encoder model.
+// receiver. The TS5700N8500 emulator is in devices/ts5700n8500_emulator.hpp.
 #ifndef MOTIONBUS_TFORMAT_HPP
 #define MOTIONBUS_TFORMAT_HPP
 
 #include "motionbus/tformat/codec.hpp"
-#include "motionbus/tformat/encoder_model.hpp"
 #include "motionbus/tformat/frame.hpp"
 #include "motionbus/tformat/line.hpp"
 #include "motionbus/tformat/receiver.hpp"

@@ -15,6 +15,7 @@
 #include <thread>
 #include <vector>
 
+#include "motionbus/devices/ts5700n8500_emulator.hpp"
 #include "motionbus/tformat.hpp"
 #include "run_cli.hpp"
 
@@ -200,7 +201,7 @@ TEST_CASE("read tformat: one transaction with an encoder on a pseudo-terminal") 
   pty_pair pty;
   std::atomic<bool> done{false};
   std::thread encoder([&] {
-    tf::encoder_model enc;
+    motionbus::devices::ts5700n8500::emulator enc;
     enc.set_position(0x1ABCD, 42);
     enc.set_condition(tf::almc_bit::ba, true);
     std::uint8_t frame[8] = {};
@@ -214,7 +215,7 @@ TEST_CASE("read tformat: one transaction with an encoder on a pseudo-terminal") 
       if (tf::decode_request(mb::byte_view(frame, size)).is_incomplete() && size < 4) {
         continue;
       }
-      const tf::reply r = enc.respond(mb::byte_view(frame, size), 0);
+      const motionbus::devices::ts5700n8500::reply r = enc.respond(mb::byte_view(frame, size), 0);
       size = 0;
       if (write(pty.master, r.bytes, r.size) != static_cast<ssize_t>(r.size)) {
         break;

@@ -3,15 +3,15 @@
 // checks with nm that each lands in .bss (zero-initialised, no flash copied to RAM at boot),
 // none in .data.
 #include <motionbus/biss/control.hpp>
+#include <motionbus/devices/ts5700n8500_emulator.hpp>
 #include <motionbus/modbus/framer.hpp>
-#include <motionbus/tformat/encoder_model.hpp>
 #include <motionbus/tformat/receiver.hpp>
 
 namespace mb = motionbus;
 
 mb::modbus::rtu_framer static_rtu_framer;
 mb::tformat::receiver static_receiver;
-mb::tformat::encoder_model static_encoder_model;
+motionbus::devices::ts5700n8500::emulator static_encoder_model;
 mb::biss::control_master static_control_master;
 
 extern "C" unsigned probe_entry(const unsigned char* in, unsigned n) {

@@ -7,13 +7,13 @@
 
 #include <motionbus/biss/codec.hpp>
 #include <motionbus/biss/control.hpp>
+#include <motionbus/devices/ts5700n8500_emulator.hpp>
 #include <motionbus/modbus/framer.hpp>
 #include <motionbus/modbus/pdu_client.hpp>
 #include <motionbus/modbus/pdu_server.hpp>
 #include <motionbus/modbus/rtu.hpp>
 #include <motionbus/modbus/server.hpp>
 #include <motionbus/tformat/codec.hpp>
-#include <motionbus/tformat/encoder_model.hpp>
 #include <motionbus/tformat/line.hpp>
 #include <motionbus/tformat/receiver.hpp>
 
@@ -81,8 +81,8 @@ void put_bytes(mb::byte_view b) {
 
 // --- T-format ---------------------------------------------------------------------------------
 tf::receiver rx;
-tf::encoder_model encoder;
-tf::reply encoder_reply;
+motionbus::devices::ts5700n8500::emulator encoder;
+motionbus::devices::ts5700n8500::reply encoder_reply;
 
 // --- Modbus -------------------------------------------------------------------------------------
 md::rtu_framer framer({md::framer_role::server, 1});
@@ -200,7 +200,7 @@ METER_OP void op_report_line() {
   }
 }
 METER_OP void op_tformat_encoder_setup(unsigned single_turn, unsigned turns) {
-  encoder = tf::encoder_model();
+  encoder = motionbus::devices::ts5700n8500::emulator();
   encoder.set_position(single_turn, turns);
 }
 METER_OP void op_tformat_encoder_respond(unsigned now_us) {

@@ -2,6 +2,7 @@
 #include <cstdint>
 
 #include "motionbus/devices/ts5700n8500.hpp"
+#include "motionbus/devices/ts5700n8500_emulator.hpp"
 #include "motionbus/tformat.hpp"
 
 namespace mb = motionbus;
@@ -75,10 +76,10 @@ static_assert(eeprom_round_trip(), "ID6 request");
 
 // The encoder model answers a request inside a constant expression.
 constexpr bool model_answers() {
-  tf::encoder_model enc;
+  motionbus::devices::ts5700n8500::emulator enc;
   enc.set_position(42, 1);
   const std::uint8_t req[] = {0x02};
-  const tf::reply r = enc.respond(req, 0);
+  const motionbus::devices::ts5700n8500::reply r = enc.respond(req, 0);
   const auto d = tf::decode_response(r.view());
   return r.size == 6 && d.is_complete() && d.value().abs == 42;
 }

@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "../support/prng.hpp"
-#include "motionbus/tformat/encoder_model.hpp"
+#include "motionbus/devices/ts5700n8500_emulator.hpp"
 
 using namespace motionbus;
 using namespace motionbus::tformat;
@@ -329,7 +329,7 @@ TEST_CASE("encode_response (encoder side) matches spec layouts and refuses bad v
 }
 
 TEST_CASE("round trip: master request -> encoder model -> master decode, every Data ID") {
-  encoder_model enc;
+  devices::ts5700n8500::emulator enc;
   enc.set_position(0x1ABCD, 0x4321);
   enc.set_condition(almc_bit::ba, true);
   std::uint32_t now = 1000;
@@ -342,7 +342,7 @@ TEST_CASE("round trip: master request -> encoder model -> master decode, every D
       now += 100000;
     }
     const std::size_t n = encode_request(row.id, 3, 0x5A, req).value();
-    const reply rep = enc.respond(byte_view(req, n), now);
+    const devices::ts5700n8500::reply rep = enc.respond(byte_view(req, n), now);
     now += 100000;  // past any busy window
     REQUIRE(rep.size == layout_of(row.id).size);
     const auto r = decode_response_for(byte_view(req, n), rep.view());

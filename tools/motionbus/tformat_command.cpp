@@ -2,9 +2,10 @@
 //   decode tformat request <hex>                      encoder side: what an encoder received
 //   decode tformat response <hex> [--resolution N]    master side (ID3's ENID may select N)
 //   encode tformat request <id hex digit> [--address N] [--data N]
-//   serve tformat-encoder --device PATH [--baud N]    the encoder model on a serial line
+//   serve tformat-encoder --device PATH [--baud N]    the TS5700N8500 emulator on a serial line
 //   read tformat --device PATH --id N [--address N] [--data N] [--baud N] [--echo]
 #include <motionbus/core/errc.hpp>
+#include <motionbus/devices/ts5700n8500_emulator.hpp>
 #include <motionbus/tformat.hpp>
 
 #include <cstdint>
@@ -181,7 +182,7 @@ bool open_device(serial::port& port, const cli::options& opts) {
   return serial::open_reporting(port, *device, line_settings(opts));
 }
 
-// serve tformat-encoder: answers each request as the encoder model does. A frame ends when
+// serve tformat-encoder: answers each request as the TS5700N8500 emulator does. A frame ends when
 // its length (from the CF) is reached, or when the line is idle for 1 ms.
 int serve_encoder(const cli::options& opts) {
   serial::port port;
@@ -189,7 +190,7 @@ int serve_encoder(const cli::options& opts) {
     return 1;
   }
   serial::install_stop_handler();
-  tf::encoder_model enc;
+  motionbus::devices::ts5700n8500::emulator enc;
   const std::uint32_t start = serial::now_us();
   std::uint8_t frame[tf::max_request_size] = {};
   std::size_t size = 0;
@@ -214,7 +215,7 @@ int serve_encoder(const cli::options& opts) {
       complete = true;  // idle: end of frame
     }
     if (complete) {
-      const tf::reply r = enc.respond(mb::byte_view(frame, size), now);
+      const motionbus::devices::ts5700n8500::reply r = enc.respond(mb::byte_view(frame, size), now);
       size = 0;
       if (r.size > 0 && !port.write_all(r.bytes, r.size)) {
         std::cerr << "motionbus: write error\n";

@@ -7,10 +7,10 @@
 #include <motionbus/devices/sm_unit.hpp>
 #include <motionbus/devices/sm_unit_emulator.hpp>
 #include <motionbus/devices/ts5700n8500.hpp>
+#include <motionbus/devices/ts5700n8500_emulator.hpp>
 #include <motionbus/modbus.hpp>
 #include <motionbus/motionbus.hpp>
 #include <motionbus/tformat.hpp>
-#include <motionbus/tformat/encoder_model.hpp>
 
 #include <cstddef>
 #include <cstdint>
@@ -41,7 +41,7 @@ std::size_t tformat_round(std::uint8_t id) {
   std::uint8_t req[mb::tformat::max_request_size] = {};
   const auto n = mb::tformat::encode_request(static_cast<mb::tformat::data_id>(id & 0xFU), id,
                                              static_cast<std::uint8_t>(~id), req);
-  mb::tformat::encoder_model enc;
+  motionbus::devices::ts5700n8500::emulator enc;
   const auto rep = enc.respond(mb::byte_view(req, n.value_or(0)), id);
   return rep.size + req[1];
 }

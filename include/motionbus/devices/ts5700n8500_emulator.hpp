@@ -1,6 +1,8 @@
-// motionbus — a behavioural model of a T-format encoder, for emulators, FPGA test benches and
-// hardware-in-the-loop rigs. Give it each received request (the bytes up to the line's idle)
-// with the current time; it returns the reply the encoder would send.
+// motionbus — an emulator of the Tamagawa TS5700N8500 T-format encoder (the encoder side of the
+// line), for bench emulators, FPGA test benches and hardware-in-the-loop rigs, beside the other
+// device emulators (devices/sm_unit_emulator.hpp, devices/absys_emulator.hpp). Give it each
+// received request (the bytes up to the line's idle) with the current time; it returns the reply
+// the encoder would send.
 //
 // Modelled (TS5700N8500 specification §6.1.1, §6.3, §6.5, §7–§10; docs/tformat.md §7):
 //  - position and turns, with single-turn resolution and ENID from the config;
@@ -23,39 +25,31 @@
 // carries the ID3 control field 0x1A; reading address 127 returns the current page; a write to a
 // closed address or an invalid page number gets ID3 data; the over-heat flag is raised when
 // the temperature exceeds the threshold (threshold byte bit 7 set, °C = byte - 128).
-#ifndef MOTIONBUS_TFORMAT_ENCODER_MODEL_HPP
-#define MOTIONBUS_TFORMAT_ENCODER_MODEL_HPP
+#ifndef MOTIONBUS_DEVICES_TS5700N8500_EMULATOR_HPP
+#define MOTIONBUS_DEVICES_TS5700N8500_EMULATOR_HPP
 
 #include <cstddef>
 #include <cstdint>
 
 #include "motionbus/core/result.hpp"
 #include "motionbus/core/span.hpp"
+#include "motionbus/devices/ts5700n8500.hpp"
 #include "motionbus/tformat/codec.hpp"
 #include "motionbus/tformat/frame.hpp"
 
 namespace motionbus {
-namespace tformat {
+namespace devices {
+namespace ts5700n8500 {
 
 /// A reply frame (size 0: the encoder stays silent).
 struct reply {
-  std::uint8_t bytes[max_response_size] = {};
+  std::uint8_t bytes[tformat::max_response_size] = {};
   std::size_t size = 0;
   constexpr byte_view view() const noexcept { return byte_view(bytes, size); }
 };
 
-/// Time constants of the model (spec §6.1.1, §9.1, §10).
-inline constexpr std::uint32_t eeprom_busy_us = 18000;
-inline constexpr std::uint32_t reset_min_interval_us = 40;
-inline constexpr unsigned reset_repeat = 10;
-
 /// ALMC bits that latch until reset (CE modelled as case II, latched during power-on).
 inline constexpr std::uint8_t latched_alarms = 0x01 | 0x04 | 0x08 | 0x10 | 0x20 | 0x40;
-
-/// The encoder model's factory settings: ENID 0x11 and an over-heat threshold of 90 °C
-/// (0xDA = 90 + 128, bit 7 enabling the check).
-inline constexpr std::uint8_t default_enid = 0x11;
-inline constexpr std::uint8_t default_overheat_threshold = 0xDA;
 
 /// What the UART or line decoder saw of a request's delimiter (stop) bits.
 enum class request_line : std::uint8_t {
@@ -63,24 +57,26 @@ enum class request_line : std::uint8_t {
   delimiter_error = 1,  ///< a bad delimiter: the encoder answers with ID3 data, ca1 set
 };
 
-class encoder_model {
- public:
-  struct config {
-    resolution res{17, 16};
-    std::uint8_t enid = default_enid;
-    std::uint8_t overheat_threshold = default_overheat_threshold;  ///< factory setting: 90 °C
-  };
+/// The emulated encoder's settings: the TS5700N8500's by default (ENID 0x11, 17 + 16 bits, an
+/// over-heat threshold of 90 °C: 0xDA = 90 + 128, bit 7 enabling the check).
+struct emulator_config {
+  tformat::resolution res = ts5700n8500::resolution;
+  std::uint8_t enid = ts5700n8500::enid;
+  std::uint8_t overheat_threshold = overheat_factory;
+};
 
+class emulator {
+ public:
   /// A default-constructed model (the default config) is all zeros: its settings are stored
   /// relative to the defaults, so that a `static` one lands in .bss, not .data.
-  constexpr encoder_model() noexcept = default;
-  constexpr explicit encoder_model(config cfg) noexcept
-      : single_x_(
-            static_cast<std::uint8_t>(cfg.res.single_turn_bits ^ resolution{}.single_turn_bits)),
-        multi_x_(static_cast<std::uint8_t>(cfg.res.multi_turn_bits ^ resolution{}.multi_turn_bits)),
-        enid_x_(static_cast<std::uint8_t>(cfg.enid ^ default_enid)),
-        threshold_x_(
-            static_cast<std::uint8_t>(cfg.overheat_threshold ^ default_overheat_threshold)),
+  constexpr emulator() noexcept = default;
+  constexpr explicit emulator(const emulator_config& cfg) noexcept
+      : single_x_(static_cast<std::uint8_t>(cfg.res.single_turn_bits ^
+                                            ts5700n8500::resolution.single_turn_bits)),
+        multi_x_(static_cast<std::uint8_t>(cfg.res.multi_turn_bits ^
+                                           ts5700n8500::resolution.multi_turn_bits)),
+        enid_x_(static_cast<std::uint8_t>(cfg.enid ^ ts5700n8500::enid)),
+        threshold_x_(static_cast<std::uint8_t>(cfg.overheat_threshold ^ overheat_factory)),
         loaded_threshold_x_(threshold_x_) {}
 
   // --- the physical world ------------------------------------------------------------------
@@ -103,14 +99,15 @@ class encoder_model {
     const std::int64_t new_turns = static_cast<std::int64_t>(turns_) + turns;
     const std::int64_t range = std::int64_t{1} << multi_turn_bits();
     if (new_turns < 0 || new_turns >= range) {
-      latched_ = static_cast<std::uint8_t>(latched_ | static_cast<std::uint8_t>(almc_bit::of));
+      latched_ =
+          static_cast<std::uint8_t>(latched_ | static_cast<std::uint8_t>(tformat::almc_bit::of));
     }
     raw_ = static_cast<std::uint32_t>(raw);
     turns_ = static_cast<std::uint32_t>(((new_turns % range) + range) % range);
   }
   /// Sets whether the condition behind an alarm is present now. Latched alarms stay set after
   /// the condition goes until a reset; non-latched ones follow it.
-  constexpr void set_condition(almc_bit a, bool present) noexcept {
+  constexpr void set_condition(tformat::almc_bit a, bool present) noexcept {
     const auto bit = static_cast<std::uint8_t>(a);
     conditions_ = present ? static_cast<std::uint8_t>(conditions_ | bit)
                           : static_cast<std::uint8_t>(conditions_ & ~bit);
@@ -148,23 +145,23 @@ class encoder_model {
   /// UART or line decoder saw of the request's delimiter (stop) bits.
   constexpr reply respond(byte_view frame, std::uint32_t now_us,
                           request_line line = request_line::ok) noexcept {
-    if (frame.empty() || !sync_ok(frame[0])) {
+    if (frame.empty() || !tformat::sync_ok(frame[0])) {
       return reply{};  // bad sync code: no reply (spec §8.4 No.1)
     }
     if (line == request_line::delimiter_error) {
       return abnormal(false, true);
     }
-    const decode_result<request> d = decode_request(frame);
+    const decode_result<tformat::request> d = tformat::decode_request(frame);
     if (d.is_failed()) {
       return abnormal(d.error() == errc::tformat_parity, false);
     }
     if (d.is_incomplete()) {
       return abnormal(false, false);  // EEPROM request cut short: its CRC is missing
     }
-    const request& q = d.value();
+    const tformat::request& q = d.value();
     switch (q.id) {
-      case data_id::eeprom_write: reset_count_ = 0; return eeprom_write(q, now_us);
-      case data_id::eeprom_read: reset_count_ = 0; return eeprom_read(q, now_us);
+      case tformat::data_id::eeprom_write: reset_count_ = 0; return eeprom_write(q, now_us);
+      case tformat::data_id::eeprom_read: reset_count_ = 0; return eeprom_read(q, now_us);
       default: break;
     }
     // The reply carries the data of the moment the request arrived; a reset acts after it
@@ -194,50 +191,53 @@ class encoder_model {
     const std::uint8_t t = threshold();
     const bool enabled = (t & 0x80U) != 0U;
     const int limit = static_cast<int>(t) - 128;
-    set_condition(almc_bit::oh, enabled && temperature() > limit);
+    set_condition(tformat::almc_bit::oh, enabled && temperature() > limit);
   }
 
-  constexpr reply data_reply(data_id id, std::uint8_t extra_sf) const noexcept {
-    response r;
+  constexpr reply data_reply(tformat::data_id id, std::uint8_t extra_sf) const noexcept {
+    tformat::response r;
     r.id = id;
-    r.sf = static_cast<std::uint8_t>(status_field(almc()) | extra_sf);
+    r.sf = static_cast<std::uint8_t>(tformat::status_field(almc()) | extra_sf);
     r.abs = abs();
     r.abm = abm();
-    r.enid = static_cast<std::uint8_t>(enid_x_ ^ default_enid);
+    r.enid = static_cast<std::uint8_t>(enid_x_ ^ ts5700n8500::enid);
     r.almc = almc();
     reply out;
-    out.size = encode_response(r, mutable_byte_view(out.bytes, max_response_size)).value_or(0);
+    out.size = tformat::encode_response(r, mutable_byte_view(out.bytes, tformat::max_response_size))
+                   .value_or(0);
     return out;
   }
 
   constexpr reply abnormal(bool ca0, bool ca1) noexcept {
     reset_count_ = 0;
-    return data_reply(data_id::read_all,
-                      static_cast<std::uint8_t>((ca0 ? sf::ca0 : 0U) | (ca1 ? sf::ca1 : 0U)));
+    return data_reply(
+        tformat::data_id::read_all,
+        static_cast<std::uint8_t>((ca0 ? tformat::sf::ca0 : 0U) | (ca1 ? tformat::sf::ca1 : 0U)));
   }
 
-  constexpr reply eeprom_reply(data_id id, std::uint8_t address, bool busy,
+  constexpr reply eeprom_reply(tformat::data_id id, std::uint8_t address, bool busy,
                                std::uint8_t edf) const noexcept {
-    response r;
+    tformat::response r;
     r.id = id;
     r.address = address;
     r.busy = busy;
     r.edf = edf;
     reply out;
-    out.size = encode_response(r, mutable_byte_view(out.bytes, max_response_size)).value_or(0);
+    out.size = tformat::encode_response(r, mutable_byte_view(out.bytes, tformat::max_response_size))
+                   .value_or(0);
     return out;
   }
 
   constexpr void start_busy(std::uint32_t now_us) noexcept {
     busy_ = true;
-    busy_until_ = now_us + eeprom_busy_us;
+    busy_until_ = now_us + eeprom_write_us;
   }
 
-  constexpr reply eeprom_write(const request& q, std::uint32_t now_us) noexcept {
+  constexpr reply eeprom_write(const tformat::request& q, std::uint32_t now_us) noexcept {
     if (busy(now_us)) {
       return eeprom_reply(q.id, q.address, true, 0);
     }
-    if (q.address == page_select_address) {
+    if (q.address == tformat::page_select_address) {
       if (q.edf >= user_pages && q.edf != 7U) {
         return abnormal(false, false);
       }
@@ -246,7 +246,7 @@ class encoder_model {
     } else if (page_ < user_pages) {
       eeprom_[cell(page_, q.address)] = q.edf;
     } else if (page_ == 7U && q.address == 4U) {
-      threshold_x_ = static_cast<std::uint8_t>(q.edf ^ default_overheat_threshold);
+      threshold_x_ = static_cast<std::uint8_t>(q.edf ^ overheat_factory);
       update_overheat();
     } else {
       return abnormal(false, false);  // closed address
@@ -255,17 +255,17 @@ class encoder_model {
     return eeprom_reply(q.id, q.address, false, q.edf);
   }
 
-  constexpr reply eeprom_read(const request& q, std::uint32_t now_us) noexcept {
+  constexpr reply eeprom_read(const tformat::request& q, std::uint32_t now_us) noexcept {
     if (busy(now_us)) {
       return eeprom_reply(q.id, q.address, true, 0);
     }
     std::uint8_t value = 0;
-    if (q.address == page_select_address) {
+    if (q.address == tformat::page_select_address) {
       value = page_;
     } else if (page_ < user_pages) {
       value = loaded_[q.address];
     } else if (page_ == 7U && q.address == 4U) {
-      value = static_cast<std::uint8_t>(loaded_threshold_x_ ^ default_overheat_threshold);
+      value = static_cast<std::uint8_t>(loaded_threshold_x_ ^ overheat_factory);
     } else if (page_ == 7U && q.address == 5U) {
       value = static_cast<std::uint8_t>(temperature());
     } else {
@@ -285,15 +285,16 @@ class encoder_model {
     }
   }
 
-  constexpr void count_reset(data_id id, std::uint32_t now_us) noexcept {
-    const bool is_reset = id == data_id::reset_errors || id == data_id::reset_single_turn ||
-                          id == data_id::reset_multi_turn;
+  constexpr void count_reset(tformat::data_id id, std::uint32_t now_us) noexcept {
+    const bool is_reset = id == tformat::data_id::reset_errors ||
+                          id == tformat::data_id::reset_single_turn ||
+                          id == tformat::data_id::reset_multi_turn;
     if (!is_reset) {
       reset_count_ = 0;
       return;
     }
     if (reset_count_ > 0U && id == reset_id_) {
-      if (now_us - last_reset_us_ < reset_min_interval_us) {
+      if (now_us - last_reset_us_ < reset_interval_us) {
         return;  // too soon: this request does not count
       }
       ++reset_count_;
@@ -306,12 +307,12 @@ class encoder_model {
       return;
     }
     reset_count_ = 0;
-    if (id == data_id::reset_single_turn) {
+    if (id == tformat::data_id::reset_single_turn) {
       offset_ = raw_;
       start_busy(now_us);  // the zero point is written to EEPROM (spec §10)
       return;
     }
-    if (id == data_id::reset_multi_turn) {
+    if (id == tformat::data_id::reset_multi_turn) {
       turns_ = 0;
     }
     latched_ = static_cast<std::uint8_t>(conditions_ & latched_alarms);  // reset what is gone
@@ -319,13 +320,13 @@ class encoder_model {
 
   static constexpr std::uint8_t default_celsius = 25;
   constexpr unsigned single_turn_bits() const noexcept {
-    return static_cast<std::uint8_t>(single_x_ ^ resolution{}.single_turn_bits);
+    return static_cast<std::uint8_t>(single_x_ ^ ts5700n8500::resolution.single_turn_bits);
   }
   constexpr unsigned multi_turn_bits() const noexcept {
-    return static_cast<std::uint8_t>(multi_x_ ^ resolution{}.multi_turn_bits);
+    return static_cast<std::uint8_t>(multi_x_ ^ ts5700n8500::resolution.multi_turn_bits);
   }
   constexpr std::uint8_t threshold() const noexcept {
-    return static_cast<std::uint8_t>(threshold_x_ ^ default_overheat_threshold);
+    return static_cast<std::uint8_t>(threshold_x_ ^ overheat_factory);
   }
   constexpr int temperature() const noexcept {
     return static_cast<std::int8_t>(static_cast<std::uint8_t>(temperature_x_ ^ default_celsius));
@@ -348,12 +349,13 @@ class encoder_model {
   std::uint8_t loaded_[page_size] = {};  // the current page as last specified
   bool busy_ = false;
   std::uint32_t busy_until_ = 0;
-  data_id reset_id_ = data_id::read_abs;  // meaningful while reset_count_ > 0
+  tformat::data_id reset_id_ = tformat::data_id::read_abs;  // meaningful while reset_count_ > 0
   unsigned reset_count_ = 0;
   std::uint32_t last_reset_us_ = 0;
 };
 
-}  // namespace tformat
+}  // namespace ts5700n8500
+}  // namespace devices
 }  // namespace motionbus
 
-#endif  // MOTIONBUS_TFORMAT_ENCODER_MODEL_HPP
+#endif  // MOTIONBUS_DEVICES_TS5700N8500_EMULATOR_HPP

@@ -1,6 +1,6 @@
 // The encoder model: abnormal requests (spec Tables 5 and 6), EEPROM pages, busy windows,
 // page 7 registers, resets after 10 requests, latched and non-latched alarms.
-#include "motionbus/tformat/encoder_model.hpp"
+#include "motionbus/devices/ts5700n8500_emulator.hpp"
 
 #include <doctest/doctest.h>
 
@@ -22,7 +22,7 @@ namespace ts = motionbus::devices::ts5700n8500;
 namespace {
 
 struct master {
-  encoder_model& enc;
+  ts::emulator& enc;
   std::uint32_t now = 0;
 
   decode_result<response> ask(data_id id, std::uint8_t address = 0, std::uint8_t data = 0,
@@ -30,7 +30,7 @@ struct master {
     std::uint8_t req[4] = {};
     const std::size_t n = encode_request(id, address, data, req).value();
     now += advance_us;
-    const reply rep = enc.respond(byte_view(req, n), now);
+    const ts::reply rep = enc.respond(byte_view(req, n), now);
     return decode_response_for(byte_view(req, n), rep.view());
   }
 };
@@ -38,14 +38,14 @@ struct master {
 }  // namespace
 
 TEST_CASE("abnormal requests: no reply on a bad sync code, ID3 data otherwise") {
-  encoder_model enc;
+  ts::emulator enc;
   enc.set_position(1000, 7);
   const std::uint8_t bad_sync[] = {0x03};
   CHECK(enc.respond(bad_sync, 0).size == 0);
   CHECK(enc.respond(byte_view{}, 0).size == 0);
 
   const std::uint8_t bad_parity[] = {0x82};  // ID0 with the parity bit flipped
-  reply r = enc.respond(bad_parity, 0);
+  ts::reply r = enc.respond(bad_parity, 0);
   REQUIRE(r.size == 11);
   auto d = decode_response(r.view());
   REQUIRE(d.is_complete());
@@ -55,7 +55,7 @@ TEST_CASE("abnormal requests: no reply on a bad sync code, ID3 data otherwise") 
   CHECK(d->abs == 1000);
 
   const std::uint8_t id0[] = {0x02};
-  r = enc.respond(id0, 0, request_line::delimiter_error);  // the UART saw a bad delimiter
+  r = enc.respond(id0, 0, ts::request_line::delimiter_error);  // the UART saw a bad delimiter
   d = decode_response(r.view());
   CHECK(d->id == data_id::read_all);
   CHECK(d->ca1());
@@ -75,7 +75,7 @@ TEST_CASE("abnormal requests: no reply on a bad sync code, ID3 data otherwise") 
 }
 
 TEST_CASE("EEPROM: pages, page select at 127, busy 18 ms, closed addresses, page 7") {
-  encoder_model enc;
+  ts::emulator enc;
   master m{enc};
   // write then read on page 0
   auto w = m.ask(data_id::eeprom_write, 10, 0x42);
@@ -126,7 +126,7 @@ TEST_CASE("EEPROM: pages, page select at 127, busy 18 ms, closed addresses, page
 }
 
 TEST_CASE("over-heat latches above the threshold and clears only by reset once cool") {
-  encoder_model enc;
+  ts::emulator enc;
   master m{enc};
   enc.set_temperature(91);
   CHECK(has_alarm(enc.almc(), almc_bit::oh));
@@ -142,7 +142,7 @@ TEST_CASE("over-heat latches above the threshold and clears only by reset once c
 }
 
 TEST_CASE("alarms: latched flags stay until reset, non-latched follow their condition") {
-  encoder_model enc;
+  ts::emulator enc;
   master m{enc};
   for (almc_bit a : all_alarms) {
     enc.set_condition(a, true);
@@ -151,10 +151,10 @@ TEST_CASE("alarms: latched flags stay until reset, non-latched follow their cond
   for (almc_bit a : all_alarms) {
     enc.set_condition(a, false);
   }
-  CHECK(enc.almc() == latched_alarms);  // FS and BA cleared with their condition
+  CHECK(enc.almc() == ts::latched_alarms);  // FS and BA cleared with their condition
   auto all = m.ask(data_id::read_all);
   REQUIRE(all.is_complete());
-  CHECK(all->almc == latched_alarms);
+  CHECK(all->almc == ts::latched_alarms);
   CHECK(all->ea0());
   CHECK(all->ea1());
   // a latched alarm whose condition persists survives the reset
@@ -166,7 +166,7 @@ TEST_CASE("alarms: latched flags stay until reset, non-latched follow their cond
 }
 
 TEST_CASE("resets act on the 10th request of the same ID, at least 40 us apart") {
-  encoder_model enc;
+  ts::emulator enc;
   master m{enc};
   enc.set_position(5000, 9);
   for (int i = 0; i < 9; ++i) {
@@ -194,7 +194,7 @@ TEST_CASE("resets act on the 10th request of the same ID, at least 40 us apart")
 }
 
 TEST_CASE("rotation wraps turns and latches counter overflow") {
-  encoder_model enc;
+  ts::emulator enc;
   enc.set_position(0x1FFFF, 0xFFFF);
   enc.rotate(1);
   CHECK(enc.abs() == 0);
@@ -209,13 +209,13 @@ TEST_CASE("rotation wraps turns and latches counter overflow") {
 }
 
 TEST_CASE("TS5700N8500: plans executed against the model") {
-  encoder_model enc;
+  ts::emulator enc;
   std::uint32_t now = 0;
   enc.set_position(777, 3);
   auto run = [&](const auto& plan) {
     std::vector<response> out;
     for (const auto& step : plan) {
-      const reply rep = enc.respond(step.view(), now);
+      const ts::reply rep = enc.respond(step.view(), now);
       const auto d = decode_response_for(step.view(), rep.view());
       REQUIRE(d.is_complete());
       if (step.verify) {
@@ -292,7 +292,7 @@ TEST_CASE("TS5700N8500: over-heat threshold, temperature, alarms, timing") {
   CHECK(ts::decode_temperature(0x7F) == 127);
   for (almc_bit a : all_alarms) {
     CHECK(std::string(ts::info(a).symbol) == symbol(a));
-    CHECK(ts::info(a).latched == ((static_cast<std::uint8_t>(a) & latched_alarms) != 0));
+    CHECK(ts::info(a).latched == ((static_cast<std::uint8_t>(a) & ts::latched_alarms) != 0));
   }
   // docs/tformat.md §7 (timing): ID0 28 us, ID3 48 us, IDD 28 us, ID6 32 us at 2.5 Mbps
   CHECK(ts::transaction_ns(data_id::read_abs) == 28000);
