@@ -59,12 +59,12 @@ namespace detail {
 constexpr std::size_t fixed_request_size(std::uint8_t function) noexcept {
   constexpr std::uint32_t size8 = 0x17EU;    // 01-06, 08
   constexpr std::uint32_t size4 = 0x21880U;  // 07, 0B, 0C, 11
-  constexpr std::uint32_t size10 = 1UL << 0x16U;
-  constexpr std::uint32_t size6 = 1UL << 0x18U;
+  constexpr std::uint32_t size10 = std::uint32_t{1} << 0x16U;
+  constexpr std::uint32_t size6 = std::uint32_t{1} << 0x18U;
   if (function >= 32U) {
     return 0;
   }
-  const std::uint32_t bit = 1UL << function;
+  const std::uint32_t bit = std::uint32_t{1} << function;
   return (bit & size8) != 0U    ? 8U
          : (bit & size4) != 0U  ? 4U
          : (bit & size10) != 0U ? 10U
