@@ -45,7 +45,7 @@ void run(const std::uint8_t* data, std::size_t size, mb::bit_order order) {
       std::uint8_t bytes[tf::max_response_size] = {};
       const auto n = tf::encode_response(r.value().frame, bytes);
       MOTIONBUS_FUZZ_CHECK(n.ok());
-      if (!(r.value().frame.layout().eeprom && r.value().frame.busy)) {
+      if (!(r.value().frame.layout().eeprom() && r.value().frame.busy)) {
         check_round_trip<Word, tf::response>(words, order, r.value().start_bit, r.consumed(), bytes,
                                              n.value());
       }

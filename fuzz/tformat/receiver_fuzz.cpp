@@ -55,7 +55,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         std::uint8_t out[tf::max_response_size] = {};
         const auto n = tf::encode_response(r.value(), out);
         MOTIONBUS_FUZZ_CHECK(n.ok());
-        if (!(r.value().layout().eeprom && r.value().busy)) {
+        if (!(r.value().layout().eeprom() && r.value().busy)) {
           MOTIONBUS_FUZZ_CHECK(occurs_in(stream, stream_size, out, n.value()));
         }
       }

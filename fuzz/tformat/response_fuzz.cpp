@@ -41,7 +41,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   MOTIONBUS_FUZZ_CHECK(n.ok() && n.value() == r.consumed());
   // A busy EEPROM response is re-encoded with EDF 00 (spec Table 5), hence another CRC: only
   // CF and ADF must match then. Everything else re-encodes byte for byte.
-  const bool normalised = r.value().layout().eeprom && r.value().busy && data[2] != 0;
+  const bool normalised = r.value().layout().eeprom() && r.value().busy && data[2] != 0;
   const std::size_t compare = normalised ? 2U : n.value();
   for (std::size_t i = 0; i < compare; ++i) {
     MOTIONBUS_FUZZ_CHECK(out[i] == data[i]);

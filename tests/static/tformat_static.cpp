@@ -114,20 +114,25 @@ constexpr bool known_ids_exact() {
 }
 static_assert(known_ids_exact(), "known Data IDs");
 
-// Table form of the layouts (response_fields) agrees with layout_of for every code.
-constexpr bool field_table_matches_layouts() {
+// Each layout's size is its fields counted (CF, SF or ADF+EDF, ABS 3, ENID 1, ABM 3, ALMC 1,
+// CRC), and the codes the encoder does not know carry ID3's layout (spec §8.4).
+constexpr bool layout_sizes_count_their_fields() {
   for (std::uint8_t code = 0; code < 16U; ++code) {
     const tf::response_layout l = tf::layout_of(static_cast<tf::data_id>(code));
-    const std::uint8_t f = tf::response_fields[code];
-    if (((f & tf::field_bit::abs) != 0) != l.abs || ((f & tf::field_bit::enid) != 0) != l.enid ||
-        ((f & tf::field_bit::abm) != 0) != l.abm || ((f & tf::field_bit::almc) != 0) != l.almc ||
-        ((f & tf::field_bit::eeprom) != 0) != l.eeprom || tf::response_sizes[code] != l.size) {
+    const unsigned counted = 1U + (l.sf() ? 1U : 0U) + (l.eeprom() ? 2U : 0U) +
+                             (l.abs() ? 3U : 0U) + (l.enid() ? 1U : 0U) + (l.abm() ? 3U : 0U) +
+                             (l.almc() ? 1U : 0U) + 1U;
+    if (counted != l.size) {
+      return false;
+    }
+    if (!tf::is_known(static_cast<tf::data_id>(code)) &&
+        l.fields != tf::layout_of(tf::data_id::read_all).fields) {
       return false;
     }
   }
   return true;
 }
-static_assert(field_table_matches_layouts(), "response_fields");
+static_assert(layout_sizes_count_their_fields(), "response_layouts");
 
 // TS5700N8500 helpers.
 static_assert(ts::encode_overheat_threshold(90).value() == 0xDA, "90 °C");

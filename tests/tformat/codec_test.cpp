@@ -348,13 +348,13 @@ TEST_CASE("round trip: master request -> encoder model -> master decode, every D
     const auto r = decode_response_for(byte_view(req, n), rep.view());
     REQUIRE(r.is_complete());
     CHECK(r->id == row.id);
-    if (layout_of(row.id).abs) {
+    if (layout_of(row.id).abs()) {
       CHECK(r->abs == 0x1ABCD);
     }
-    if (layout_of(row.id).abm) {
+    if (layout_of(row.id).abm()) {
       CHECK(r->abm == 0x4321);
     }
-    if (layout_of(row.id).sf) {
+    if (layout_of(row.id).sf()) {
       CHECK(r->ea1());  // battery alarm
     }
     if (row.id == data_id::read_all) {

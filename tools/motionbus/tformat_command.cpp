@@ -38,23 +38,23 @@ cli::json_object response_json(const tf::response& r) {
   const tf::response_layout lay = r.layout();
   f.add("data_id", static_cast<std::int64_t>(static_cast<std::uint8_t>(r.id)));
   f.add("cf", static_cast<std::int64_t>(r.cf));
-  if (lay.sf) {
+  if (lay.sf()) {
     f.add("sf", static_cast<std::int64_t>(r.sf));
     f.add("ea0", bit(r.ea0()))
         .add("ea1", bit(r.ea1()))
         .add("ca0", bit(r.ca0()))
         .add("ca1", bit(r.ca1()));
   }
-  if (lay.abs) {
+  if (lay.abs()) {
     f.add("abs", static_cast<std::int64_t>(r.abs));
   }
-  if (lay.abm) {
+  if (lay.abm()) {
     f.add("abm", static_cast<std::int64_t>(r.abm));
   }
-  if (lay.enid) {
+  if (lay.enid()) {
     f.add("enid", static_cast<std::int64_t>(r.enid));
   }
-  if (lay.almc) {
+  if (lay.almc()) {
     f.add("almc", static_cast<std::int64_t>(r.almc));
     std::vector<std::string> names;
     for (tf::almc_bit a : tf::all_alarms) {
@@ -64,7 +64,7 @@ cli::json_object response_json(const tf::response& r) {
     }
     f.add("alarms", names);
   }
-  if (lay.eeprom) {
+  if (lay.eeprom()) {
     f.add("address", static_cast<std::int64_t>(r.address));
     f.add("busy", bit(r.busy));
     f.add("edf", static_cast<std::int64_t>(r.edf));

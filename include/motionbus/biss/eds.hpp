@@ -11,8 +11,10 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <type_traits>
 
 #include "motionbus/biss/frame.hpp"
+#include "motionbus/core/bytes.hpp"
 #include "motionbus/core/errc.hpp"
 #include "motionbus/core/result.hpp"
 #include "motionbus/core/span.hpp"
@@ -119,12 +121,6 @@ struct eds_options {
 
 namespace detail {
 
-constexpr std::uint32_t be32_at(byte_view b, std::size_t at) noexcept {
-  return (static_cast<std::uint32_t>(b[at]) << 24U) |
-         (static_cast<std::uint32_t>(b[at + 1U]) << 16U) |
-         (static_cast<std::uint32_t>(b[at + 2U]) << 8U) | b[at + 3U];
-}
-
 // A bank is written whole: zeros where nothing is defined, the checksum last.
 constexpr void clear_bank(mutable_byte_view b) noexcept {
   for (std::size_t i = 0; i < bank_size; ++i) {
@@ -135,12 +131,68 @@ constexpr void seal_bank(mutable_byte_view b) noexcept {
   b[bank_size - 1U] = bank_checksum(byte_view(b.data(), b.size()));
 }
 
-constexpr void put_be32(mutable_byte_view b, std::size_t at, std::uint32_t v) noexcept {
-  b[at] = static_cast<std::uint8_t>(v >> 24U);
-  b[at + 1U] = static_cast<std::uint8_t>((v >> 16U) & 0xFFU);
-  b[at + 2U] = static_cast<std::uint8_t>((v >> 8U) & 0xFFU);
-  b[at + 3U] = static_cast<std::uint8_t>(v & 0xFFU);
+// Each bank's fields, offset and member, stated once: decoding reads them all through
+// field_reader, encoding writes them all through field_writer (big-endian, as wide as the
+// member). `E` is the struct, const when encoding.
+template <class E, class F>
+constexpr void common_fields(E& e, F&& field) noexcept {
+  field(0x00, e.version);
+  field(0x01, e.length);
+  field(0x02, e.user_bank_start);
+  field(0x03, e.user_bank_end);
+  field(0x10, e.channels);
+  field(0x11, e.validity);
+  field(0x12, e.location);
+  field(0x14, e.profile_bank);
+  field(0x15, e.data_length);
+  field(0x16, e.data_format);
+  field(0x17, e.crc_poly);
 }
+template <class P, class F>
+constexpr void bp3_fields(P& p, F&& field) noexcept {
+  field(0x00, p.version);
+  field(0x01, p.length);
+  field(0x02, p.profile_id);
+  field(0x04, p.feedback1);
+  field(0x05, p.feedback2);
+  field(0x06, p.power_on_delay_ms);
+  field(0x08, p.type);
+  field(0x09, p.positions);
+  field(0x0A, p.mt_length);
+  field(0x0B, p.mt_format);
+  field(0x0C, p.coarse_length);
+  field(0x0D, p.coarse_format);
+  field(0x0E, p.fine_length);
+  field(0x0F, p.fine_format);
+  field(0x10, p.mt_count);
+  field(0x14, p.sip_count);
+  field(0x18, p.sip_resolution);
+  field(0x1C, p.crc_poly);
+  field(0x20, p.crc_start);
+}
+
+struct field_reader {
+  byte_view bank;
+  template <class T>
+  constexpr void operator()(std::size_t at, T& v) const noexcept {
+    v = static_cast<T>(load_be<sizeof(T)>(bank, at));
+  }
+};
+struct field_writer {
+  mutable_byte_view bank;
+  template <class T>
+  constexpr void operator()(std::size_t at, const T& v) const noexcept {
+    std::uint32_t x = 0;
+    if constexpr (std::is_enum<T>::value) {
+      x = static_cast<std::underlying_type_t<T>>(v);
+    } else {
+      x = v;
+    }
+    for (std::size_t k = 0; k < sizeof(T); ++k) {
+      bank[at + k] = static_cast<std::uint8_t>((x >> (8U * (sizeof(T) - 1U - k))) & 0xFFU);
+    }
+  }
+};
 
 }  // namespace detail
 
@@ -153,17 +205,7 @@ constexpr result<eds_common> decode_eds_common(byte_view bank,
     return errc::truncated;
   }
   eds_common e;
-  e.version = bank[0x00];
-  e.length = bank[0x01];
-  e.user_bank_start = bank[0x02];
-  e.user_bank_end = bank[0x03];
-  e.channels = bank[0x10];
-  e.validity = bank[0x11];
-  e.location = bank[0x12];
-  e.profile_bank = bank[0x14];
-  e.data_length = bank[0x15];
-  e.data_format = bank[0x16];
-  e.crc_poly = bank[0x17];
+  detail::common_fields(e, detail::field_reader{bank});
   if (e.length == 0U || e.channels == 0U || e.data_length == 0U || e.data_length > max_data_bits ||
       e.crc_poly == 0U) {
     return errc::biss_eds;
@@ -182,29 +224,11 @@ constexpr result<bp3_profile> decode_bp3(byte_view bank, const eds_options& opt 
   if (bank.size() < bank_size) {
     return errc::truncated;
   }
-  bp3_profile p;
-  p.version = bank[0x00];
-  p.length = bank[0x01];
-  p.profile_id = static_cast<std::uint16_t>((bank[0x02] << 8U) | bank[0x03]);
-  p.feedback1 = bank[0x04];
-  p.feedback2 = bank[0x05];
-  p.power_on_delay_ms = bank[0x06];
   if (bank[0x08] > 0x01U) {
-    return errc::biss_eds;
+    return errc::biss_eds;  // EN_TYP: rotary or linear
   }
-  p.type = static_cast<encoder_type>(bank[0x08]);
-  p.positions = bank[0x09];
-  p.mt_length = bank[0x0A];
-  p.mt_format = bank[0x0B];
-  p.coarse_length = bank[0x0C];
-  p.coarse_format = bank[0x0D];
-  p.fine_length = bank[0x0E];
-  p.fine_format = bank[0x0F];
-  p.mt_count = detail::be32_at(bank, 0x10);
-  p.sip_count = detail::be32_at(bank, 0x14);
-  p.sip_resolution = detail::be32_at(bank, 0x18);
-  p.crc_poly = detail::be32_at(bank, 0x1C);
-  p.crc_start = detail::be32_at(bank, 0x20);
+  bp3_profile p;
+  detail::bp3_fields(p, detail::field_reader{bank});
   const unsigned bits = static_cast<unsigned>(p.mt_length) + p.coarse_length + p.fine_length;
   if ((p.version != 0x02U && p.version != 0x03U) || p.sip_resolution > 20U || bits == 0U ||
       bits > max_data_bits || p.crc_poly == 0U || p.crc_poly >= (1U << max_crc_bits)) {
@@ -226,17 +250,7 @@ constexpr errc encode_eds_common(const eds_common& e, mutable_byte_view bank) no
     return errc::buffer_too_small;
   }
   detail::clear_bank(bank);
-  bank[0x00] = e.version;
-  bank[0x01] = e.length;
-  bank[0x02] = e.user_bank_start;
-  bank[0x03] = e.user_bank_end;
-  bank[0x10] = e.channels;
-  bank[0x11] = e.validity;
-  bank[0x12] = e.location;
-  bank[0x14] = e.profile_bank;
-  bank[0x15] = e.data_length;
-  bank[0x16] = e.data_format;
-  bank[0x17] = e.crc_poly;
+  detail::common_fields(e, detail::field_writer{bank});
   detail::seal_bank(bank);
   return errc::ok;
 }
@@ -247,26 +261,7 @@ constexpr errc encode_bp3(const bp3_profile& p, mutable_byte_view bank) noexcept
     return errc::buffer_too_small;
   }
   detail::clear_bank(bank);
-  bank[0x00] = p.version;
-  bank[0x01] = p.length;
-  bank[0x02] = static_cast<std::uint8_t>(p.profile_id >> 8U);
-  bank[0x03] = static_cast<std::uint8_t>(p.profile_id & 0xFFU);
-  bank[0x04] = p.feedback1;
-  bank[0x05] = p.feedback2;
-  bank[0x06] = p.power_on_delay_ms;
-  bank[0x08] = static_cast<std::uint8_t>(p.type);
-  bank[0x09] = p.positions;
-  bank[0x0A] = p.mt_length;
-  bank[0x0B] = p.mt_format;
-  bank[0x0C] = p.coarse_length;
-  bank[0x0D] = p.coarse_format;
-  bank[0x0E] = p.fine_length;
-  bank[0x0F] = p.fine_format;
-  detail::put_be32(bank, 0x10, p.mt_count);
-  detail::put_be32(bank, 0x14, p.sip_count);
-  detail::put_be32(bank, 0x18, p.sip_resolution);
-  detail::put_be32(bank, 0x1C, p.crc_poly);
-  detail::put_be32(bank, 0x20, p.crc_start);
+  detail::bp3_fields(p, detail::field_writer{bank});
   detail::seal_bank(bank);
   return errc::ok;
 }

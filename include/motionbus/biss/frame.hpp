@@ -147,18 +147,6 @@ struct frame_info {
   constexpr std::size_t ack_bits() const noexcept { return start - ack; }
 };
 
-/// Bits of a whole frame after the CDS bit, for a chain; 0 when a layout is invalid.
-constexpr std::size_t chain_bits(const slave_layout* chain, std::size_t n) noexcept {
-  std::size_t bits = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    if (chain[i].validate() != errc::ok) {
-      return 0;
-    }
-    bits += chain[i].frame_bits();
-  }
-  return bits;
-}
-
 }  // namespace biss
 }  // namespace motionbus
 

@@ -206,46 +206,20 @@ MOTIONBUS_INLINE constexpr decode_result<response> decode_read_all(
       11);
 }
 
-constexpr decode_result<response> decode_eeprom_frame(byte_view in, data_id id) noexcept {
-  response r;
-  r.id = id;
-  r.cf = in[0];
-  r.crc = in[3];
-  const std::uint8_t computed = crc_of(in.first(3));
-  if (computed != r.crc) {
-    return decode_failure{errc::crc_mismatch, 1, computed, r.crc};
-  }
-  r.address = static_cast<std::uint8_t>(in[1] & adf_address_mask);
-  r.busy = (in[1] & adf_busy) != 0U;
-  r.edf = in[2];
-  return decode_result<response>::complete(r, 4);
-}
-
 MOTIONBUS_COLD constexpr decode_result<response> cf_failure(std::uint8_t cf) noexcept {
   return decode_failure{check_cf(cf), 1};
 }
 
-// Responses other than ID3 and ID0 (any length of input).
-MOTIONBUS_COLD constexpr decode_result<response> decode_other_response(
-    byte_view in, data_id id, const decode_options& opt) noexcept {
-  const std::size_t size = response_sizes[static_cast<std::uint8_t>(id)];
-  if (in.size() < size) {
-    return need_input{size - in.size()};
-  }
-  switch (id) {
-    case data_id::read_abm: return decode_status_frame<6, false, false, true, false>(in, id, opt);
-    case data_id::read_enid: return decode_status_frame<4, false, true, false, false>(in, id, opt);
-    case data_id::eeprom_write:
-    case data_id::eeprom_read: return decode_eeprom_frame(in, id);
-    default:  // the resets 7, 8, C: ID0's layout
-      return decode_status_frame<6, true, false, false, false>(in, id, opt);
-  }
-}
+constexpr decode_result<response> decode_short_response(byte_view in,
+                                                        const decode_options& opt) noexcept;
 
-}  // namespace detail
-
-namespace detail {
-
+// How responses are decoded, and why three ways: decode_read_all (ID3, the response polled
+// every control cycle, from one 64-bit load) serves both forms; decode_status_frame<layout>
+// is the speed form's straight-line decoder for ID0, the other polled response;
+// decode_short_response is one table-driven path for every other layout, in both forms (the
+// size form's only other path, the speed form's cold one). The tests and the response fuzz
+// target pin all three to the same outcomes.
+//
 // The speed form of decode_response: the polled IDs inline, the others out of line, so that
 // the call site stays small enough to inline. Each inline branch checks its own constant size,
 // so that a compiler looking at the caller's buffer sees every read guarded (no
@@ -274,7 +248,7 @@ MOTIONBUS_INLINE constexpr decode_result<response> decode_response_fast(
     }
     return decode_status_frame<6, true, false, false, false>(in, id, opt);
   }
-  return decode_other_response(in, id, opt);
+  return decode_short_response(in, opt);
 }
 
 // Every response but a whole ID3 one (decode_response_small takes those): the fields before
@@ -292,11 +266,11 @@ constexpr decode_result<response> decode_short_response(byte_view in,
   if (cf != valid_control_fields[code]) {
     return decode_failure{cf_error(cf), 1};
   }
-  const std::size_t size = response_sizes[code];
+  const std::size_t size = response_layouts[code].size;
   if (in.size() < size) {
     return need_input{size - in.size()};
   }
-  const std::uint8_t fields = response_fields[code];
+  const std::uint8_t fields = response_layouts[code].fields;
   const std::size_t last = size - 1U;
   // CF, SF (or ADF), then ABS, or else the one field after SF, from byte 2.
   std::uint64_t w = 0;
@@ -390,7 +364,7 @@ namespace detail {
 constexpr errc check_against(const std::uint8_t* request_frame, const response& v,
                              std::uint32_t& want, std::uint32_t& got) noexcept {
   const bool eeprom =
-      (response_fields[static_cast<std::uint8_t>(v.id) & 0xFU] & field_bit::eeprom) != 0U;
+      (response_layouts[static_cast<std::uint8_t>(v.id) & 0xFU].fields & field_bit::eeprom) != 0U;
   if (!eeprom && (v.sf & (sf::ca0 | sf::ca1)) != 0U) {
     return errc::tformat_communication_alarm;
   }
@@ -516,10 +490,10 @@ constexpr result<std::size_t> encode_response(const response& r, mutable_byte_vi
     return errc::tformat_unknown_data_id;
   }
   const response_layout lay = layout_of(r.id);
-  if (lay.eeprom ? r.address > adf_address_mask : (r.sf & sf::reserved_mask) != 0U) {
-    return lay.eeprom ? errc::out_of_range : errc::reserved_bits;
+  if (lay.eeprom() ? r.address > adf_address_mask : (r.sf & sf::reserved_mask) != 0U) {
+    return lay.eeprom() ? errc::out_of_range : errc::reserved_bits;
   }
-  if ((lay.abs && !detail::fits(r.abs, 24)) || (lay.abm && !detail::fits(r.abm, 24))) {
+  if ((lay.abs() && !detail::fits(r.abs, 24)) || (lay.abm() && !detail::fits(r.abm, 24))) {
     return errc::out_of_range;
   }
   if (out.size() < lay.size) {
@@ -527,24 +501,24 @@ constexpr result<std::size_t> encode_response(const response& r, mutable_byte_vi
   }
   out[0] = control_field(r.id);
   std::size_t at = 1;
-  if (lay.eeprom) {
+  if (lay.eeprom()) {
     out[1] = static_cast<std::uint8_t>(r.address | (r.busy ? adf_busy : 0U));
     out[2] = r.busy ? std::uint8_t{0} : r.edf;  // EDF is 00 while busy (spec Table 5)
     at = 3;
   } else {
     out[at++] = r.sf;
-    if (lay.abs) {
+    if (lay.abs()) {
       detail::put_le24(out, at, r.abs);
       at += 3U;
     }
-    if (lay.enid) {
+    if (lay.enid()) {
       out[at++] = r.enid;
     }
-    if (lay.abm) {
+    if (lay.abm()) {
       detail::put_le24(out, at, r.abm);
       at += 3U;
     }
-    if (lay.almc) {
+    if (lay.almc()) {
       out[at++] = r.almc;
     }
   }

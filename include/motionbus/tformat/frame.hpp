@@ -149,68 +149,56 @@ inline constexpr std::uint8_t page_select_address = 127;
 inline constexpr std::size_t max_request_size = 4;
 inline constexpr std::size_t max_response_size = 11;
 
-/// Which fields a response carries, in wire order after CF (spec Table 2, Figures 1–3).
-struct response_layout {
-  std::uint8_t size;  ///< total fields including CF and CRC
-  bool sf;            ///< CF SF ...
-  bool abs;           ///< ABS0..2
-  bool enid;
-  bool abm;  ///< ABM0..2
-  bool almc;
-  bool eeprom;  ///< CF ADF EDF CRC (no SF)
-};
-
-/// The layout of the response to `id`. Unknown IDs are answered with ID3 data (spec §8.4).
-constexpr response_layout layout_of(data_id id) noexcept {
-  switch (id) {
-    case data_id::read_abs:
-    case data_id::reset_errors:
-    case data_id::reset_single_turn:
-    case data_id::reset_multi_turn: return {6, true, true, false, false, false, false};
-    case data_id::read_abm: return {6, true, false, false, true, false, false};
-    case data_id::read_enid: return {4, true, false, true, false, false, false};
-    case data_id::eeprom_write:
-    case data_id::eeprom_read: return {4, false, false, false, false, false, true};
-    case data_id::read_all: break;
-  }
-  return {11, true, true, true, true, true, false};
-}
-
-/// Response size in fields for each 4-bit code (unknown codes: the ID3 layout), as a table.
-inline constexpr std::uint8_t response_sizes[16] = {
-    layout_of(data_id{0x0}).size, layout_of(data_id{0x1}).size, layout_of(data_id{0x2}).size,
-    layout_of(data_id{0x3}).size, layout_of(data_id{0x4}).size, layout_of(data_id{0x5}).size,
-    layout_of(data_id{0x6}).size, layout_of(data_id{0x7}).size, layout_of(data_id{0x8}).size,
-    layout_of(data_id{0x9}).size, layout_of(data_id{0xA}).size, layout_of(data_id{0xB}).size,
-    layout_of(data_id{0xC}).size, layout_of(data_id{0xD}).size, layout_of(data_id{0xE}).size,
-    layout_of(data_id{0xF}).size};
-
-/// Size of a request frame: CF alone, CF ADF CRC (IDD), or CF ADF EDF CRC (ID6).
-/// The fields of each Data ID's response as bits (field_bit), indexed by Data ID code: the
-/// same facts as layout_of, in one byte per code for table-driven code.
+/// The fields of a response after its CF, one bit each (wire order: SF, ABS, ENID, ABM, ALMC;
+/// or ADF and EDF for the EEPROM frames, which have no SF).
 namespace field_bit {
 inline constexpr std::uint8_t abs = 0x01;
 inline constexpr std::uint8_t enid = 0x02;
 inline constexpr std::uint8_t abm = 0x04;
 inline constexpr std::uint8_t almc = 0x08;
 inline constexpr std::uint8_t eeprom = 0x10;
+inline constexpr std::uint8_t read_all = abs | enid | abm | almc;  ///< ID3's fields
 }  // namespace field_bit
 
-constexpr std::uint8_t fields_of(data_id id) noexcept {
-  const response_layout l = layout_of(id);
-  return static_cast<std::uint8_t>((l.abs ? field_bit::abs : 0U) | (l.enid ? field_bit::enid : 0U) |
-                                   (l.abm ? field_bit::abm : 0U) | (l.almc ? field_bit::almc : 0U) |
-                                   (l.eeprom ? field_bit::eeprom : 0U));
+/// Which fields a response carries (spec Table 2, Figures 1–3), and its size.
+struct response_layout {
+  std::uint8_t size;    ///< fields, CF and CRC included
+  std::uint8_t fields;  ///< field_bit
+  constexpr bool has(std::uint8_t field) const noexcept { return (fields & field) != 0U; }
+  constexpr bool sf() const noexcept { return !has(field_bit::eeprom); }  ///< CF SF ...
+  constexpr bool abs() const noexcept { return has(field_bit::abs); }     ///< ABS0..2
+  constexpr bool enid() const noexcept { return has(field_bit::enid); }
+  constexpr bool abm() const noexcept { return has(field_bit::abm); }  ///< ABM0..2
+  constexpr bool almc() const noexcept { return has(field_bit::almc); }
+  constexpr bool eeprom() const noexcept { return has(field_bit::eeprom); }  ///< CF ADF EDF CRC
+};
+
+/// The response layouts, indexed by Data ID code: the one statement of spec Table 2 in the
+/// library. A code the encoder does not know is answered with ID3 data (spec §8.4), so its
+/// entry is ID3's.
+inline constexpr response_layout response_layouts[16] = {{6, field_bit::abs},        // 0 read ABS
+                                                         {6, field_bit::abm},        // 1 read ABM
+                                                         {4, field_bit::enid},       // 2 read ENID
+                                                         {11, field_bit::read_all},  // 3 read all
+                                                         {11, field_bit::read_all},  // 4 (as ID3)
+                                                         {11, field_bit::read_all},  // 5 (as ID3)
+                                                         {4, field_bit::eeprom},  // 6 EEPROM write
+                                                         {6, field_bit::abs},     // 7 reset errors
+                                                         {6, field_bit::abs},     // 8 reset ST
+                                                         {11, field_bit::read_all},  // 9 (as ID3)
+                                                         {11, field_bit::read_all},  // A (as ID3)
+                                                         {11, field_bit::read_all},  // B (as ID3)
+                                                         {6, field_bit::abs},        // C reset MT
+                                                         {4, field_bit::eeprom},  // D EEPROM read
+                                                         {11, field_bit::read_all},   // E (as ID3)
+                                                         {11, field_bit::read_all}};  // F (as ID3)
+
+/// The layout of the response to `id`.
+constexpr response_layout layout_of(data_id id) noexcept {
+  return response_layouts[static_cast<std::uint8_t>(id) & 0x0FU];
 }
 
-inline constexpr std::uint8_t response_fields[16] = {
-    fields_of(data_id{0x0}), fields_of(data_id{0x1}), fields_of(data_id{0x2}),
-    fields_of(data_id{0x3}), fields_of(data_id{0x4}), fields_of(data_id{0x5}),
-    fields_of(data_id{0x6}), fields_of(data_id{0x7}), fields_of(data_id{0x8}),
-    fields_of(data_id{0x9}), fields_of(data_id{0xA}), fields_of(data_id{0xB}),
-    fields_of(data_id{0xC}), fields_of(data_id{0xD}), fields_of(data_id{0xE}),
-    fields_of(data_id{0xF})};
-
+/// Size of a request frame: CF alone, CF ADF CRC (IDD), or CF ADF EDF CRC (ID6).
 constexpr std::size_t request_size(data_id id) noexcept {
   return id == data_id::eeprom_write ? 4U : (id == data_id::eeprom_read ? 3U : 1U);
 }

@@ -146,7 +146,7 @@ class receiver {
         return need_input{1};
       }
       buf_.push(byte);
-      const std::uint8_t frame_size = response_sizes[code];
+      const std::uint8_t frame_size = response_layouts[code].size;
       buf_.want(frame_size);
       framing_ = true;
       return need_input{frame_size - 1U};
@@ -213,7 +213,7 @@ class receiver {
         ++dropped_;
         continue;
       }
-      const std::uint8_t frame_size = response_sizes[code];
+      const std::uint8_t frame_size = response_layouts[code].size;
       buf_.want(frame_size);
       framing_ = true;
       if (held < frame_size) {
