@@ -30,6 +30,19 @@
 //             CRC was wrong and nothing was written (this library's convention).
 // Command mode (CTS = 0) is not supported: its layout is not documented in the vendor texts
 // this library follows.
+//
+// Firmware contract (Cortex-M4; sizes checked by the test command, stack and instructions by
+// the meter at -Os: docs/footprint.md):
+//   control_master size: 68 bytes. A default-constructed `static` master is all zeros: .bss.
+//     step(): 49.9 instructions a frame over a register read, 32 bytes of stack at worst. It
+//     runs where the frame's CDS bit is known (the end-of-frame interrupt of an SPI or PIO
+//     master); start_read() / start_write() / abort() must not run while step() does (mask
+//     that interrupt, or call them from it). The buffer of an access is the caller's and must
+//     outlive it.
+//   control_slave size: 40 bytes with a register file reference (sizeof on Cortex-M4; a
+//     pointer to the register file, so a `static` one is in .data, 40 bytes copied at boot).
+//     step() runs once a frame, in the slave's frame interrupt, and calls the register file's
+//     read() / write() from there: they must be interrupt-safe.
 #ifndef MOTIONBUS_BISS_CONTROL_HPP
 #define MOTIONBUS_BISS_CONTROL_HPP
 

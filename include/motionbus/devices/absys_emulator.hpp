@@ -15,6 +15,12 @@
 // progress, a further read or write access is refused with an error ("11" in the header's R/W
 // answer: errc::biss_access_denied at the master), as the encoder does; the bytes of a
 // sequential write are paced by wait states, which signal each write's completion.
+//
+// Firmware contract (Cortex-M4; sizes checked by the test command): emulator size: 296 bytes
+// (register file, two EDS banks, the control slave). It refers to itself (its control slave
+// holds its register file), so it cannot be copied, and a `static` one is in .data: 296 bytes
+// of flash copied to RAM at boot. frame() and control() run once a frame in that order, from
+// one context; the setters (set_position, set_error, ...) must not run in between.
 #ifndef MOTIONBUS_DEVICES_ABSYS_EMULATOR_HPP
 #define MOTIONBUS_DEVICES_ABSYS_EMULATOR_HPP
 

@@ -14,6 +14,12 @@
 // Choices where the text is silent (documented, tested): FC02 has no documented inputs, so every
 // address is an address error; a block must be accessed from its first address with its exact
 // length; reading 100..107 gives 16 NUL characters (§10).
+//
+// Firmware contract (Cortex-M4; sizes checked by the test command): emulator size: 112 bytes.
+// Its power-on state (the password `password`, the factory settings) is not all zeros, so a
+// `static` one is in .data: 112 bytes of flash copied to RAM at boot. It serves requests through
+// modbus::serve_frame / serve_rtu (their stack is the server's: docs/footprint.md); serve and
+// the world's setters (set_time_ms, inject_warning) must not run at the same time.
 #ifndef MOTIONBUS_DEVICES_SM_UNIT_EMULATOR_HPP
 #define MOTIONBUS_DEVICES_SM_UNIT_EMULATOR_HPP
 

@@ -25,6 +25,14 @@
 // carries the ID3 control field 0x1A; reading address 127 returns the current page; a write to a
 // closed address or an invalid page number gets ID3 data; the over-heat flag is raised when
 // the temperature exceeds the threshold (threshold byte bit 7 set, °C = byte - 128).
+//
+// Firmware contract (Cortex-M4; sizes checked by the test command, stack and instructions by
+// the meter at -Os: docs/footprint.md):
+//   emulator size: 932 bytes (six EEPROM pages of 127 bytes and page 7, the alarm state). A
+//     default-constructed `static` one (the TS5700N8500's settings) is all zeros: .bss.
+//   respond(): 289 instructions for an ID3 request, 272 bytes of stack at worst. It runs where
+//     the request's idle line is seen (a receive or idle interrupt); set_position(),
+//     rotate(), set_condition() and the other setters must not run while it does.
 #ifndef MOTIONBUS_DEVICES_TS5700N8500_EMULATOR_HPP
 #define MOTIONBUS_DEVICES_TS5700N8500_EMULATOR_HPP
 
