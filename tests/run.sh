@@ -2,7 +2,7 @@
 # The whole motionbus test suite, from a fresh Debian machine: installs missing packages,
 # then configures, builds and runs (ctest) each configuration:
 #   gcc   C++17 at -O3 (Release): doctest suite, warnings at -O0/-O2/-O3/-Os, static suite, headers alone (C++17/20, no exceptions/RTTI),
-#         include/ purity, no-heap run, CLI, cross probes (Cortex-M0+/M4, rv32imc),
+#         include/ purity, no-heap run, CLI, footprint and meter (Cortex-M0+/M4, rv32imc),
 #         package consumers (install, build tree, add_subdirectory, FetchContent, -I),
 #         clang-format, fuzz corpus replay, bench smoke run
 #   clang C++20 with ASan + UBSan: the same suites, plus each libFuzzer target for

@@ -6,7 +6,8 @@
 #              -DBUDGET_RODATA=<bytes>
 #              -P footprint_probe.cmake
 # With LD, objects are linked by that linker (rv32: binutils' ld -m elf32lriscv); otherwise by
-# the compiler driver. .data and .bss must be empty; .text and .rodata within budget.
+# the compiler driver. .text and .rodata within budget; .data and .bss reported (the library
+# has none: tests/footprint/all_headers.cpp checks that once, for every header).
 string(REPLACE "|" ";" FLAGS "${FLAGS}")
 string(REPLACE "|" ";" LINK_FLAGS "${LINK_FLAGS}")
 string(REPLACE "|" ";" LIBS "${LIBS}")
@@ -49,9 +50,6 @@ message(STATUS "${line}")
 file(APPEND "${OUT}/footprint-report.txt" "${line}\n")
 if(text EQUAL 0)
   message(FATAL_ERROR "no code in ${NAME}: size output not understood:\n${sections}")
-endif()
-if(NOT data EQUAL 0 OR NOT bss EQUAL 0)
-  message(FATAL_ERROR "${NAME} has writable data:\n${sections}")
 endif()
 if(text GREATER BUDGET_TEXT OR rodata GREATER BUDGET_RODATA)
   message(FATAL_ERROR "${NAME} grew past its budget:\n${line}")

@@ -464,3 +464,55 @@ TEST_CASE("invalid layouts, chains, buffers and values are refused") {
         errc::invalid_argument);
   CHECK(encoded_bits(span<const slave_layout>(two, 2), line_options{}) == 3U + 80U);
 }
+
+namespace {
+
+// Encodes one frame of `layout` with `values` and decodes it back.
+decode_result<frame_info> round_trip(const slave_layout& layout, const slave_values& values,
+                                     slave_data& d) {
+  std::uint32_t words[6] = {};
+  line_options line;
+  line.idle_bits = 3;
+  line.ack_bits = 2;
+  const auto n = encode_frame(layout, values, span<std::uint32_t>(words, 6), line);
+  REQUIRE(n.ok());
+  return decode_frame(span<const std::uint32_t>(words, 6), n.value(), layout, d);
+}
+
+}  // namespace
+
+TEST_CASE("BiSS-C layouts: no CRC, and 64 data bits with nE and nW") {
+  slave_layout plain;
+  plain.crc = crc_format{0, 0, 0, false};
+  slave_values v;
+  v.single_turn = 0x1234;
+  slave_data d;
+  auto r = round_trip(plain, v, d);
+  REQUIRE(r.is_complete());
+  CHECK(d.single_turn == 0x1234);
+  CHECK(d.crc == 0);
+  CHECK(d.crc_computed == 0);
+
+  slave_layout wide;
+  wide.multi_turn_bits = 32;
+  wide.single_turn_bits = 32;
+  v.multi_turn = 0xCAFEF00DU;
+  v.single_turn = 0x89ABCDEFU;
+  v.ne = false;
+  r = round_trip(wide, v, d);
+  REQUIRE(r.is_complete());
+  CHECK(d.multi_turn == 0xCAFEF00DU);
+  CHECK(d.single_turn == 0x89ABCDEFU);
+  CHECK(d.error());
+  CHECK(d.crc_ok());
+}
+
+TEST_CASE("BiSS-C encoder: an invalid layout is refused, and encoded_bits says 0") {
+  slave_layout bad;
+  bad.single_turn_bits = 0;  // no data bits at all
+  const slave_layout chain[1] = {bad};
+  CHECK(encoded_bits(span<const slave_layout>(chain, 1), line_options{}) == 0U);
+  std::uint32_t words[4] = {};
+  CHECK(encode_frame(bad, slave_values{}, span<std::uint32_t>(words, 4)).error() ==
+        errc::biss_layout);
+}

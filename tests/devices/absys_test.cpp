@@ -314,3 +314,21 @@ TEST_CASE("ABSYS emulator: errors latch in 0x6B until command 06; nE follows the
   CHECK(u[2] == 3);
   CHECK(enc.user_bank()[0x11] == 2);
 }
+
+TEST_CASE("ABSYS emulator registers: banks, command, preset, reserve, undefined addresses") {
+  ab::emulator e;
+  ab::emulator::registers regs(e);
+  regs.write(ab::reg::bank_select, ab::bank::eds_reserved_3);
+  CHECK(e.selected_bank() == ab::bank::eds_reserved_3);
+  CHECK(regs.read(0x00) == 0);  // reserved EDS banks read 0x00
+  regs.write(ab::reg::eds_bank, 0x81);
+  CHECK(regs.read(ab::reg::eds_bank) == 0x81);
+  CHECK(regs.read(ab::reg::command) == 0);
+  CHECK(regs.read(ab::reg::preset_mode) == e.read_register(ab::reg::preset_mode));
+  e.set_functional_reserve(200, 1);
+  CHECK(regs.read(ab::reg::functional_reserve) == 200);
+  CHECK(regs.read(ab::reg::functional_reserve_indicator) == 1);
+  CHECK(regs.read(0x50) == 0);         // no register there
+  regs.write(ab::reg::command, 0x77);  // no such command: nothing happens
+  CHECK(e.offset() == 0);
+}

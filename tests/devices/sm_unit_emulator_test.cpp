@@ -7,14 +7,16 @@
 #include <cstdint>
 #include <cstring>
 #include <vector>
+#include "../support/bytes.hpp"
+#include "../support/modbus.hpp"
 
 using namespace motionbus;
 namespace sm = motionbus::devices::sm_unit;
 namespace mo = motionbus::modbus;
 
-namespace {
+using namespace testutil;
 
-using bytes = std::vector<std::uint8_t>;
+namespace {
 
 struct bench {
   sm::emulator unit;
@@ -47,10 +49,6 @@ struct bench {
     return serve(byte_view(adu, n.value()));
   }
 };
-
-byte_view text(const char* s) {
-  return byte_view(reinterpret_cast<const std::uint8_t*>(s), std::strlen(s));
-}
 
 }  // namespace
 
@@ -174,4 +172,53 @@ TEST_CASE("SM unit emulator: broadcasts, other addresses, warnings, data over ti
   CHECK(v0[sm::channel::frequency] == 50);
   // a log channel: 20 samples
   CHECK(b.ask([](auto out) { return sm::read_log(1, 3, sm::channel::torque, out); }).size() == 42);
+}
+
+TEST_CASE("SM unit emulator: coils, short requests, state registers, login block, passwords") {
+  sm::emulator unit;
+  // FC01 on the coils: both read back OFF (they act and turn themselves off, §8)
+  CHECK(serve_pdu(unit, 1, {0x01, 0x00, 0x64, 0x00, 0x01}) == bytes{0x01, 0x01, 0x00});
+  // too short to carry an address: data error
+  CHECK(serve_pdu(unit, 1, {0x03, 0x00}) == bytes{0x83, 0x03});
+  // input registers outside every block: address error
+  CHECK(serve_pdu(unit, 1, {0x04, 0x01, 0x90, 0x00, 0x01}) == bytes{0x84, 0x02});
+  // state registers 205..207 all read setting 38
+  const bytes state = serve_pdu(unit, 1, {0x04, 0x00, 0xCD, 0x00, 0x03});
+  REQUIRE(state.size() == 8);
+  CHECK(state[2] == state[4]);
+  CHECK(state[3] == state[5]);
+  CHECK(mo::register_at(byte_view(state.data() + 2, 6), 2) == unit.setting(38));
+  // the login block reads as NUL characters
+  const bytes login = serve_pdu(unit, 1, {0x03, 0x00, 0x64, 0x00, 0x08});
+  REQUIRE(login.size() == 18);
+  CHECK(login[2] == 0);
+  CHECK(login[17] == 0);
+  // a password with a character after the padding is a data error
+  CHECK(serve_pdu(unit, 1, {0x10, 0x00, 0xC8, 0x00, 0x08, 0x10, 'a', 'b', 'c', 'd', ' ',
+                            ' ',  'e',  'f',  'g',  'h',  'i',  'j', 'k', 'l', 'm', 'n'}) ==
+        bytes{0x90, 0x03});
+  // logged out, a settings write by FC10 is a login error
+  std::uint8_t out[256] = {};
+  const auto n = sm::login(1, text("password"), mutable_byte_view(out, sizeof out));
+  REQUIRE(n.ok());
+  const auto f = mo::decode_rtu(byte_view(out, n.value()));
+  REQUIRE(f.is_complete());
+  serve_pdu(unit, 1, bytes(f->pdu.begin(), f->pdu.end()));
+  REQUIRE(!unit.logged_in());
+  CHECK(serve_pdu(unit, 1, {0x10, 0x00, 0x24, 0x00, 0x01, 0x02, 0x02, 0x58}) == bytes{0x90, 0x04});
+}
+
+TEST_CASE("SM unit emulator: changing the password while logged out is a login error") {
+  sm::emulator unit;
+  std::uint8_t out[256] = {};
+  auto send = [&](result<std::size_t> n) {
+    REQUIRE(n.ok());
+    const auto f = mo::decode_rtu(byte_view(out, n.value()));
+    REQUIRE(f.is_complete());
+    return serve_pdu(unit, 1, bytes(f->pdu.begin(), f->pdu.end()));
+  };
+  send(sm::login(1, text("password"), mutable_byte_view(out, sizeof out)));
+  REQUIRE(!unit.logged_in());
+  CHECK(send(sm::change_password(1, text("other-pass"), mutable_byte_view(out, sizeof out))) ==
+        bytes{0x90, 0x04});
 }

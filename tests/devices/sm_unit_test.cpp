@@ -8,40 +8,28 @@
 #include <cstdint>
 #include <cstring>
 #include <vector>
+#include "../support/bytes.hpp"
 
 using namespace motionbus;
 namespace sm = motionbus::devices::sm_unit;
 namespace mo = motionbus::modbus;
 
-namespace {
-
-using bytes = std::vector<std::uint8_t>;
-
-bytes built(const result<std::size_t>& n, const std::uint8_t* out) {
-  REQUIRE(n.ok());
-  return bytes(out, out + n.value());
-}
-
-byte_view text(const char* s) {
-  return byte_view(reinterpret_cast<const std::uint8_t*>(s), std::strlen(s));
-}
-
-}  // namespace
+using namespace testutil;
 
 TEST_CASE("SM unit: request frames for the documented operations") {
   std::uint8_t out[256] = {};
   // FC04 100..108 from slave 1: 01 04 00 64 00 09 + CRC
-  CHECK(built(sm::read_instantaneous(1, out), out) ==
+  CHECK(output(sm::read_instantaneous(1, out), out) ==
         bytes{0x01, 0x04, 0x00, 0x64, 0x00, 0x09, 0x71, 0xD3});
-  CHECK(built(sm::read_login_status(1, out), out) ==
+  CHECK(output(sm::read_login_status(1, out), out) ==
         bytes{0x01, 0x04, 0x01, 0x2C, 0x00, 0x01, 0xF1, 0xFF});
-  CHECK(built(sm::read_version(1, out), out) == bytes{0x01, 0x11, 0xC0, 0x2C});
-  CHECK(built(sm::set_coil(1, sm::coil::warning_reset, out), out) ==
+  CHECK(output(sm::read_version(1, out), out) == bytes{0x01, 0x11, 0xC0, 0x2C});
+  CHECK(output(sm::set_coil(1, sm::coil::warning_reset, out), out) ==
         bytes{0x01, 0x05, 0x00, 0x64, 0xFF, 0x00, 0xCD, 0xE5});
   // login with the default password "password": 8 registers, padded with NUL
   const auto n = sm::login(1, text("password"), out);
   REQUIRE(n.ok());
-  const bytes frame = built(n, out);
+  const bytes frame = output(n, out);
   CHECK(frame.size() == 1 + 6 + 16 + 2);
   CHECK(bytes(frame.begin(), frame.begin() + 15) ==
         bytes{0x01, 0x10, 0x00, 0x64, 0x00, 0x08, 0x10, 'p', 'a', 's', 's', 'w', 'o', 'r', 'd'});
@@ -138,4 +126,49 @@ TEST_CASE("SM unit: instantaneous data with units and signedness, version, login
 
   CHECK(std::strcmp(sm::warning_name(sm::warning::overheat), "overheat") == 0);
   CHECK(sm::warning_name(0x0010) == nullptr);
+}
+
+TEST_CASE("SM unit builders: slave 248 and above is refused by every builder") {
+  std::uint8_t out[256] = {};
+  const mutable_byte_view o(out, sizeof out);
+  const std::uint16_t values[2] = {100, 100};
+  CHECK(sm::write_setting(248, 36, 700, o).error() == errc::modbus_slave_address);
+  CHECK(sm::write_settings(248, 36, span<const std::uint16_t>(values, 2), o).error() ==
+        errc::modbus_slave_address);
+  CHECK(sm::read_holding_block(0, sm::holding::settings, 1, o).error() ==
+        errc::modbus_slave_address);  // no broadcast of a read
+  CHECK(sm::set_coil(248, sm::coil::warning_reset, o).error() == errc::modbus_slave_address);
+  CHECK(sm::read_version(0, o).error() == errc::modbus_slave_address);
+  // a PDU the codec refuses is refused through the wrapper: 124 settings exceed FC10's 123
+  const std::vector<std::uint16_t> many(124, 0);
+  CHECK(sm::write_settings(1, 0, span<const std::uint16_t>(many.data(), many.size()), o).error() !=
+        errc::ok);
+  // a quantity the PDU encoder refuses (0 registers) comes back through the wrapper
+  CHECK(sm::read_inputs(1, 0, 0, o).error() == errc::modbus_quantity);
+}
+
+TEST_CASE("SM unit decoders: warning names, and responses of the wrong shape") {
+  CHECK(std::strcmp(sm::warning_name(sm::warning::torque_upper_a), "torque_upper_limit_a") == 0);
+  CHECK(std::strcmp(sm::warning_name(sm::warning::torque_upper_b), "torque_upper_limit_b") == 0);
+  CHECK(std::strcmp(sm::warning_name(sm::warning::torque_lower_a), "torque_lower_limit_a") == 0);
+  CHECK(std::strcmp(sm::warning_name(sm::warning::torque_lower_b), "torque_lower_limit_b") == 0);
+  CHECK(std::strcmp(sm::warning_name(sm::warning::excessive_shock), "excessive_shock") == 0);
+  CHECK(sm::warning_name(0x0100) == nullptr);
+  mo::response r;
+  r.function = 0x04;
+  const bytes eight(8, 0);
+  r.data = byte_view(eight.data(), eight.size());
+  CHECK(sm::decode_instantaneous(r).error() == errc::modbus_byte_count);  // 4 registers, not 9
+  r.function = 0x11;
+  CHECK(sm::decode_version(r).error() == errc::modbus_byte_count);
+  r.exception = true;
+  CHECK(sm::decode_version(r).error() == errc::modbus_mismatch);
+}
+
+TEST_CASE("unit table: a channel outside the enumeration has a neutral entry") {
+  volatile int undefined = 99;  // run time, not a constant initialiser
+  const sm::unit_info u = sm::unit_of(static_cast<sm::channel>(undefined));
+  CHECK(std::strcmp(u.unit, "") == 0);
+  CHECK(u.numerator == 1);
+  CHECK(u.denominator == 1);
 }

@@ -8,14 +8,15 @@
 #include <cstdint>
 #include <vector>
 
+#include "../support/bytes.hpp"
 #include "motionbus/modbus.hpp"
 
 using namespace motionbus;
 using namespace motionbus::modbus;
 
-namespace {
+using namespace testutil;
 
-using bytes = std::vector<std::uint8_t>;
+namespace {
 
 errc request_error(const bytes& pdu) {
   return decode_request(byte_view(pdu.data(), pdu.size())).error();

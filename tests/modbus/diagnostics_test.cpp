@@ -6,19 +6,13 @@
 #include <cstring>
 #include <vector>
 
+#include "../support/bytes.hpp"
 #include "motionbus/modbus.hpp"
 
 using namespace motionbus;
 using namespace motionbus::modbus;
 
-namespace {
-
-using bytes = std::vector<std::uint8_t>;
-byte_view view(const bytes& b) {
-  return byte_view(b.data(), b.size());
-}
-
-}  // namespace
+using namespace testutil;
 
 TEST_CASE("FC07 read exception status, FC0B comm event counter, FC0C comm event log") {
   const bytes q07 = {0x07};

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "../support/modbus.hpp"
 #include "../support/prng.hpp"
 #include "motionbus/modbus/tcp.hpp"
 #include "motionbus/modbus/timing.hpp"
@@ -13,16 +14,9 @@
 using namespace motionbus;
 using namespace motionbus::modbus;
 
+using namespace testutil;
+
 namespace {
-
-using bytes = std::vector<std::uint8_t>;
-
-bytes rtu(std::uint8_t slave, const bytes& pdu) {
-  std::uint8_t out[256] = {};
-  const auto n = encode_rtu(slave, byte_view(pdu.data(), pdu.size()), out);
-  REQUIRE(n.ok());
-  return bytes(out, out + n.value());
-}
 
 struct event {
   bool ok;
@@ -324,4 +318,56 @@ TEST_CASE("fixed-role framers frame as the run-time role does") {
   REQUIRE(r.is_complete());
   CHECK(r->pdu.size() == 8);
   static_assert(sizeof(rtu_server_framer) == sizeof(rtu_framer), "the same state");
+}
+
+TEST_CASE("frame size prediction: each length rule, and when it cannot tell yet") {
+  // §6: fixed sizes per function; a byte count where the response has one.
+  CHECK(predict_request_size(view({0x11})) == 0);  // the function is not in yet
+  CHECK(predict_response_size(view({0x11}), 0x03) == 0);
+  CHECK(predict_response_size(view({0x11, 0x04}), 0x03) == unknown_length);  // not the one asked
+  CHECK(predict_response_size(view({0x11, 0x07}), 0x07) == 5);  // address, FC, status, CRC
+  CHECK(predict_response_size(view({0x11, 0x16}), 0x16) == 10);
+  CHECK(predict_response_size(view({0x11, 0x18, 0x00}), 0x18) == 0);
+  CHECK(predict_response_size(view({0x11, 0x18, 0x00, 0x06}), 0x18) == 12);
+  CHECK(predict_response_size(view({0x11, 0x41}), 0x41) == unknown_length);
+  // FC2B/0E objects walked as they arrive; a frame past the largest ADU has its size (the
+  // framer then rejects it as modbus_pdu_length), at most 255 objects are walked
+  bytes walk = {0x11, 0x2B, 0x0E, 0x01, 0x81, 0x00, 0x00, 0x03};
+  for (int k = 0; k < 3; ++k) {
+    walk.push_back(0x00);
+    walk.push_back(200);
+    walk.resize(walk.size() + 200, 'x');
+  }
+  const std::size_t predicted = predict_response_size(view(walk), 0x2B);
+  CHECK(predicted > max_rtu_size);
+  CHECK(predicted == walk.size() + 2U);  // the objects, then the CRC
+  walk.resize(walk.size() - 1U);         // the last object is not all there: its end is known
+  CHECK(predict_response_size(view(walk), 0x2B) == walk.size() + 1U);
+  walk.resize(8U + 202U + 1U);  // the second object's header is cut: wait for it
+  CHECK(predict_response_size(view(walk), 0x2B) == 0);
+}
+
+TEST_CASE("framer framing by silence: a full buffer with no frame end resynchronises") {
+  // frame_end::silence: a function without a length rule waits for idle(), but never
+  // beyond the largest ADU: then the oldest byte is dropped and the scan goes on.
+  rtu_framer f({framer_role::server, 0x11});
+  bytes noise = {0x11, 0x41};
+  noise.resize(max_rtu_size + 10, 0x55);
+  std::size_t used = 0;
+  bool completed = false;
+  while (used < noise.size()) {
+    const auto r = f.feed(byte_view(noise.data() + used, noise.size() - used));
+    completed = completed || r.is_complete();
+    used += r.consumed() == 0 ? noise.size() - used : r.consumed();
+  }
+  CHECK(!completed);
+  CHECK(f.dropped() > 0);
+  CHECK(f.pending() <= max_rtu_size);
+}
+
+TEST_CASE("MBAP header: a buffer shorter than header and PDU is refused") {
+  std::uint8_t out[8] = {};
+  const bytes pdu = {0x03, 0x00, 0x00, 0x00, 0x01};
+  CHECK(encode_tcp(1, 1, view(pdu), mutable_byte_view(out, sizeof out)).error() ==
+        errc::buffer_too_small);
 }

@@ -1,6 +1,7 @@
-// Firmware probe: uses every public header the way MCU firmware would, compiled for Cortex-M
-// and RISC-V with -Os -fno-exceptions -fno-rtti. The check requires no writable data (.data,
-// .bss) from the library: tables must land in read-only storage.
+// Every public header used the way MCU firmware would, compiled for Cortex-M0+, Cortex-M4 and
+// rv32imc, C++17 and C++20, -Os -fno-exceptions -fno-rtti: the test command's one check that
+// the library has no writable data (.data, .bss): tables land in read-only storage
+// (tests/footprint/CMakeLists.txt, cmake/checks/all_headers_probe.cmake).
 #include <motionbus/motionbus.hpp>
 
 #include <cstddef>

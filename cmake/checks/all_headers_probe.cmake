@@ -1,6 +1,8 @@
-# Compiles the firmware probe for a cross target and fails when it has writable data.
-# Usage: cmake -DCXX=<compiler> -DSIZE=<size tool> -DSOURCE=<probe.cpp> -DOBJECT=<out.o>
-#              -DFLAGS=<flag|flag|...> -P cross_probe.cmake
+# Compiles tests/footprint/all_headers.cpp (every public header, used) for a cross target and
+# fails when it has writable data: the test command's one check of that (the per-use probes
+# report their .data and .bss, the host builds compile each header alone).
+# Usage: cmake -DCXX=<compiler> -DSIZE=<size tool> -DSOURCE=<all_headers.cpp> -DOBJECT=<out.o>
+#              -DFLAGS=<flag|flag|...> -P all_headers_probe.cmake
 string(REPLACE "|" ";" FLAGS "${FLAGS}")
 execute_process(COMMAND "${CXX}" ${FLAGS} -c "${SOURCE}" -o "${OBJECT}"
   RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
