@@ -7,7 +7,9 @@
 #include "motionbus/core/config.hpp"
 #include "motionbus/core/crc.hpp"
 #include "motionbus/core/errc.hpp"
+#include "motionbus/core/frame_buffer.hpp"
 #include "motionbus/core/result.hpp"
 #include "motionbus/core/span.hpp"
+#include "motionbus/core/stream.hpp"
 
 #endif  // MOTIONBUS_CORE_HPP

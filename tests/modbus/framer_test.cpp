@@ -28,19 +28,15 @@ struct event {
 std::vector<event> run(rtu_framer& f, const bytes& stream, std::size_t chunk) {
   std::vector<event> out;
   for (std::size_t at = 0; at < stream.size(); at += chunk) {
-    byte_view in(stream.data() + at, std::min(chunk, stream.size() - at));
-    for (;;) {
-      const auto r = f.feed(in);
-      if (r.is_incomplete()) {
-        break;
-      }
-      in = in.subspan(r.consumed());
-      if (r) {
-        out.push_back({true, errc::ok, r->slave, bytes(r->pdu.begin(), r->pdu.end())});
-      } else {
-        out.push_back({false, r.error(), 0, {}});
-      }
-    }
+    feed_all(f, byte_view(stream.data() + at, std::min(chunk, stream.size() - at)),
+             [&](const auto& r) {
+               if (r) {
+                 out.push_back({true, errc::ok, r->slave, bytes(r->pdu.begin(), r->pdu.end())});
+               } else {
+                 out.push_back({false, r.error(), 0, {}});
+               }
+               return true;
+             });
   }
   return out;
 }

@@ -165,17 +165,13 @@ std::vector<bytes> serve_stream(const bytes& stream, std::size_t chunk, framer_o
     }
   };
   for (std::size_t at = 0; at < stream.size(); at += chunk) {
-    byte_view in(stream.data() + at, std::min(chunk, stream.size() - at));
-    for (;;) {
-      const auto r = rx.feed(in);
-      if (r.is_incomplete()) {
-        break;
-      }
-      in = in.subspan(r.consumed());
-      if (r.is_complete()) {
-        answer(r.value());
-      }
-    }
+    feed_all(rx, byte_view(stream.data() + at, std::min(chunk, stream.size() - at)),
+             [&](const auto& r) {
+               if (r.is_complete()) {
+                 answer(r.value());
+               }
+               return true;
+             });
   }
   const auto last = rx.idle();
   if (last.is_complete()) {

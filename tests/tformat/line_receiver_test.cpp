@@ -177,16 +177,12 @@ TEST_CASE("receiver: byte by byte and in chunks, lengths from the CF") {
     receiver rx;
     std::vector<response> got;
     for (std::size_t at = 0; at < stream.size(); at += chunk) {
-      byte_view in(stream.data() + at, std::min(chunk, stream.size() - at));
-      for (;;) {
-        const auto r = rx.feed(in);
-        if (r.is_incomplete()) {
-          break;
-        }
-        in = in.subspan(r.consumed());
-        REQUIRE(r.is_complete());
-        got.push_back(r.value());
-      }
+      feed_all(rx, byte_view(stream.data() + at, std::min(chunk, stream.size() - at)),
+               [&](const auto& r) {
+                 REQUIRE(r.is_complete());
+                 got.push_back(r.value());
+                 return true;
+               });
     }
     CAPTURE(chunk);
     REQUIRE(got.size() == 2);
@@ -238,21 +234,16 @@ TEST_CASE("receiver: echo skipped, garbage dropped, no valid frame lost after a 
   std::vector<std::uint8_t> s3 = {0xFF, 0x00, 0x55};
   s3.insert(s3.end(), corrupt.begin(), corrupt.end());
   s3.insert(s3.end(), good.begin(), good.end());
-  byte_view in(s3.data(), s3.size());
   std::vector<errc> events;
   std::vector<response> frames;
-  for (;;) {
-    const auto e = rx3.feed(in);
-    if (e.is_incomplete()) {
-      break;
-    }
-    in = in.subspan(e.consumed());
+  feed_all(rx3, byte_view(s3.data(), s3.size()), [&](const auto& e) {
     if (e.is_complete()) {
       frames.push_back(e.value());
     } else {
       events.push_back(e.error());
     }
-  }
+    return true;
+  });
   REQUIRE(frames.size() == 1);
   CHECK(frames[0].abs == 0x10);
   REQUIRE(!events.empty());
@@ -299,19 +290,14 @@ TEST_CASE("receiver: random garbage between valid frames never loses a frame") {
       ++expected;
     }
     receiver rx;
-    byte_view in(s.data(), s.size());
     int frames = 0;
-    for (;;) {
-      const auto e = rx.feed(in);
-      if (e.is_incomplete()) {
-        break;
-      }
-      in = in.subspan(e.consumed());
+    feed_all(rx, byte_view(s.data(), s.size()), [&](const auto& e) {
       if (e.is_complete()) {
         ++frames;
         CHECK(e->abs == 0x014321);
       }
-    }
+      return true;
+    });
     CHECK(frames == expected);
   }
 }

@@ -32,16 +32,17 @@ exchange transact(serial::port& port, std::uint8_t slave, const std::uint8_t* ad
       }
       continue;
     }
-    mb::byte_view in(buffer, static_cast<std::size_t>(n));
-    for (;;) {
-      const auto r = rx.feed(in);
-      if (r.is_incomplete()) {
-        break;
-      }
-      in = in.subspan(r.consumed());
+    std::vector<std::uint8_t> pdu;
+    bool framed = false;
+    mb::feed_all(rx, mb::byte_view(buffer, static_cast<std::size_t>(n)), [&](const auto& r) {
       if (r.is_complete()) {
-        return {std::vector<std::uint8_t>(r->pdu.begin(), r->pdu.end()), {}};
+        pdu.assign(r->pdu.begin(), r->pdu.end());
+        framed = true;
       }
+      return !framed;
+    });
+    if (framed) {
+      return {pdu, {}};
     }
   }
   return {{}, "timeout"};

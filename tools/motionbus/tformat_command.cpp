@@ -263,19 +263,19 @@ int read_encoder(const cli::options& opts) {
     if (got < 0) {
       break;
     }
-    mb::byte_view in(buffer, static_cast<std::size_t>(got));
-    for (;;) {
-      const auto r = rx.feed(in);
-      if (r.is_incomplete()) {
-        break;
-      }
-      in = in.subspan(r.consumed());
+    int status = -1;  // a response, or a failure: the first result settles the command
+    mb::feed_all(rx, mb::byte_view(buffer, static_cast<std::size_t>(got)), [&](const auto& r) {
       if (r.is_complete()) {
         cli::print(cli::outcome::success(response_json(r.value())));
-        return 0;
+        status = 0;
+      } else {
+        cli::print(cli::outcome::failure(mb::to_string(r.error())));
+        status = 1;
       }
-      cli::print(cli::outcome::failure(mb::to_string(r.error())));
-      return 1;
+      return false;
+    });
+    if (status >= 0) {
+      return status;
     }
   }
   cli::print(cli::outcome::failure("timeout"));

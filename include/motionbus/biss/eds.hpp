@@ -244,26 +244,30 @@ constexpr result<bp3_profile> decode_bp3(byte_view bank, const eds_options& opt 
   return p;
 }
 
-/// Writes the common part into a 64-byte bank (undefined bytes 0, checksum in 0x3F).
-constexpr errc encode_eds_common(const eds_common& e, mutable_byte_view bank) noexcept {
+namespace detail {
+// A bank written whole: zeros where nothing is defined, the fields, the checksum last.
+template <class T, class Fields>
+constexpr errc encode_bank(const T& value, Fields fields, mutable_byte_view bank) noexcept {
   if (bank.size() < bank_size) {
     return errc::buffer_too_small;
   }
-  detail::clear_bank(bank);
-  detail::common_fields(e, detail::field_writer{bank});
-  detail::seal_bank(bank);
+  clear_bank(bank);
+  fields(value, field_writer{bank});
+  seal_bank(bank);
   return errc::ok;
+}
+}  // namespace detail
+
+/// Writes the common part into a 64-byte bank (undefined bytes 0, checksum in 0x3F).
+constexpr errc encode_eds_common(const eds_common& e, mutable_byte_view bank) noexcept {
+  return detail::encode_bank(
+      e, [](const eds_common& v, auto w) { detail::common_fields(v, w); }, bank);
 }
 
 /// Writes the BP3 profile into a 64-byte bank (undefined bytes 0, checksum in 0x3F).
 constexpr errc encode_bp3(const bp3_profile& p, mutable_byte_view bank) noexcept {
-  if (bank.size() < bank_size) {
-    return errc::buffer_too_small;
-  }
-  detail::clear_bank(bank);
-  detail::bp3_fields(p, detail::field_writer{bank});
-  detail::seal_bank(bank);
-  return errc::ok;
+  return detail::encode_bank(
+      p, [](const bp3_profile& v, auto w) { detail::bp3_fields(v, w); }, bank);
 }
 
 }  // namespace biss

@@ -16,13 +16,11 @@
 // a decode_result. `Table` selects the CRC table. No heap, no I/O.
 //
 //   rtu_framer rx({framer_role::server, 0x11});
-//   on_bytes(in):                       // from the UART
-//     for (;;) {
-//       auto r = rx.feed(in);
-//       if (r.is_incomplete()) break;   // all of `in` taken
-//       in = in.subspan(r.consumed());
+//   on_bytes(in):                       // from the UART (core/stream.hpp: the feed loop)
+//     feed_all(rx, in, [](const auto& r) {
 //       if (r) handle(r.value());       // r->pdu points into rx: use it before the next feed()
-//     }
+//       return true;
+//     });
 //   on_byte(b):                         // or from a receive interrupt, byte by byte
 //     if (auto r = rx.feed(b)) handle(r.value());
 //   on_t35():                           // the UART's idle-line timer
@@ -50,6 +48,7 @@
 #include "motionbus/core/frame_buffer.hpp"
 #include "motionbus/core/result.hpp"
 #include "motionbus/core/span.hpp"
+#include "motionbus/core/stream.hpp"
 #include "motionbus/modbus/pdu.hpp"
 #include "motionbus/modbus/rtu.hpp"
 

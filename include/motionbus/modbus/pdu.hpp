@@ -243,6 +243,25 @@ constexpr object_walk walk_objects(byte_view in, std::size_t at, std::size_t cou
   }
   return {at, true};
 }
+/// The requests with a payload: the function code, N big-endian words, a byte count, then
+/// `count` bytes written by `put(at)` from `out[at]` (FC0F coils, FC10 and FC17 registers). The
+/// caller has checked the values; this checks the room.
+template <std::size_t N, class Put>
+constexpr result<std::size_t> encode_counted(std::uint8_t function, const std::uint16_t (&words)[N],
+                                             std::size_t count, mutable_byte_view out,
+                                             Put&& put) noexcept {
+  constexpr std::size_t at = 2U + 2U * N;
+  if (out.size() < at + count) {
+    return errc::buffer_too_small;
+  }
+  out[0] = function;
+  for (std::size_t i = 0; i < N; ++i) {
+    store_be16(out, 1U + 2U * i, words[i]);
+  }
+  out[at - 1U] = static_cast<std::uint8_t>(count);
+  put(at);
+  return at + count;
+}
 constexpr bool is_read_bits(std::uint8_t f) noexcept {
   return f == 0x01 || f == 0x02;
 }

@@ -65,14 +65,9 @@ constexpr result<std::size_t> encode_write_multiple_coils(std::uint16_t address,
   if (detail::overflows(address, quantity)) {
     return errc::modbus_address_overflow;
   }
-  if (out.size() < 6U + n) {
-    return errc::buffer_too_small;
-  }
-  out[0] = function_code::write_multiple_coils;
-  store_be16(out, 1, address);
-  store_be16(out, 3, quantity);
-  out[5] = static_cast<std::uint8_t>(n);
-  return 6U + detail::copy_packed_bits(packed, quantity, out, 6);
+  return detail::encode_counted(
+      function_code::write_multiple_coils, {address, quantity}, n, out,
+      [&](std::size_t at) { (void)detail::copy_packed_bits(packed, quantity, out, at); });
 }
 
 /// FC10: registers `values` from `address`. Errors: modbus_quantity (1..123),
@@ -87,15 +82,9 @@ constexpr result<std::size_t> encode_write_multiple_registers(std::uint16_t addr
   if (detail::overflows(address, q)) {
     return errc::modbus_address_overflow;
   }
-  if (out.size() < 6U + 2U * values.size()) {
-    return errc::buffer_too_small;
-  }
-  out[0] = function_code::write_multiple_registers;
-  store_be16(out, 1, address);
-  store_be16(out, 3, q);
-  out[5] = static_cast<std::uint8_t>(2U * q);
-  detail::put_registers(out, 6, values);
-  return 6U + 2U * values.size();
+  return detail::encode_counted(function_code::write_multiple_registers, {address, q},
+                                std::size_t{2} * q, out,
+                                [&](std::size_t at) { detail::put_registers(out, at, values); });
 }
 
 /// FC16: register = (register AND and_mask) OR (or_mask AND NOT and_mask).
@@ -123,17 +112,10 @@ constexpr result<std::size_t> encode_read_write_multiple_registers(std::uint16_t
   if (detail::overflows(read_address, read_quantity) || detail::overflows(write_address, wq)) {
     return errc::modbus_address_overflow;
   }
-  if (out.size() < 10U + 2U * values.size()) {
-    return errc::buffer_too_small;
-  }
-  out[0] = function_code::read_write_multiple_registers;
-  store_be16(out, 1, read_address);
-  store_be16(out, 3, read_quantity);
-  store_be16(out, 5, write_address);
-  store_be16(out, 7, wq);
-  out[9] = static_cast<std::uint8_t>(2U * wq);
-  detail::put_registers(out, 10, values);
-  return 10U + 2U * values.size();
+  return detail::encode_counted(function_code::read_write_multiple_registers,
+                                {read_address, read_quantity, write_address, wq},
+                                std::size_t{2} * wq, out,
+                                [&](std::size_t at) { detail::put_registers(out, at, values); });
 }
 
 /// Any function with an opaque data part (FC07, 0B, 0C, 11 with no data; custom functions).

@@ -10,12 +10,10 @@
 //
 //   receiver rx({echo::expected});
 //   rx.sent(request);                         // after writing the request to the UART
-//   while (!in.empty()) {
-//     auto r = rx.feed(in);
-//     if (r.is_incomplete()) break;           // every byte was taken; wait for more
-//     in = in.subspan(r.consumed());
+//   feed_all(rx, in, [](const auto& r) {      // every result for the bytes `in`
 //     if (r) use(r.value()); else log(r.error());
-//   }
+//     return true;
+//   });                                       // (core/stream.hpp: the loop on feed() below)
 //   on_idle():                                // the line went quiet: a cut-short frame?
 //     if (rx.idle().is_failed()) log_truncated();
 //
@@ -39,6 +37,7 @@
 #include "motionbus/core/frame_buffer.hpp"
 #include "motionbus/core/result.hpp"
 #include "motionbus/core/span.hpp"
+#include "motionbus/core/stream.hpp"
 #include "motionbus/tformat/codec.hpp"
 #include "motionbus/tformat/frame.hpp"
 

@@ -1,0 +1,38 @@
+// motionbus — the feed loop of the stream objects (tformat::receiver, modbus::rtu_framer and
+// its fixed-role forms), written once: every result they report for a chunk of input, in order.
+//
+//   feed_all(rx, in, [&](const auto& r) {   // r: a decode_result, complete or failed
+//     if (r) handle(r.value()); else log(r.error());
+//     return true;                           // false: stop here, the rest of `in` is returned
+//   });
+//
+// No heap, no I/O.
+#ifndef MOTIONBUS_CORE_STREAM_HPP
+#define MOTIONBUS_CORE_STREAM_HPP
+
+#include "motionbus/core/span.hpp"
+
+namespace motionbus {
+
+/// Hands `in` to `stream.feed()` until every byte is taken, calling `each(result)` for every
+/// result that is not incomplete (a frame, or a failure: after one, the stream object rescans
+/// the bytes it holds, so the loop calls feed() again even when `in` is used up). `each`
+/// returns false to stop early. Returns the bytes of `in` not taken: empty, unless `each`
+/// stopped. A frame a result points into is valid during `each` only.
+template <class Stream, class Each>
+constexpr byte_view feed_all(Stream& stream, byte_view in, Each&& each) {
+  for (;;) {
+    const auto r = stream.feed(in);
+    if (r.is_incomplete()) {
+      return byte_view{};
+    }
+    in = in.subspan(r.consumed());
+    if (!each(r)) {
+      return in;
+    }
+  }
+}
+
+}  // namespace motionbus
+
+#endif  // MOTIONBUS_CORE_STREAM_HPP
