@@ -98,3 +98,27 @@ TEST_CASE("frame_buffer: push_before stops at the capacity, a push makes room") 
   CHECK(!b.push_before(6, at_least));  // with it 4 would be held: a decision
   CHECK(b.completes_want());
 }
+
+TEST_CASE("frame_buffer: a byte completing wanted() at the capacity is not put_last's") {
+  // 4 wanted from index 2 of 4: the end reaches the capacity with 2 held; the byte that would
+  // make 3 held still leaves one to want, and the one after that completes wanted() where there
+  // is no room at the end: room must be made first (the fuzz targets found this case).
+  frame_buffer<4> b;
+  std::size_t at_least = 0;
+  b.want(4);
+  CHECK(b.push_before(1, at_least));
+  CHECK(b.push_before(2, at_least));
+  b.drop(1);
+  b.want(3);                           // 1 held, at index 1: stop at index 4, the capacity
+  CHECK(b.push_before(3, at_least));   // index 2
+  CHECK(!b.push_before(4, at_least));  // index 3 would reach the capacity: refused
+  CHECK(b.completes_want());           // with it, 3 held, and index 3 is free
+  CHECK(b.push(4));                    // the slow path stores it
+  b.want(4);                           // 3 held from index 1: the next byte completes 4
+  CHECK(!b.push_before(5, at_least));
+  CHECK(!b.completes_want());  // but the end is at the capacity: no put_last
+  CHECK(b.push(5));            // push makes room (moves the held bytes to the front)
+  CHECK(b.size() == 4);
+  CHECK(b[0] == 2);
+  CHECK(b[3] == 5);
+}

@@ -58,16 +58,17 @@ class frame_buffer {
     bytes_[end] = b;
     return true;
   }
-  /// Appends one byte where push_before() refused it only because wanted() bytes are then
-  /// held (there is room: the end had not reached the capacity).
+  /// Appends one byte where completes_want() said it completes wanted() with room at the end.
   MOTIONBUS_INLINE constexpr void put_last(std::uint8_t b) noexcept {
     const index end = end_;
     bytes_[end] = b;
     end_ = static_cast<index>(end + 1U);
   }
-  /// True when push_before() refused `b` because it is the byte that makes wanted() held.
+  /// True when the next byte makes wanted() held and there is room for it at the end (put_last
+  /// may store it). False at the capacity, even when the next byte completes wanted(): room
+  /// must be made first (push or append do).
   MOTIONBUS_INLINE constexpr bool completes_want() const noexcept {
-    return end_ + 1U == static_cast<std::size_t>(start_) + want_;
+    return end_ < N && end_ + 1U == static_cast<std::size_t>(start_) + want_;
   }
   /// The owner decides when `n` (<= N) bytes are held: push_before() refuses the byte that
   /// would make `n` (or more) held.
