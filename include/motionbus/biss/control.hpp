@@ -62,25 +62,30 @@ inline constexpr std::size_t preamble_frames = 14;
 inline constexpr unsigned max_register_address = 0x7F;
 inline constexpr unsigned max_slave_id = 7;
 
-/// The inverted CRC4 (x^4 + x + 1, start 0) of the header's CTS, ID2..0, ADR6..0.
+/// The inverted CRC4 (x^4 + x + 1, start 0) of the header's CTS, ID2..0, ADR6..0. `Table`
+/// selects the CRC table, as everywhere a CRC runs.
+template <crc_table_size Table = default_crc_table>
 constexpr std::uint8_t header_crc(std::uint8_t slave_id, std::uint8_t address,
                                   bool cts = true) noexcept {
   const std::uint32_t bits =
       ((cts ? 1U : 0U) << 10U) | ((slave_id & 0x7U) << 7U) | (address & max_register_address);
-  return static_cast<std::uint8_t>(crc4_biss<>::compute_bits(bits, 11));
+  return static_cast<std::uint8_t>(crc4_biss<Table>::compute_bits(bits, 11));
 }
 
 /// The inverted CRC4 of a data byte.
+template <crc_table_size Table = default_crc_table>
 constexpr std::uint8_t data_crc(std::uint8_t data) noexcept {
-  return static_cast<std::uint8_t>(crc4_biss<>::compute_bits(data, 8));
+  return static_cast<std::uint8_t>(crc4_biss<Table>::compute_bits(data, 8));
 }
 
 /// The 18 CDM bits of a register access header, first slot in bit 17.
+template <crc_table_size Table = default_crc_table>
 constexpr std::uint32_t header_bits(std::uint8_t slave_id, std::uint8_t address,
                                     bool write) noexcept {
   return (1U << 17U) | (1U << 16U) | ((slave_id & 0x7U) << 13U) |
          ((address & max_register_address) << 6U) |
-         (static_cast<std::uint32_t>(header_crc(slave_id, address)) << 2U) | (write ? 0x1U : 0x2U);
+         (static_cast<std::uint32_t>(header_crc<Table>(slave_id, address)) << 2U) |
+         (write ? 0x1U : 0x2U);
 }
 
 enum class control_state : std::uint8_t {
@@ -97,12 +102,13 @@ struct control_options {
 
 /// Master side of register access. Buffers given to start_read / start_write are the caller's
 /// and must outlive the access.
-class control_master {
+template <crc_table_size Table = default_crc_table>
+class basic_control_master {
  public:
   /// A default-constructed master is all zeros (its options are stored relative to the
   /// defaults): a `static` one lands in .bss, not .data.
-  constexpr control_master() noexcept = default;
-  constexpr explicit control_master(const control_options& opt) noexcept
+  constexpr basic_control_master() noexcept = default;
+  constexpr explicit basic_control_master(const control_options& opt) noexcept
       : wait_limit_x_(opt.max_wait_frames ^ control_options{}.max_wait_frames) {}
 
   /// Starts a read of out.size() (1..128) registers from `address` onward (sequential access
@@ -188,7 +194,7 @@ class control_master {
     frames_ = 0;
     sent_ = phase::preamble;
     sent_index_ = 0;
-    header_ = header_bits(id, address, write);
+    header_ = header_bits<Table>(id, address, write);
     echo_ = 0;
     waits_ = 0;
     rx_ = 0;
@@ -237,12 +243,12 @@ class control_master {
     const auto value = static_cast<std::uint8_t>(rx_ >> 4U);
     const auto crc = static_cast<std::uint8_t>(rx_ & 0xFU);
     if (write_mode_) {
-      if (value != write_[byte_] || crc != data_crc(value) || p) {
+      if (value != write_[byte_] || crc != data_crc<Table>(value) || p) {
         fail(errc::biss_write_not_confirmed);
         return;
       }
     } else {
-      if (crc != data_crc(value)) {
+      if (crc != data_crc<Table>(value)) {
         fail(errc::crc_mismatch);
         return;
       }
@@ -316,7 +322,7 @@ class control_master {
     return ((out_byte() >> (7U - i)) & 1U) != 0U;
   }
   constexpr bool crc_bit(unsigned i) const noexcept {
-    return write_mode_ && ((data_crc(out_byte()) >> (3U - i)) & 1U) != 0U;
+    return write_mode_ && ((data_crc<Table>(out_byte()) >> (3U - i)) & 1U) != 0U;
   }
 
   std::size_t wait_limit_x_ = 0;  // max_wait_frames XOR its default
@@ -340,6 +346,9 @@ class control_master {
   bool ready_ = false;
 };
 
+/// The master with the default CRC table.
+using control_master = basic_control_master<>;
+
 /// The slave's run-time choices.
 struct control_slave_options {
   std::uint8_t slave_id = 0;
@@ -353,7 +362,7 @@ struct control_slave_options {
 ///   bool ready() const;                            (false while busy: wait states)
 ///   std::uint8_t read(std::uint8_t address);       void write(std::uint8_t address, std::uint8_t);
 /// The slave refers to the register file: keep it alive.
-template <class Registers>
+template <class Registers, crc_table_size Table = default_crc_table>
 class control_slave {
  public:
   constexpr explicit control_slave(Registers& regs, control_slave_options opt = {}) noexcept
@@ -479,7 +488,7 @@ class control_slave {
       state_ = state::stop;
       index_ = 0;
       if (write_mode_) {
-        write_ok_ = (master_crc_ & 0xFU) == data_crc(value_);
+        write_ok_ = (master_crc_ & 0xFU) == data_crc<Table>(value_);
         if (write_ok_) {
           regs_->write(address_, value_);
           ++accesses_;
@@ -490,7 +499,7 @@ class control_slave {
         ++accesses_;
       }
     }
-    return ((data_crc(value_) >> (3U - i)) & 1U) != 0U;
+    return ((data_crc<Table>(value_) >> (3U - i)) & 1U) != 0U;
   }
 
   Registers* regs_;
