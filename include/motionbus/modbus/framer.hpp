@@ -31,7 +31,7 @@
 //   rtu_framer size: 280 bytes (a 256-byte frame buffer and its state; the same for
 //     rtu_server_framer and rtu_client_framer). A default-constructed `static` framer is all
 //     zeros: .bss, no start-up code, no flash copied to RAM.
-//   feed(byte): 17 instructions for a byte inside a frame, the call included; 44.5 a byte over
+//   feed(byte): 17 instructions for a byte inside a frame, the call included; 44.9 a byte over
 //     an FC03 request, CRC included; 128 bytes of stack at worst (the last byte: CRC, address).
 //   Interrupts: feed() may run in the UART receive interrupt, idle() in the t3.5 timer's;
 //     sent() (client) runs before the request's first byte goes out. None of them may run
