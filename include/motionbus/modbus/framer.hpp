@@ -296,7 +296,7 @@ class basic_rtu_framer {
       }
       // a request whose function code alone gives its size: one table read; else the rule
       const std::size_t total = server() ? detail::fixed_request_size(byte) : predict(buf_.view());
-      if (total >= min_rtu_size && total <= max_rtu_size && buf_[1] != 0x08U) {
+      if (total >= 3U && pdu_size_ok(total - 3U) && buf_[1] != 0x08U) {
         buf_.want(total);
         framing_ = true;
         return need_input{total - 2U};
@@ -457,7 +457,7 @@ class basic_rtu_framer {
         buf_.want(size + 1U);
         return need_input{1};
       }
-      if (total > max_rtu_size || total < min_rtu_size) {
+      if (total < 3U || !pdu_size_ok(total - 3U)) {  // address, PDU, CRC
         if (wait_for_silence(at_end)) {
           return need_input{1};
         }

@@ -30,6 +30,13 @@ namespace modbus {
 
 inline constexpr std::size_t max_pdu_size = 253;
 
+/// Whether a PDU of `n` bytes fits the specification: 1..253 (Application Protocol §4.1). One
+/// check for every PDU decoder and encoder, the RTU framing (address and CRC around the PDU)
+/// and TCP (the unit identifier before it).
+constexpr bool pdu_size_ok(std::size_t n) noexcept {
+  return n >= 1U && n <= max_pdu_size;
+}
+
 /// Function codes (Application Protocol §6): `function_code::read_holding_registers` is the
 /// byte 0x03. Every function code a codec takes or returns is a std::uint8_t (any byte can
 /// arrive on the wire, and a server answers the ones it does not know); these name them.
@@ -321,7 +328,7 @@ constexpr function_set functions_of(Codes... codes) noexcept {
 template <function_set Served = all_functions>
 constexpr decode_result<request> decode_request(byte_view pdu) noexcept {
   const std::size_t n = pdu.size();
-  if (n < 1U || n > max_pdu_size) {
+  if (!pdu_size_ok(n)) {
     return decode_failure{errc::modbus_pdu_length, n};
   }
   request q;

@@ -225,7 +225,7 @@ namespace detail {
 constexpr bool response_head(byte_view pdu, std::uint8_t function, response& r, errc& error,
                              std::uint32_t& expected, std::uint32_t& received) noexcept {
   const std::size_t n = pdu.size();
-  if (n < 1U || n > max_pdu_size) {
+  if (!pdu_size_ok(n)) {
     error = errc::modbus_pdu_length;
     return true;
   }
@@ -238,7 +238,7 @@ constexpr bool response_head(byte_view pdu, std::uint8_t function, response& r, 
   }
   if ((pdu[0] & exception_flag) != 0U) {
     if (n != 2U) {
-      error = n < 2U ? errc::truncated : errc::modbus_byte_count;
+      error = detail::exact_size(n, 2U);
     } else {
       r.exception = true;
       r.exception_code = pdu[1];
@@ -314,7 +314,7 @@ constexpr decode_result<response> decode_write_response(byte_view pdu, std::uint
   std::uint32_t got = 0;
   if (!detail::response_head(pdu, f, r, e, want, got)) {
     if (n != 5U) {
-      e = n < 5U ? errc::truncated : errc::modbus_byte_count;
+      e = detail::exact_size(n, 5U);
     } else {
       r.address = load_be16(pdu, 1);
       const std::uint16_t echoed = load_be16(pdu, 3);
@@ -354,14 +354,14 @@ constexpr void response_body(byte_view pdu, std::uint8_t f, const request* q, re
     }
   } else if (f == 0x05U || f == 0x06U || f == 0x0FU || f == 0x10U) {  // only when unpaired
     if (n != 5U) {
-      e = n < 5U ? errc::truncated : errc::modbus_byte_count;
+      e = detail::exact_size(n, 5U);
     } else {
       r.address = load_be16(pdu, 1);
       (f == 0x05U || f == 0x06U ? r.value : r.quantity) = load_be16(pdu, 3);
     }
   } else if (f == 0x16) {
     if (n != 7U) {
-      e = n < 7U ? errc::truncated : errc::modbus_byte_count;
+      e = detail::exact_size(n, 7U);
     } else {
       r.address = load_be16(pdu, 1);
       r.and_mask = load_be16(pdu, 3);
@@ -373,7 +373,7 @@ constexpr void response_body(byte_view pdu, std::uint8_t f, const request* q, re
     }
   } else if (f == 0x07) {
     if (n != 2U) {
-      e = n < 2U ? errc::truncated : errc::modbus_byte_count;
+      e = detail::exact_size(n, 2U);
     } else {
       r.status = pdu[1];
     }
@@ -402,7 +402,7 @@ constexpr void response_body(byte_view pdu, std::uint8_t f, const request* q, re
     }
   } else if (f == 0x0B) {
     if (n != 5U) {
-      e = n < 5U ? errc::truncated : errc::modbus_byte_count;
+      e = detail::exact_size(n, 5U);
     } else {
       r.status = load_be16(pdu, 1);
       r.event_count = load_be16(pdu, 3);
@@ -463,7 +463,7 @@ constexpr void response_body(byte_view pdu, std::uint8_t f, const request* q, re
     }
   } else if (f == 0x11) {  // SM unit: exactly two bytes, no byte count
     if (n != 3U) {
-      e = n < 3U ? errc::truncated : errc::modbus_byte_count;
+      e = detail::exact_size(n, 3U);
     } else {
       r.data = pdu.subspan(1);
     }
@@ -484,7 +484,7 @@ constexpr void response_body(byte_view pdu, std::uint8_t f, const request* q, re
 constexpr decode_result<response> decode_response(
     byte_view pdu, byte_view sent, report_id_format fc11 = report_id_format::standard) noexcept {
   const std::size_t n = pdu.size();
-  if (n < 1U || n > max_pdu_size) {
+  if (!pdu_size_ok(n)) {
     return decode_failure{errc::modbus_pdu_length, n};
   }
   const decode_result<request> dq = decode_request(sent);

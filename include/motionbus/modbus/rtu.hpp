@@ -40,7 +40,7 @@ constexpr result<std::size_t> encode_rtu(std::uint8_t slave, byte_view pdu,
   if (slave > max_unicast_address) {
     return errc::modbus_slave_address;
   }
-  if (pdu.empty() || pdu.size() > max_pdu_size) {
+  if (!pdu_size_ok(pdu.size())) {
     return errc::modbus_pdu_length;
   }
   const std::size_t n = pdu.size() + 3U;
@@ -62,7 +62,7 @@ constexpr result<std::size_t> encode_rtu(std::uint8_t slave, byte_view pdu,
 template <crc_table_size Table = default_crc_table>
 constexpr decode_result<rtu_frame> decode_rtu(byte_view adu) noexcept {
   const std::size_t n = adu.size();
-  if (n < min_rtu_size || n > max_rtu_size) {
+  if (n < 3U || !pdu_size_ok(n - 3U)) {  // address, PDU, CRC
     return decode_failure{errc::modbus_pdu_length, n};
   }
   const std::uint16_t received = load_le16(adu, n - 2U);

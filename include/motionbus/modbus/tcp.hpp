@@ -28,7 +28,7 @@ struct tcp_frame {
 /// MBAP header + `pdu`. Errors: modbus_pdu_length, buffer_too_small.
 constexpr result<std::size_t> encode_tcp(std::uint16_t transaction, std::uint8_t unit,
                                          byte_view pdu, mutable_byte_view out) noexcept {
-  if (pdu.empty() || pdu.size() > max_pdu_size) {
+  if (!pdu_size_ok(pdu.size())) {
     return errc::modbus_pdu_length;
   }
   const std::size_t n = mbap_size + pdu.size();
@@ -58,7 +58,7 @@ constexpr decode_result<tcp_frame> decode_tcp(byte_view in) noexcept {
   f.transaction = load_be16(in, 0);
   f.protocol = load_be16(in, 2);
   const std::size_t length = load_be16(in, 4);
-  if (length < 2U || length > max_pdu_size + 1U) {
+  if (length < 1U || !pdu_size_ok(length - 1U)) {  // the unit identifier, then the PDU
     return decode_failure{errc::modbus_pdu_length, in.size()};
   }
   const std::size_t total = 6U + length;
