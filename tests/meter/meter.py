@@ -540,10 +540,13 @@ def measure(m):
     m.call("op_biss_control_start", 0x42)
     expect("biss.control_master start", m.out(2)[1], 0)
     total, worst, frames, cds = 0, 0, 0, 0
+    slave_total, slave_worst = 0, 0
     while frames < 200:
         cdm, n, s = m.call("op_biss_master_step", cds)
         total, worst, frames = total + n, max(worst, s), frames + 1
-        cds, _, _ = m.call("op_biss_slave_step", cdm)
+        cds, n, s = m.call("op_biss_slave_step", cdm)
+        slave_total, slave_worst = slave_total + n, max(slave_worst, s)
+        m.call("op_report_control")
         if m.out(1)[0] != 1:  # control_state::busy
             break
     o = m.out(5)
@@ -551,6 +554,32 @@ def measure(m):
            [2, regs[0x42], regs[0x43], 0])  # control_state::done, the two registers, errc::ok
     record("biss.control_master.per_frame", round(total / frames, 1), worst, per="frame",
            units=frames, total=total)
+    record("biss.control_slave.per_frame", round(slave_total / frames, 1), slave_worst,
+           per="frame", units=frames, total=slave_total)
+
+    # Device emulators. ABSYS: one frame (1 idle bit, 1 Ack bit, Start, CDS 0, the position,
+    # nE = nW = 1, the inverted CRC6), then the master's CDM bit.
+    position = 0x0001E240
+    m.call("op_absys_setup", position)
+    n, s = once("devices.absys.frame", "op_absys_frame")
+    data34 = (position << 2) | 0b11
+    crc = crc_msb_first(data34, 34, 6, 0x03) ^ 0x3F
+    bits = [1, 0, 1, 0] + [(data34 >> i) & 1 for i in range(33, -1, -1)] + \
+        [(crc >> i) & 1 for i in range(5, -1, -1)]
+    o = m.out(3)
+    got = [((o[1 + k // 32] >> (31 - k % 32)) & 1) for k in range(len(bits))]
+    expect("devices.absys.frame", got, bits)
+    expect("devices.absys.frame bits", o[0] >= len(bits), True)
+    record("devices.absys.frame", n, s)
+    # SM unit: FC03 of the settings 36..38 (over-heat 80.0 degC, shock 50.00 m/s2, log interval
+    # 1.0 s: the emulator's factory settings), served from the request ADU.
+    request = rtu(1, [0x03, 0x00, 36, 0x00, 3])
+    m.write("meter_in", request)
+    m.write_u32("meter_in_size", len(request))
+    n, s = once("devices.sm_unit.serve_fc03_3", "op_sm_unit_serve")
+    expect("devices.sm_unit.serve_fc03_3", list(m.out_bytes()),
+           rtu(1, [0x03, 6, 800 >> 8, 800 & 0xFF, 5000 >> 8, 5000 & 0xFF, 0, 10]))
+    record("devices.sm_unit.serve_fc03_3", n, s)
     return results
 
 

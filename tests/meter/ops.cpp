@@ -7,6 +7,8 @@
 
 #include <motionbus/biss/codec.hpp>
 #include <motionbus/biss/control.hpp>
+#include <motionbus/devices/absys_emulator.hpp>
+#include <motionbus/devices/sm_unit_emulator.hpp>
 #include <motionbus/devices/ts5700n8500_emulator.hpp>
 #include <motionbus/modbus/framer.hpp>
 #include <motionbus/modbus/pdu_client.hpp>
@@ -145,6 +147,8 @@ struct register_file {
   void write(std::uint8_t a, std::uint8_t v) { bytes[a & 0x7FU] = v; }
 };
 register_file biss_registers;
+mb::devices::absys::emulator absys;
+mb::devices::sm_unit::emulator sm_unit;
 bs::control_master master;
 bs::control_slave<register_file> slave(biss_registers);
 std::uint8_t master_read[4];
@@ -335,12 +339,30 @@ METER_OP unsigned op_biss_master_step(unsigned cds) {
   return master.step(cds != 0U) ? 1U : 0U;
 }
 METER_OP unsigned op_biss_slave_step(unsigned cdm) {
-  const unsigned cds = slave.step(cdm != 0U) ? 1U : 0U;
+  return slave.step(cdm != 0U) ? 1U : 0U;
+}
+METER_OP void op_report_control() {
   meter_out[0] = static_cast<std::uint32_t>(master.state());
   meter_out[2] = master_read[0];
   meter_out[3] = master_read[1];
   meter_out[4] = static_cast<std::uint32_t>(master.error());
-  return cds;
+}
+
+// --- device emulators ---------------------------------------------------------------------------
+METER_OP void op_absys_setup(unsigned position) {
+  absys.set_position(position);
+}
+// One frame of the ABSYS emulator as a bench drives it: the frame's SL samples, then the CDM
+// bit the master sent with it.
+METER_OP void op_absys_frame() {
+  const auto n = absys.frame(mb::span<std::uint32_t>(meter_out + 1, 2));
+  absys.control(false);
+  meter_out[0] = static_cast<std::uint32_t>(n.value_or(0));
+}
+// The SM unit emulator behind serve_rtu, one request ADU in meter_in, the response in meter_adu.
+METER_OP void op_sm_unit_serve() {
+  const auto n = md::serve_rtu(sm_unit, 1, input(), mb::mutable_byte_view(meter_adu, 256));
+  put_bytes(mb::byte_view(meter_adu, n.value_or(0)));
 }
 
 // Self-checks of the meter ------------------------------------------------------------------------

@@ -1,6 +1,8 @@
 // memcpy, memmove and memset for the rv32imc meter images (no C library for that target here):
-// a word at a time where both pointers are aligned, else a byte at a time. The ARM images use
-// newlib's. Compiled with -fno-builtin so that the loops are not turned back into calls.
+// a word at a time where both pointers are aligned, else a byte at a time; and the 64-bit
+// unsigned division and remainder a 32-bit core calls (libgcc's __udivdi3 and __umoddi3), by
+// shift and subtract. The ARM images use newlib's and libgcc's. Compiled with -fno-builtin so
+// that the loops are not turned back into calls.
 #include <cstddef>
 #include <cstdint>
 
@@ -42,5 +44,28 @@ void* memset(void* d, int v, std::size_t n) {
     *a++ = c;
   }
   return d;
+}
+// Quotient and remainder of n / d (d != 0), one bit a step.
+static std::uint64_t divide64(std::uint64_t n, std::uint64_t d, std::uint64_t* rem) {
+  std::uint64_t q = 0;
+  std::uint64_t r = 0;
+  for (int bit = 63; bit >= 0; --bit) {
+    r = (r << 1U) | ((n >> static_cast<unsigned>(bit)) & 1U);
+    if (r >= d) {
+      r -= d;
+      q |= std::uint64_t{1} << static_cast<unsigned>(bit);
+    }
+  }
+  *rem = r;
+  return q;
+}
+std::uint64_t __udivdi3(std::uint64_t n, std::uint64_t d) {
+  std::uint64_t r = 0;
+  return divide64(n, d, &r);
+}
+std::uint64_t __umoddi3(std::uint64_t n, std::uint64_t d) {
+  std::uint64_t r = 0;
+  (void)divide64(n, d, &r);
+  return r;
 }
 }

@@ -83,7 +83,8 @@ MOTIONBUS_INLINE constexpr std::uint32_t wire_crc(const crc_format& f, std::uint
 namespace detail {
 
 // Validates a chain and returns its bits after CDS (0 on error, with `e` set).
-constexpr std::size_t checked_chain_bits(span<const slave_layout> chain, errc& e) noexcept {
+MOTIONBUS_INLINE constexpr std::size_t checked_chain_bits(span<const slave_layout> chain,
+                                                          errc& e) noexcept {
   std::size_t bits = 0;
   for (std::size_t i = 0; i < chain.size(); ++i) {
     const errc v = chain[i].validate();

@@ -92,10 +92,12 @@ struct slave_layout {
   bool has_warning = true;      ///< nW present
   crc_format crc = crc6_43;
 
-  constexpr unsigned data_bits() const noexcept {
+  // The accessors and validate() are forced inline: a decoder called with a constant layout
+  // folds them away (and its CRC to byte steps), whatever else the program calls them from.
+  MOTIONBUS_INLINE constexpr unsigned data_bits() const noexcept {
     return multi_turn_bits + single_turn_bits + alignment_bits;
   }
-  constexpr unsigned status_bits() const noexcept {
+  MOTIONBUS_INLINE constexpr unsigned status_bits() const noexcept {
     return (has_error ? 1U : 0U) + (has_warning ? 1U : 0U);
   }
   /// Bits this slave puts on SL after the CDS bit (data, nE, nW, CRC).
@@ -104,7 +106,7 @@ struct slave_layout {
   }
   /// ok, or errc::biss_layout: 1..64 data bits, a CRC of at most 16 bits whose polynomial,
   /// start value fit its width (the widths are checked one by one first: no overflow).
-  constexpr errc validate() const noexcept {
+  MOTIONBUS_INLINE constexpr errc validate() const noexcept {
     if (multi_turn_bits > max_data_bits || single_turn_bits > max_data_bits ||
         alignment_bits > max_data_bits || data_bits() == 0U || data_bits() > max_data_bits ||
         crc.width > max_crc_bits) {

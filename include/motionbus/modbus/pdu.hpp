@@ -283,7 +283,8 @@ constexpr bool overflows(std::uint16_t address, std::uint16_t quantity) noexcept
 }
 
 // Checks a read quantity: limits first (exception 03), then the address range (exception 02).
-constexpr errc check_read(std::uint8_t f, std::uint16_t address, std::uint16_t quantity) noexcept {
+MOTIONBUS_INLINE constexpr errc check_read(std::uint8_t f, std::uint16_t address,
+                                           std::uint16_t quantity) noexcept {
   const std::uint16_t max = is_read_bits(f) ? max_read_bits : max_read_registers;
   if (quantity < 1U || quantity > max) {
     return errc::modbus_quantity;
