@@ -3,6 +3,7 @@
 # then configures, builds and runs (ctest) each configuration:
 #   gcc   C++17 at -O3 (Release): doctest suite, warnings at -O0/-O2/-O3/-Os, static suite, headers alone (C++17/20, no exceptions/RTTI),
 #         include/ purity, no-heap run, CLI, footprint and meter (Cortex-M0+/M4, rv32imc),
+#         firmware images under QEMU (Cortex-M4, rv32imc) with host Modbus peers,
 #         package consumers (install, build tree, add_subdirectory, FetchContent, -I),
 #         clang-format, fuzz corpus replay, bench smoke run
 #   clang C++20 with ASan + UBSan: the same suites, plus each libFuzzer target for
@@ -24,7 +25,7 @@ bash tools/scripts/ensure-packages.sh \
   libbenchmark-dev gcc-arm-none-eabi libstdc++-arm-none-eabi-newlib binutils-riscv64-unknown-elf \
   g++-s390x-linux-gnu g++-arm-linux-gnueabihf qemu-user \
   socat pkg-config libmodbus-dev python3-pymodbus python3-serial python3-serial-asyncio gcovr \
-  python3-unicorn clang-tidy
+  python3-unicorn clang-tidy qemu-system-arm qemu-system-misc
 
 passed=0
 failed=0

@@ -62,11 +62,13 @@ def build(core, opt, out, include, tools):
         target = ["--target=riscv32-unknown-elf", "-march=rv32imc", "-mabi=ilp32", "-mno-relax",
                   "-nostdinc++"] + [f for d in tools["newlib_cxx"] for f in ("-isystem", d)]
         objs = []
-        for src, extra in (("ops.cpp", []), ("support.cpp", ["-fno-builtin",
-                                                             "-fno-strict-aliasing"])):
-            obj = os.path.join(out, f"{name}.{src}.o")
-            run([tools["clangxx"]] + common + target + extra +
-                ["-c", os.path.join(HERE, src), "-o", obj])
+        # the C runtime functions the compiler calls (the firmware examples' rv32 runtime)
+        runtime = os.path.join(HERE, "..", "..", "examples", "firmware", "boards",
+                               "rv32_runtime.cpp")
+        for src, extra in ((os.path.join(HERE, "ops.cpp"), []),
+                           (runtime, ["-fno-builtin", "-fno-strict-aliasing"])):
+            obj = os.path.join(out, f"{name}.{os.path.basename(src)}.o")
+            run([tools["clangxx"]] + common + target + extra + ["-c", src, "-o", obj])
             objs.append(obj)
         run([tools["riscv_ld"], "-m", "elf32lriscv", "-T", os.path.join(HERE, "rv32.ld")] +
             objs + ["-o", elf])

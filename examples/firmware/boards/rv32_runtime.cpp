@@ -1,7 +1,9 @@
-// memcpy, memmove and memset for the rv32imc meter images (no C library for that target here):
+// The C runtime an rv32imc image needs from the compiler's calls, for the firmware examples and
+// the meter's images (Debian has no C library for that target):
+// memcpy, memmove and memset:
 // a word at a time where both pointers are aligned, else a byte at a time; and the 64-bit
 // unsigned division and remainder a 32-bit core calls (libgcc's __udivdi3 and __umoddi3), by
-// shift and subtract. The ARM images use newlib's and libgcc's. Compiled with -fno-builtin so
+// shift and subtract. The ARM images use newlib's and libgcc's. Compile it with -fno-builtin so
 // that the loops are not turned back into calls.
 #include <cstddef>
 #include <cstdint>
