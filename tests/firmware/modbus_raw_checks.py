@@ -14,19 +14,12 @@ import time
 import tty
 
 
-def crc16(data):
-    crc = 0xFFFF
-    for b in data:
-        crc ^= b
-        for _ in range(8):
-            crc = (crc >> 1) ^ 0xA001 if crc & 1 else crc >> 1
-    return crc
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "support"))
+from reference import rtu  # noqa: E402  (the independent CRC-16/MODBUS of the test tools)
 
 
 def adu(slave, pdu):
-    body = bytes([slave]) + bytes(pdu)
-    c = crc16(body)
-    return body + bytes([c & 0xFF, c >> 8])
+    return bytes(rtu(slave, pdu))
 
 
 class Line:

@@ -35,6 +35,8 @@ from unicorn import (UC_ARCH_ARM, UC_ARCH_RISCV, UC_HOOK_CODE, UC_HOOK_MEM_WRITE
 from unicorn import arm_const, riscv_const
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.join(HERE, "..", "support"))
+from reference import crc16_modbus, rtu  # noqa: E402,F401  (shared independent computations)
 CORES = ("cortex-m0plus", "cortex-m4", "rv32imc")
 OPTS = ("Os", "O2")
 
@@ -272,15 +274,6 @@ class Machine:
 
 # --- independent computations -------------------------------------------------------------------
 
-def crc16_modbus(data):
-    crc = 0xFFFF
-    for b in data:
-        crc ^= b
-        for _ in range(8):
-            crc = (crc >> 1) ^ 0xA001 if crc & 1 else crc >> 1
-    return crc
-
-
 def crc_msb_first(bits, count, width, poly):
     """A non-reflected CRC of `count` bits (MSB first), initial value 0."""
     reg = 0
@@ -315,12 +308,6 @@ def tformat_id3(abs_, enid, abm, almc=0, sf=0):
 def tformat_id0(abs_, sf=0):
     f = [tformat_cf(0), sf] + le24(abs_)
     return f + [tformat_crc(f)]
-
-
-def rtu(slave, pdu):
-    body = [slave] + list(pdu)
-    c = crc16_modbus(body)
-    return body + [c & 0xFF, c >> 8]
 
 
 def words_msb_first(bits, nwords):
