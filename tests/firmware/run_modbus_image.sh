@@ -2,13 +2,13 @@
 # Starts a Modbus firmware image under QEMU with its UART on a pseudo-terminal, then checks it
 # from the host: raw bytes (broadcast, other slave, unknown function, garbage, bad CRC), then
 # pymodbus and libmodbus masters (the interop clients), in that order on one power-up.
-# Usage: run_modbus_image.sh "QEMU -M BOARD [...]" IMAGE FIRMWARE_TESTS_DIR INTEROP_DIR
+# Usage: run_modbus_image.sh "QEMU -M BOARD [...]" IMAGE FIRMWARE_TESTS_DIR PYMODBUS_SCRIPT
 #        LIBMODBUS_CLIENT
 set -euo pipefail
 qemu="$1"
 image="$2"
 here="$3"
-interop="$4"
+pymodbus_script="$4"
 libmodbus_client="$5"
 dir="$(mktemp -d)"
 qemu_pid=""
@@ -36,7 +36,7 @@ status=0
 echo "== raw bytes"
 /usr/bin/python3 "$here/modbus_raw_checks.py" "$pty" 1 || status=1
 echo "== pymodbus"
-/usr/bin/python3 "$interop/pymodbus_client.py" "$pty" || status=1
+/usr/bin/python3 "$pymodbus_script" "$pty" || status=1
 echo "== libmodbus"
 "$libmodbus_client" "$pty" || status=1
 exit "$status"

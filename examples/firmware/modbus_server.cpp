@@ -1,0 +1,133 @@
+// motionbus firmware example — a generic Modbus RTU server on a UART, slave 1: 100 coils,
+// 100 discrete inputs, 100 holding and 100 input registers at addresses 0..99, and every
+// function the server dispatch serves (01-06, 0F, 10, 11, 16, 17). The device below is the
+// whole application: the library frames, checks, dispatches and answers (exceptions included).
+//
+// The silence: as in sm_unit.cpp, 50 ms under emulation (MOTIONBUS_SILENCE_US), t3.5 on a line.
+#include <cstddef>
+#include <cstdint>
+
+#include "board.hpp"
+#include "motionbus/modbus/framer.hpp"
+#include "motionbus/modbus/server.hpp"
+
+#ifndef MOTIONBUS_SILENCE_US
+#define MOTIONBUS_SILENCE_US 50000
+#endif
+#ifndef MOTIONBUS_SLAVE
+#define MOTIONBUS_SLAVE 1
+#endif
+
+namespace mb = motionbus;
+namespace mo = motionbus::modbus;
+
+namespace {
+
+constexpr std::uint8_t slave = MOTIONBUS_SLAVE;
+constexpr std::uint32_t silence_us = MOTIONBUS_SILENCE_US;
+constexpr std::uint16_t points = 100;
+
+// The data: coils and holding registers as written; discrete input i is on when i % 3 == 0,
+// input register i reads 1000 + i.
+struct device {
+  std::uint8_t coils[(points + 7U) / 8U] = {};
+  std::uint16_t holding[points] = {};
+
+  static bool fits(std::uint16_t address, std::size_t quantity) {
+    return address + quantity <= points;
+  }
+  std::uint8_t read_bits(std::uint8_t function, std::uint16_t address, std::uint16_t quantity,
+                         mb::mutable_byte_view packed) {
+    if (!fits(address, quantity)) {
+      return 0x02;
+    }
+    for (std::uint16_t i = 0; i < quantity; ++i) {
+      const unsigned a = address + i;
+      const bool on = function == 0x01 ? ((coils[a / 8U] >> (a % 8U)) & 1U) != 0U : a % 3U == 0U;
+      if (on) {
+        packed[i / 8U] = static_cast<std::uint8_t>(packed[i / 8U] | (1U << (i % 8U)));
+      }
+    }
+    return 0;
+  }
+  std::uint8_t read_registers(std::uint8_t function, std::uint16_t address,
+                              mb::span<std::uint16_t> out) {
+    if (!fits(address, out.size())) {
+      return 0x02;
+    }
+    for (std::size_t i = 0; i < out.size(); ++i) {
+      out[i] =
+          function == 0x04 ? static_cast<std::uint16_t>(1000U + address + i) : holding[address + i];
+    }
+    return 0;
+  }
+  std::uint8_t write_coils(std::uint16_t address, std::uint16_t quantity, mb::byte_view packed) {
+    if (!fits(address, quantity)) {
+      return 0x02;
+    }
+    for (std::uint16_t i = 0; i < quantity; ++i) {
+      const unsigned a = address + i;
+      const auto bit = static_cast<std::uint8_t>(1U << (a % 8U));
+      coils[a / 8U] = mo::bit_at(packed, i) ? static_cast<std::uint8_t>(coils[a / 8U] | bit)
+                                            : static_cast<std::uint8_t>(coils[a / 8U] & ~bit);
+    }
+    return 0;
+  }
+  std::uint8_t write_registers(std::uint16_t address, mb::span<const std::uint16_t> values) {
+    if (!fits(address, values.size())) {
+      return 0x02;
+    }
+    for (std::size_t i = 0; i < values.size(); ++i) {
+      holding[address + i] = values[i];
+    }
+    return 0;
+  }
+  // FC11: the byte count, then server ID 0x4D ('M'), run indicator 0xFF (on), "motionbus".
+  std::uint8_t report_server_id(mb::mutable_byte_view out, std::size_t& size) {
+    const char id[] = "\x4D\xFFmotionbus";
+    const std::size_t n = sizeof id - 1U;
+    out[0] = static_cast<std::uint8_t>(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      out[1U + i] = static_cast<std::uint8_t>(id[i]);
+    }
+    size = 1U + n;
+    return 0;
+  }
+};
+
+mo::rtu_server_framer rx;
+device dev;
+std::uint8_t reply[mo::max_rtu_size];
+
+void serve(const mo::rtu_frame& frame) {
+  const auto n = mo::serve_frame(dev, slave, frame, mb::mutable_byte_view(reply, sizeof reply));
+  if (n.ok() && n.value() > 0U) {
+    board::uart_write(reply, n.value());
+  }
+}
+
+}  // namespace
+
+int main() {
+  board::init();
+  rx = mo::rtu_server_framer({mo::framer_role::server, slave});
+  std::uint32_t last_byte = board::now_us();
+  for (;;) {
+    const std::uint32_t now = board::now_us();
+    std::uint8_t byte = 0;
+    if (board::uart_read(byte)) {
+      last_byte = now;
+      mb::feed_all(rx, mb::byte_view(&byte, 1), [](const auto& r) {
+        if (r.is_complete()) {
+          serve(r.value());
+        }
+        return true;
+      });
+    } else if (rx.pending() > 0U && now - last_byte >= silence_us) {
+      const auto r = rx.idle();
+      if (r.is_complete()) {
+        serve(r.value());
+      }
+    }
+  }
+}

@@ -1,0 +1,50 @@
+"""pymodbus (a third-party Modbus master) against the generic Modbus server image on its UART's
+pty: reads and writes of each table, and the exceptions for bad addresses and quantities.
+
+Usage: pymodbus_generic.py DEVICE. Exit 0 when every check holds. Run with Debian's python3.
+"""
+import sys
+
+from pymodbus.client import ModbusSerialClient
+
+
+def main() -> int:
+    # strict=False: pymodbus would otherwise set an inter-character timeout that pyserial
+    # cannot apply to a pseudo-terminal.
+    client = ModbusSerialClient(port=sys.argv[1], baudrate=9600, parity="E", stopbits=1,
+                                bytesize=8, timeout=1, strict=False)
+    assert client.connect(), "cannot open the port"
+    failures = []
+
+    def check(name, condition):
+        print(("ok   " if condition else "FAIL ") + name)
+        if not condition:
+            failures.append(name)
+
+    r = client.write_registers(0, [100 + i for i in range(20)], slave=1)
+    check("FC10 holding 0..19", not r.isError())
+    r = client.read_holding_registers(0, 20, slave=1)
+    check("FC03 reads them back", not r.isError() and r.registers == [100 + i for i in range(20)])
+    r = client.read_input_registers(95, 5, slave=1)
+    check("FC04 input registers 95..99", not r.isError() and r.registers == [1095 + i for i in
+                                                                              range(5)])
+    r = client.write_coils(50, [True, False, True], slave=1)
+    check("FC0F coils 50..52", not r.isError())
+    r = client.read_coils(50, 3, slave=1)
+    check("FC01 reads them back", not r.isError() and r.bits[:3] == [True, False, True])
+    r = client.read_discrete_inputs(3, 3, slave=1)
+    check("FC02 inputs 3..5", not r.isError() and r.bits[:3] == [True, False, False])
+    r = client.read_holding_registers(100, 1, slave=1)
+    check("FC03 at address 100: exception 02",
+          r.isError() and getattr(r, "exception_code", 0) == 2)
+    r = client.read_coils(0, 2001, slave=1)
+    check("FC01 of 2001 coils: exception 03",
+          r.isError() and getattr(r, "exception_code", 0) == 3)
+    r = client.read_holding_registers(0, 1, slave=9)
+    check("another slave stays silent", r.isError())
+    client.close()
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
