@@ -1,0 +1,32 @@
+#!/usr/bin/env bash
+# Starts a firmware image that reports what it decoded as lines of text on its UART, under QEMU
+# with the UART written to a file, until it prints "done" (30 s at most), then compares the
+# lines with EXPECTED ('#' lines there are comments).
+# Usage: run_report_image.sh "QEMU -M BOARD [...]" IMAGE EXPECTED
+set -euo pipefail
+qemu="$1"
+image="$2"
+expected="$3"
+dir="$(mktemp -d)"
+qemu_pid=""
+cleanup() {
+  [ -n "$qemu_pid" ] && kill "$qemu_pid" 2>/dev/null || true
+  rm -rf "$dir"
+}
+trap cleanup EXIT
+# shellcheck disable=SC2086  # the QEMU command and its machine options are words
+$qemu -nographic -monitor none -serial "file:$dir/uart.txt" -kernel "$image" >"$dir/qemu.log" 2>&1 &
+qemu_pid=$!
+for _ in $(seq 300); do
+  grep -q '^done$' "$dir/uart.txt" 2>/dev/null && break
+  sleep 0.1
+done
+echo "== $image reported:"
+cat "$dir/uart.txt" || true
+grep -v '^#' "$expected" >"$dir/want.txt"
+if diff -u "$dir/want.txt" "$dir/uart.txt"; then
+  echo "ok   every line as expected"
+else
+  echo "FAIL the report differs (above)"
+  exit 1
+fi
