@@ -31,6 +31,9 @@ if [ -z "$pty" ]; then
   cat "$dir/qemu.log"
   exit 1
 fi
+# Hold the terminal open for the whole run: QEMU notices a reader only once a second, and drops
+# what the image sends while none is connected.
+exec 3<>"$pty"
 echo "== $image on $pty"
 status=0
 echo "== raw bytes"
