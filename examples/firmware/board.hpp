@@ -17,6 +17,9 @@ bool uart_read(std::uint8_t& byte);
 void uart_write(const std::uint8_t* bytes, std::size_t n);
 /// A free-running microsecond clock (wraps after about 71 minutes).
 std::uint32_t now_us();
+/// Writes text to the debugger's console (semihosting: QEMU's standard output with
+/// -semihosting), for images whose UART talks to a peer.
+void console(const char* text);
 
 }  // namespace board
 

@@ -43,7 +43,7 @@ def wait_ready(cli, device):
     """Reads until the EEPROM is no longer busy (18 ms after a write, a page change or an ID8
     reset, in the image's own time, which runs behind the host's when QEMU is kept waiting)."""
     for _ in range(100):
-        r = read(cli, device, "D", 0)
+        r = read(cli, device, "D", 4)  # open for reading on every page, page 7 included
         if r.get("ok") and r.get("busy") == 0:
             return
         time.sleep(0.02)

@@ -1,6 +1,7 @@
 // motionbus firmware examples — Arm MPS2 with the AN386 image (Cortex-M4), as QEMU models it
-// (-M mps2-an386): startup code, the CMSDK APB UART0 polled, SysTick as a 1 ms clock. No vendor
-// SDK: the registers are those of the board's documentation (Arm MPS2 AN386, CMSDK APB UART).
+// (-M mps2-an386): startup code, the CMSDK APB UART0 polled, SysTick as a microsecond clock. No
+// vendor SDK: the registers are those of the board's documentation (Arm MPS2 AN386, CMSDK APB
+// UART).
 #include <cstddef>
 #include <cstdint>
 
@@ -102,9 +103,24 @@ void uart_write(const std::uint8_t* bytes, std::size_t n) {
   }
 }
 
+void console(const char* text) {
+  // Arm semihosting SYS_WRITE0 (0x04): r0 the operation, r1 the string; BKPT 0xAB on M-profile.
+  register std::uintptr_t op asm("r0") = 0x04U;
+  register const char* arg asm("r1") = text;
+  asm volatile("bkpt 0xAB" : "+r"(op) : "r"(arg) : "memory");
+}
+
 std::uint32_t now_us() {
-  const std::uint32_t ms = milliseconds;
-  return ms * 1000U;
+  // the milliseconds counted by the SysTick interrupt, plus the microseconds of the current one
+  // from the counter (it counts down from the reload value); read again if a tick came between
+  for (;;) {
+    const std::uint32_t ms = milliseconds;
+    const std::uint32_t left = reg(0xE000E018U);
+    if (ms == milliseconds) {
+      const std::uint32_t reload = reg(0xE000E014U);
+      return ms * 1000U + (reload - left) / (core_clock_hz / 1000000U);
+    }
+  }
 }
 
 }  // namespace board

@@ -1,0 +1,58 @@
+#!/usr/bin/env bash
+# Starts the T-format master image under QEMU (semihosting console to a file, UART on a
+# pseudo-terminal), serves it the TS5700N8500 emulator from the host (`motionbus serve
+# tformat-encoder` on the terminal), and checks what the image reports it decoded: every
+# transaction answered and checked against its request, the fields of each layout, ENID 0x11,
+# no alarm, single-turn values below 2^17 (the emulator's shaft turns as time passes, so the
+# positions are checked for range, not value).
+# Usage: run_tformat_master.sh "QEMU -M BOARD [...]" IMAGE MOTIONBUS_CLI
+set -euo pipefail
+qemu="$1"
+image="$2"
+cli="$3"
+dir="$(mktemp -d)"
+qemu_pid=""
+serve_pid=""
+cleanup() {
+  [ -n "$serve_pid" ] && kill "$serve_pid" 2>/dev/null || true
+  [ -n "$qemu_pid" ] && kill "$qemu_pid" 2>/dev/null || true
+  rm -rf "$dir"
+}
+trap cleanup EXIT
+# shellcheck disable=SC2086  # the QEMU command and its machine options are words
+$qemu -nographic -monitor none -semihosting -serial pty -kernel "$image" >"$dir/console.txt" 2>&1 &
+qemu_pid=$!
+pty=""
+for _ in $(seq 100); do
+  pty="$(grep -o '/dev/pts/[0-9]*' "$dir/console.txt" | head -n 1 || true)"
+  [ -n "$pty" ] && break
+  sleep 0.1
+done
+[ -n "$pty" ] || { echo "FAIL: QEMU gave no pseudo-terminal"; cat "$dir/console.txt"; exit 1; }
+"$cli" serve tformat-encoder --device "$pty" 2>/dev/null &
+serve_pid=$!
+for _ in $(seq 300); do
+  grep -q '^done$' "$dir/console.txt" && break
+  sleep 0.1
+done
+echo "== $image reported:"
+grep -v 'char device' "$dir/console.txt" || true
+status=0
+expect() {  # NAME REGEX: one line of the report matches
+  if grep -Eq "$2" "$dir/console.txt"; then echo "ok   $1"; else echo "FAIL $1"; status=1; fi
+}
+range='(1[0-2][0-9]{4}|13[01][0-9]{3}|[0-9]{1,5})'  # 0..131999, then checked below 2^17
+expect "ID3: answered, SF 0, ABS, ABM, ENID 17, no alarm" \
+  "^id 3 ok sf 0 abs $range abm [0-9]+ enid 17 almc 0$"
+expect "ID0: answered, ABS" "^id 0 ok sf 0 abs $range$"
+expect "ID1: answered, ABM" "^id 1 ok sf 0 abm [0-9]+$"
+expect "ID2: answered, ENID 17" "^id 2 ok sf 0 enid 17$"
+expect "IDD: the EEPROM byte at address 5" "^id 13 ok sf 0 address 5 edf [0-9]+$"
+expect "the report ends" "^done$"
+if grep -Eo 'abs [0-9]+' "$dir/console.txt" | awk '$2 >= 131072 {bad=1} END {exit bad}'; then
+  echo "ok   single-turn values below 2^17"
+else
+  echo "FAIL a single-turn value of 2^17 or more"
+  status=1
+fi
+exit "$status"
