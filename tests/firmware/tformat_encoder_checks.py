@@ -124,6 +124,10 @@ def main():
         read(cli, device, "C")
     r = read(cli, device, "1")
     check("IDC x10: multi-turn reads 0", r.get("ok") and r.get("abm") == 0)
+    answers = [read(cli, device, "7") for _ in range(10)]
+    check("ID7 x10 (reset errors): each answered with ID0's layout, no error flag",
+          all(a.get("ok") and a.get("data_id") == 7 and a.get("abs") == 0 and a.get("ea0") == 0
+              and a.get("ea1") == 0 for a in answers))
     # Abnormal requests, in raw bytes.
     check("a wrong sync code: no reply", raw(device, [0x00]) == b"")
     reply = raw(device, [cf(3) ^ 0x80])
