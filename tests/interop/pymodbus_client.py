@@ -42,6 +42,17 @@ def main() -> int:
     check("FC10 two settings", not r.isError())
     r = client.write_coil(100, True, slave=1)
     check("FC05 warning reset", not r.isError())
+    # Log out and in again: the password written to 100..107 toggles the login (SM unit §10).
+    password = [0x7061, 0x7373, 0x776F, 0x7264, 0, 0, 0, 0]  # "password", NUL padded
+    r = client.write_registers(100, password, slave=1)
+    check("FC10 the password logs out", not r.isError())
+    r = client.write_register(36, 700, slave=1)
+    check("FC06 while logged out: exception 04",
+          r.isError() and getattr(r, "exception_code", 0) == 4)
+    r = client.write_registers(100, password, slave=1)
+    check("FC10 the password logs in again", not r.isError())
+    r = client.read_input_registers(300, 1, slave=1)
+    check("FC04 login status: logged in again", not r.isError() and r.registers[0] == 0xFF00)
     r = client.read_input_registers(100, 9, slave=5)
     check("another slave stays silent", r.isError())
     client.close()
