@@ -3,28 +3,18 @@
 // function the server dispatch serves (01-06, 0F, 10, 11, 16, 17). The device below is the
 // whole application: the library frames, checks, dispatches and answers (exceptions included).
 //
-// The silence: as in sm_unit.cpp, 50 ms under emulation (MOTIONBUS_SILENCE_US), t3.5 on a line.
+// The serving loop (framer, serve_frame, the line silence) is modbus_serve_loop.hpp's.
 #include <cstddef>
 #include <cstdint>
 
 #include "board.hpp"
-#include "motionbus/modbus/framer.hpp"
-#include "motionbus/modbus/server.hpp"
-
-#ifndef MOTIONBUS_SILENCE_US
-#define MOTIONBUS_SILENCE_US 50000
-#endif
-#ifndef MOTIONBUS_SLAVE
-#define MOTIONBUS_SLAVE 1
-#endif
+#include "modbus_serve_loop.hpp"
 
 namespace mb = motionbus;
 namespace mo = motionbus::modbus;
 
 namespace {
 
-constexpr std::uint8_t slave = MOTIONBUS_SLAVE;
-constexpr std::uint32_t silence_us = MOTIONBUS_SILENCE_US;
 constexpr std::uint16_t points = 100;
 
 // The data: coils and holding registers as written; discrete input i is on when i % 3 == 0,
@@ -95,39 +85,11 @@ struct device {
   }
 };
 
-mo::rtu_server_framer rx;
 device dev;
-std::uint8_t reply[mo::max_rtu_size];
-
-void serve(const mo::rtu_frame& frame) {
-  const auto n = mo::serve_frame(dev, slave, frame, mb::mutable_byte_view(reply, sizeof reply));
-  if (n.ok() && n.value() > 0U) {
-    board::uart_write(reply, n.value());
-  }
-}
 
 }  // namespace
 
 int main() {
   board::init();
-  rx = mo::rtu_server_framer({mo::framer_role::server, slave});
-  std::uint32_t last_byte = board::now_us();
-  for (;;) {
-    const std::uint32_t now = board::now_us();
-    std::uint8_t byte = 0;
-    if (board::uart_read(byte)) {
-      last_byte = now;
-      mb::feed_all(rx, mb::byte_view(&byte, 1), [](const auto& r) {
-        if (r.is_complete()) {
-          serve(r.value());
-        }
-        return true;
-      });
-    } else if (rx.pending() > 0U && now - last_byte >= silence_us) {
-      const auto r = rx.idle();
-      if (r.is_complete()) {
-        serve(r.value());
-      }
-    }
-  }
+  firmware::serve_forever(dev, [](std::uint32_t) {});
 }

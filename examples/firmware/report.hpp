@@ -18,17 +18,23 @@ inline void text(const char* s) {
   board::uart_write(reinterpret_cast<const std::uint8_t*>(s), n);
 }
 
-inline void dec(std::uint32_t v) {
+/// Writes `v` in decimal at `out` (room for 10 characters); returns the characters written.
+inline std::size_t decimal(char* out, std::uint32_t v) {
   char digits[10];
   std::size_t n = 0;
   do {
     digits[n++] = static_cast<char>('0' + v % 10U);
     v /= 10U;
   } while (v != 0U);
-  char out[10];
   for (std::size_t i = 0; i < n; ++i) {
     out[i] = digits[n - 1U - i];
   }
+  return n;
+}
+
+inline void dec(std::uint32_t v) {
+  char out[10];
+  const std::size_t n = decimal(out, v);
   board::uart_write(reinterpret_cast<const std::uint8_t*>(out), n);
 }
 

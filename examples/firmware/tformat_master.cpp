@@ -9,6 +9,7 @@
 #include "board.hpp"
 #include "motionbus/tformat/codec.hpp"
 #include "motionbus/tformat/receiver.hpp"
+#include "report.hpp"
 
 namespace mb = motionbus;
 namespace tf = motionbus::tformat;
@@ -25,16 +26,7 @@ std::size_t put(char* out, std::size_t at, const char* prefix, std::uint32_t val
   while (*prefix != '\0') {
     out[at++] = *prefix++;
   }
-  char digits[10];
-  std::size_t n = 0;
-  do {
-    digits[n++] = static_cast<char>('0' + value % 10U);
-    value /= 10U;
-  } while (value != 0U);
-  while (n > 0U) {
-    out[at++] = digits[--n];
-  }
-  return at;
+  return at + report::decimal(out + at, value);
 }
 
 // One transaction: the request out, the response in, a line on the console. A request without

@@ -12,30 +12,10 @@ here="$3"
 pymodbus_script="$4"
 libmodbus_client="$5"
 device_checks="${6:-}"
-dir="$(mktemp -d)"
-qemu_pid=""
-cleanup() {
-  [ -n "$qemu_pid" ] && kill "$qemu_pid" 2>/dev/null || true
-  rm -rf "$dir"
-}
-trap cleanup EXIT
-# shellcheck disable=SC2086  # the QEMU command and its machine options are words
-$qemu -nographic -monitor none -serial pty -kernel "$image" >"$dir/qemu.log" 2>&1 &
-qemu_pid=$!
-pty=""
-for _ in $(seq 100); do
-  pty="$(grep -o '/dev/pts/[0-9]*' "$dir/qemu.log" | head -n 1 || true)"
-  [ -n "$pty" ] && break
-  sleep 0.1
-done
-if [ -z "$pty" ]; then
-  echo "FAIL: QEMU gave no pseudo-terminal"
-  cat "$dir/qemu.log"
-  exit 1
-fi
-# Hold the terminal open for the whole run: QEMU notices a reader only once a second, and drops
-# what the image sends while none is connected.
-exec 3<>"$pty"
+# shellcheck source=qemu_board.sh
+source "$here/qemu_board.sh"
+qemu_start "$qemu" "$image" pty
+qemu_pty
 echo "== $image on $pty"
 status=0
 echo "== raw bytes"

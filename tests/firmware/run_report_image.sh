@@ -7,16 +7,9 @@ set -euo pipefail
 qemu="$1"
 image="$2"
 expected="$3"
-dir="$(mktemp -d)"
-qemu_pid=""
-cleanup() {
-  [ -n "$qemu_pid" ] && kill "$qemu_pid" 2>/dev/null || true
-  rm -rf "$dir"
-}
-trap cleanup EXIT
-# shellcheck disable=SC2086  # the QEMU command and its machine options are words
-$qemu -nographic -monitor none -serial "file:$dir/uart.txt" -kernel "$image" >"$dir/qemu.log" 2>&1 &
-qemu_pid=$!
+# shellcheck source=qemu_board.sh
+source "$(dirname "${BASH_SOURCE[0]}")/qemu_board.sh"
+qemu_start "$qemu" "$image" "file:$dir/uart.txt"
 for _ in $(seq 300); do
   grep -q '^done$' "$dir/uart.txt" 2>/dev/null && break
   sleep 0.1

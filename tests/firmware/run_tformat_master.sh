@@ -10,36 +10,21 @@ set -euo pipefail
 qemu="$1"
 image="$2"
 cli="$3"
-dir="$(mktemp -d)"
-qemu_pid=""
-serve_pid=""
-cleanup() {
-  [ -n "$serve_pid" ] && kill "$serve_pid" 2>/dev/null || true
-  [ -n "$qemu_pid" ] && kill "$qemu_pid" 2>/dev/null || true
-  rm -rf "$dir"
-}
-trap cleanup EXIT
-# shellcheck disable=SC2086  # the QEMU command and its machine options are words
-$qemu -nographic -monitor none -semihosting -serial pty -kernel "$image" >"$dir/console.txt" 2>&1 &
-qemu_pid=$!
-pty=""
-for _ in $(seq 100); do
-  pty="$(grep -o '/dev/pts/[0-9]*' "$dir/console.txt" | head -n 1 || true)"
-  [ -n "$pty" ] && break
-  sleep 0.1
-done
-[ -n "$pty" ] || { echo "FAIL: QEMU gave no pseudo-terminal"; cat "$dir/console.txt"; exit 1; }
+# shellcheck source=qemu_board.sh
+source "$(dirname "${BASH_SOURCE[0]}")/qemu_board.sh"
+qemu_start "$qemu" "$image" pty -semihosting
+qemu_pty
 "$cli" serve tformat-encoder --device "$pty" 2>/dev/null &
-serve_pid=$!
+peer_pid=$!
 for _ in $(seq 300); do
-  grep -q '^done$' "$dir/console.txt" && break
+  grep -q '^done$' "$dir/qemu.log" && break
   sleep 0.1
 done
 echo "== $image reported:"
-grep -v 'char device' "$dir/console.txt" || true
+grep -v 'char device' "$dir/qemu.log" || true
 status=0
 expect() {  # NAME REGEX: one line of the report matches
-  if grep -Eq "$2" "$dir/console.txt"; then echo "ok   $1"; else echo "FAIL $1"; status=1; fi
+  if grep -Eq "$2" "$dir/qemu.log"; then echo "ok   $1"; else echo "FAIL $1"; status=1; fi
 }
 range='(1[0-2][0-9]{4}|13[01][0-9]{3}|[0-9]{1,5})'  # 0..131999, then checked below 2^17
 expect "ID3: answered, SF 0, ABS, ABM, ENID 17, no alarm" \
@@ -49,7 +34,7 @@ expect "ID1: answered, ABM" "^id 1 ok sf 0 abm [0-9]+$"
 expect "ID2: answered, ENID 17" "^id 2 ok sf 0 enid 17$"
 expect "IDD: the EEPROM byte at address 5" "^id 13 ok sf 0 address 5 edf [0-9]+$"
 expect "the report ends" "^done$"
-if grep -Eo 'abs [0-9]+' "$dir/console.txt" | awk '$2 >= 131072 {bad=1} END {exit bad}'; then
+if grep -Eo 'abs [0-9]+' "$dir/qemu.log" | awk '$2 >= 131072 {bad=1} END {exit bad}'; then
   echo "ok   single-turn values below 2^17"
 else
   echo "FAIL a single-turn value of 2^17 or more"

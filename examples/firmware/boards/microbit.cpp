@@ -17,58 +17,7 @@ volatile std::uint32_t& reg(std::uintptr_t address) {
 
 }  // namespace
 
-extern "C" {
-extern std::uint32_t __data_load;
-extern std::uint32_t __data_start;
-extern std::uint32_t __data_end;
-extern std::uint32_t __bss_start;
-extern std::uint32_t __bss_end;
-extern std::uint32_t __stack_top;
-extern void (*__init_array_start)();
-extern void (*__init_array_end)();
-// The image's main(), called by its assembler name: C++ does not let a program call main.
-int image_main() __asm__("main");
-
-[[noreturn]] void reset_handler() {
-  for (std::uint32_t *d = &__data_start, *s = &__data_load; d < &__data_end;) {
-    *d++ = *s++;
-  }
-  for (std::uint32_t* b = &__bss_start; b < &__bss_end;) {
-    *b++ = 0;
-  }
-  for (void (**f)() = &__init_array_start; f < &__init_array_end; ++f) {
-    (*f)();
-  }
-  (void)image_main();
-  for (;;) {
-  }
-}
-
-void default_handler() {
-  for (;;) {
-  }
-}
-
-// The Cortex-M0 vector table: initial stack pointer, then the exception handlers.
-__attribute__((section(".vectors"), used)) void* const vectors[16] = {
-    &__stack_top,
-    reinterpret_cast<void*>(&reset_handler),
-    reinterpret_cast<void*>(&default_handler),  // NMI
-    reinterpret_cast<void*>(&default_handler),  // HardFault
-    nullptr,
-    nullptr,
-    nullptr,
-    nullptr,
-    nullptr,
-    nullptr,
-    nullptr,
-    reinterpret_cast<void*>(&default_handler),  // SVCall
-    nullptr,
-    nullptr,
-    reinterpret_cast<void*>(&default_handler),  // PendSV
-    reinterpret_cast<void*>(&default_handler),  // SysTick
-};
-}
+// The startup code and vector table are cortex_m_startup.cpp's.
 
 namespace board {
 

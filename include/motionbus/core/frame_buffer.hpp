@@ -110,7 +110,7 @@ class frame_buffer {
     end_ = static_cast<index>(end_ + n);
     return n;
   }
-  /// Drops the first `n` bytes held (n <= size()); wanted() then counts from the new front.
+  /// Drops the first `n` bytes held (n <= size()); wanted() then counts from the front left.
   constexpr void drop(std::size_t n) noexcept {
     start_ = static_cast<index>(start_ + n);
     if (start_ == end_) {
