@@ -122,3 +122,33 @@ TEST_CASE("frame_buffer: a byte completing wanted() at the capacity is not put_l
   CHECK(b[0] == 2);
   CHECK(b[3] == 5);
 }
+
+TEST_CASE("frame_buffer: start_with begins a frame at the front, drop(n, want) ends it") {
+  frame_buffer<11> b;
+  std::size_t at_least = 0;
+  b.start_with(0x1A, 11);  // an empty buffer: the first byte at index 0, 11 wanted
+  CHECK(b.size() == 1);
+  CHECK(b[0] == 0x1A);
+  CHECK(b.wanted() == 11);
+  for (std::uint8_t i = 1; i < 10; ++i) {
+    CHECK(b.push_before(i, at_least));
+  }
+  CHECK(at_least == 1);                 // one more before the decision
+  CHECK(!b.push_before(10, at_least));  // the 11th byte is the decision
+  CHECK(b.completes_want());
+  b.put_last(10);
+  CHECK(b.size() == 11);
+  b.drop(11, 0);  // the whole frame: empty again, and back to its front
+  CHECK(b.empty());
+  CHECK(b.wanted() == 0);
+  CHECK(!b.push_before(0x02, at_least));  // wanted() 0: every byte is a decision
+  b.start_with(0x02, 6);
+  CHECK(b.push(0x40));
+  b.drop(1, 3);  // a rejected frame: rescan from its second byte, 3 wanted from there
+  CHECK(b.size() == 1);
+  CHECK(b[0] == 0x40);
+  CHECK(b.wanted() == 3);
+  CHECK(b.push_before(0x41, at_least));
+  CHECK(at_least == 1);
+  CHECK(!b.push_before(0x42, at_least));
+}

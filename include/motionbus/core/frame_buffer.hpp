@@ -93,6 +93,15 @@ class frame_buffer {
     at_least = stop_ - next;
     return true;
   }
+  /// The first byte of a frame of `n` (1..N) bytes, into an empty buffer: held at the front,
+  /// and want(n).
+  MOTIONBUS_INLINE constexpr void start_with(std::uint8_t b, std::size_t n) noexcept {
+    bytes_[0] = b;
+    start_ = 0;
+    end_ = 1;
+    want_ = static_cast<index>(n);
+    stop_ = static_cast<index>(n);
+  }
   /// Appends up to `n` bytes of `in` (as many as fit); returns how many.
   constexpr std::size_t append(byte_view in, std::size_t n) noexcept {
     if (n > in.size()) {
@@ -111,7 +120,10 @@ class frame_buffer {
     return n;
   }
   /// Drops the first `n` bytes held (n <= size()); wanted() then counts from the front left.
-  constexpr void drop(std::size_t n) noexcept {
+  constexpr void drop(std::size_t n) noexcept { drop(n, want_); }
+  /// drop(n) and want(next_want) in one step.
+  MOTIONBUS_INLINE constexpr void drop(std::size_t n, std::size_t next_want) noexcept {
+    want_ = static_cast<index>(next_want);
     start_ = static_cast<index>(start_ + n);
     if (start_ == end_) {
       start_ = 0;

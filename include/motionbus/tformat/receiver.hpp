@@ -21,7 +21,7 @@
 // the meter at -Os: docs/footprint.md):
 //   receiver size: 40 bytes. A default-constructed `static` receiver is all zeros: .bss, no
 //     start-up code, no flash copied to RAM.
-//   feed(byte): 17 instructions for a byte inside a frame, the call included; 34.9 a byte over
+//   feed(byte): 17 instructions for a byte inside a frame, the call included; 30.9 a byte over
 //     an ID3 response; 92 bytes of stack at worst (the last byte: decode and check).
 //   Interrupts: feed() may run in the UART receive interrupt, idle() in the idle-line timer's;
 //     sent() runs before the request's first byte goes out. None of them may run while
@@ -70,7 +70,9 @@ class receiver {
         multi_turn_x_(static_cast<std::uint8_t>(opt.decode.res.multi_turn_bits ^
                                                 resolution{}.multi_turn_bits)),
         skip_unused_check_(!opt.decode.check_unused_bits),
-        resolution_from_enid_(opt.decode.resolution_from_enid) {}
+        resolution_from_enid_(opt.decode.resolution_from_enid),
+        custom_decode_(single_turn_x_ != 0U || multi_turn_x_ != 0U || skip_unused_check_ ||
+                       resolution_from_enid_) {}
 
   /// The options the receiver was built with.
   constexpr receiver_options options() const noexcept {
@@ -145,19 +147,19 @@ class receiver {
   // feed() of one byte that completes something: the last byte of a frame (decoded without a
   // stack frame of its own here: a tail call), or else a first byte.
   MOTIONBUS_NOINLINE constexpr decode_result<response> decide_byte(std::uint8_t byte) noexcept {
-    if (framing_ && buf_.completes_want()) {  // the last byte of a frame whose CF was checked
-      buf_.put_last(byte);
-      return finish(1);
-    }
-    if (buf_.empty() && !echo_pending_) {  // the first byte: a CF, or garbage
+    if (framing_) {
+      if (buf_.completes_want()) {  // the last byte of a frame whose CF was checked
+        buf_.put_last(byte);
+        return finish(1);
+      }
+    } else if (buf_.empty() && !echo_pending_) {  // the first byte: a CF, or garbage
       const std::uint8_t code = data_id_code(byte);
       if (byte != valid_control_fields[code]) {
         ++dropped_;
         return need_input{1};
       }
-      buf_.push(byte);
       const std::uint8_t frame_size = response_layouts[code].size;
-      buf_.want(frame_size);
+      buf_.start_with(byte, frame_size);  // an empty buffer starts at its front
       framing_ = true;
       return need_input{frame_size - 1U};
     }
@@ -237,15 +239,16 @@ class receiver {
   // checks it against the request. A rejected frame is rescanned from its second byte.
   constexpr decode_result<response> finish(std::size_t used) noexcept {
     const std::size_t n = buf_.wanted();
-    buf_.want(0);
     framing_ = false;
     // One result, returned from one place (built in the caller's slot: no copy).
-    decode_result<response> r = decode_response(buf_.first(n), decode_opts());
+    // The default options are constants here (the common case: no options to rebuild).
+    decode_result<response> r = custom_decode_ ? decode_response(buf_.first(n), decode_opts())
+                                               : decode_response(buf_.first(n), decode_options{});
     if (r.is_failed()) {
-      buf_.drop(1);  // rescan from the next byte: a valid frame may start inside
+      buf_.drop(1, 0);  // rescan from the next byte: a valid frame may start inside
       ++dropped_;
     } else {
-      buf_.drop(n);
+      buf_.drop(n, 0);
       if (check_) {
         std::uint32_t want = 0;
         std::uint32_t got = 0;
@@ -277,6 +280,7 @@ class receiver {
   std::uint8_t multi_turn_x_ = 0;
   bool skip_unused_check_ = false;
   bool resolution_from_enid_ = false;
+  bool custom_decode_ = false;  // any of the decode options above is not the default
   std::uint8_t request_[max_request_size] = {};
   std::uint8_t request_size_ = 0;
   bool echo_pending_ = false;
