@@ -10,7 +10,8 @@ set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$root"
 build="${MOTIONBUS_BUILD_DIR:-$root/build}/demo"
-bash tools/scripts/ensure-packages.sh cmake ninja-build g++ socat
+bash tools/scripts/ensure-packages.sh cmake ninja-build g++ socat pkg-config libcli11-dev \
+  nlohmann-json3-dev libserialport-dev
 cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DMOTIONBUS_BUILD_TESTS=OFF \
   -DMOTIONBUS_BUILD_BENCH=OFF -DMOTIONBUS_BUILD_FUZZ=OFF >/dev/null
 cmake --build "$build" --target motionbus_cli motionbus_example_core_tour \
@@ -32,12 +33,8 @@ for _ in $(seq 50); do [ -e "$pty_dir/encoder" ] && break; sleep 0.1; done
 "$cli" serve tformat-encoder --device "$pty_dir/encoder" 2>/dev/null &
 serve_pid=$!
 sleep 0.3
-pretty_tformat() {
-  sed -E 's/.*"abs":([0-9]+).*"abm":([0-9]+).*"enid":([0-9]+).*"alarms":\[([^]]*)\].*/position \1 of 131072, turn \2, ENID \3, alarms [\4]/'
-}
 for i in 1 2 3; do
-  out="$("$cli" read tformat --device "$pty_dir/drive" --id 3 2>/dev/null || true)"
-  echo "  ID3 read $i: $(printf '%s' "$out" | pretty_tformat)"
+  echo "  ID3 read $i: $("$cli" read tformat --device "$pty_dir/drive" --id 3 2>/dev/null || true)"
   sleep 0.2
 done
 echo "  EEPROM write page 0 address 10 <- 0x5A: $("$cli" read tformat --device "$pty_dir/drive" --id 6 --address 10 --data 90 2>/dev/null)"
@@ -55,11 +52,8 @@ for _ in $(seq 50); do [ -e "$pty_dir/master" ] && break; sleep 0.1; done
 "$cli" serve sm-unit --device "$pty_dir/unit" 2>/dev/null &
 sm_pid=$!
 sleep 0.3
-pretty_sm() {
-  sed -E 's/.*"voltage":\{"value":([^,]*),.*"current":\{"value":([^,]*),.*"power":\{"value":([^,]*),.*"temperature":\{"value":([^,]*),.*"frequency":\{"value":([^,]*),.*"torque":\{"value":([^,]*),.*/\1 V, \2 A, \3 W, \4 degC, \5 Hz, \6 N.m/'
-}
 for i in 1 2; do
-  echo "  instantaneous data $i: $("$cli" read sm-unit --device "$pty_dir/master" 2>/dev/null | pretty_sm)"
+  echo "  instantaneous data $i: $("$cli" read sm-unit --device "$pty_dir/master" 2>/dev/null)"
   sleep 0.5
 done
 echo "  overheat limit (holding 36, 0.1 degC): $("$cli" read modbus --device "$pty_dir/master" --slave 1 --function 3 --address 36 --quantity 1 2>/dev/null)"
@@ -70,7 +64,8 @@ echo
 
 echo "== BiSS-C: master <-> AMO ABSYS emulator over an in-memory bit stream (examples/biss_demo.cpp)"
 "$build/examples/motionbus_example_biss_demo"
-frame="$("$cli" encode biss csd --position 123456 --ack 3 --cds 1 --idle 2 | sed -E 's/.*"bits":"([01]*)".*/\1/')"
+frame="$("$cli" encode biss csd --position 123456 --ack 3 --cds 1 --idle 2 --json |
+  sed -E 's/.*"bits":"([01]*)".*/\1/')"
 echo "  a frame as a logic analyzer samples it, decoded by the CLI:"
 echo "    \$ motionbus decode biss csd $frame"
 echo "    $("$cli" decode biss csd "$frame")"

@@ -25,7 +25,8 @@ bash tools/scripts/ensure-packages.sh \
   libbenchmark-dev gcc-arm-none-eabi libstdc++-arm-none-eabi-newlib binutils-riscv64-unknown-elf \
   g++-s390x-linux-gnu g++-arm-linux-gnueabihf qemu-user \
   socat pkg-config libmodbus-dev python3-pymodbus python3-serial python3-serial-asyncio gcovr \
-  python3-unicorn clang-tidy qemu-system-arm qemu-system-misc
+  python3-unicorn clang-tidy qemu-system-arm qemu-system-misc \
+  libcli11-dev nlohmann-json3-dev libserialport-dev sigrok-cli iverilog
 
 passed=0
 failed=0

@@ -68,7 +68,7 @@ TEST_CASE("decode biss csd: errors") {
   bad[10] = bad[10] == '1' ? '0' : '1';
   int status = 0;
   CHECK(testcli::run("decode biss csd " + bad, &status) ==
-        "{\"ok\":false,\"error\":\"crc_mismatch\"}\n");
+        "{\"ok\":false,\"error\":\"crc_mismatch\",\"expected\":21,\"received\":49}\n");
   CHECK(status == 1);
   CHECK(testcli::run("decode biss csd " + f.substr(0, f.size() - 1)) ==
         "{\"ok\":false,\"error\":\"truncated\"}\n");
@@ -77,7 +77,7 @@ TEST_CASE("decode biss csd: errors") {
   CHECK(testcli::run("decode biss csd 10x1") == "{\"ok\":false,\"error\":\"invalid_bits\"}\n");
   // the same frame read with the wrong data length fails its CRC
   CHECK(testcli::run("decode biss csd " + f + " --data-bits 30") ==
-        "{\"ok\":false,\"error\":\"crc_mismatch\"}\n");
+        "{\"ok\":false,\"error\":\"crc_mismatch\",\"expected\":45,\"received\":60}\n");
 }
 
 TEST_CASE("decode biss csd: other layouts through --data-bits and the CRC options") {

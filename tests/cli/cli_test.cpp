@@ -87,3 +87,43 @@ TEST_CASE("usage errors exit with status 2 and print nothing on stdout") {
   CHECK(v.status == 0);
   CHECK(v.out.find("\"ok\":true") != std::string::npos);
 }
+
+TEST_CASE("text output: hex where engineers think in hex, failures with their evidence") {
+  int status = -1;
+  CHECK(testcli::run_as_is("decode tformat response 1a2045230111341200c0aa", &status) ==
+        "ok  data_id=3 cf=0x1A sf=0x20 ea0=0 ea1=1 ca0=0 ca1=0 abs=74565 abm=4660 enid=0x11 "
+        "almc=0xC0 alarms=BE,BA crc=0xAA\n");
+  CHECK(status == 0);
+  CHECK(testcli::run_as_is("decode modbus request 1103006B00037688", &status) ==
+        "FAIL crc_mismatch  expected=0x8776 received=0x8876\n");
+  CHECK(status == 1);
+  CHECK(testcli::run_as_is("encode modbus request --function 3 --slave 17 --address 107 "
+                           "--quantity 3") == "ok  hex=[11 03 00 6B 00 03 76 87]\n");
+  CHECK(testcli::run_as_is("crc modbus '11 03 00 6B 00 03'") == "ok  crc=0x8776\n");
+}
+
+TEST_CASE("--help at every level prints the options, defaults and allowed values") {
+  int status = -1;
+  const std::string top = testcli::run_as_is("--help", &status);
+  CHECK(status == 0);
+  for (const char* line :
+       {"decode tformat response <input|->", "decode modbus request <input|->", "decode biss csd",
+        "encode tformat request", "read sm-unit", "serve tformat-encoder", "crc biss6 <input|->"}) {
+    CAPTURE(line);
+    CHECK(top.find(line) != std::string::npos);
+  }
+  const std::string decode = testcli::run_as_is("decode --help", &status);
+  CHECK(status == 0);
+  CHECK(decode.find("T-format (Tamagawa") != std::string::npos);
+  CHECK(decode.find("Modbus RTU") != std::string::npos);
+  const std::string read = testcli::run_as_is("read tformat --help", &status);
+  CHECK(status == 0);
+  CHECK(read.find("--id HEX") != std::string::npos);
+  CHECK(read.find("--baud BAUD=2500000") != std::string::npos);
+  CHECK(read.find("--echo") != std::string::npos);
+  const std::string modbus = testcli::run_as_is("read modbus --help", &status);
+  CHECK(modbus.find("--parity P:{E,O,N}=E") != std::string::npos);
+  CHECK(modbus.find("--function FC") != std::string::npos);
+  testcli::run_as_is("read modbus --parity X --slave 1 --function 3 --device /dev/null", &status);
+  CHECK(status == 2);  // not an allowed value
+}

@@ -31,7 +31,7 @@ TEST_CASE("decode modbus request: fields of an RTU ADU") {
         "{\"ok\":false,\"error\":\"illegal_coil_value\"}\n");
   CHECK(status == 1);
   CHECK(cli("decode modbus request 1103006B00037688") ==
-        "{\"ok\":false,\"error\":\"crc_mismatch\"}\n");
+        "{\"ok\":false,\"error\":\"crc_mismatch\",\"expected\":34678,\"received\":34934}\n");
   CHECK(cli("decode modbus request 110300") == "{\"ok\":false,\"error\":\"pdu_length\"}\n");
 }
 
@@ -47,7 +47,8 @@ TEST_CASE("decode modbus response: registers, bits, exceptions, FC11, checked ag
         "{\"ok\":true,\"slave\":17,\"function\":1,\"byte_count\":3,"
         "\"values\":[1,0,1,1,0,0,1,1,1,1,0,1,0,1,1,0,1,0,1],\"crc\":4672}\n");
   CHECK(cli("decode modbus response 118302c134") ==
-        "{\"ok\":true,\"slave\":17,\"function\":3,\"exception\":2,\"crc\":13505}\n");
+        "{\"ok\":true,\"slave\":17,\"function\":3,\"exception\":2,\"exception_name\":\"illegal_"
+        "data_address\",\"crc\":13505}\n");
   CHECK(cli("decode modbus response 01110100504d") ==
         "{\"ok\":true,\"slave\":1,\"function\":17,\"data\":\"0100\",\"crc\":19792}\n");
   // FC11 without its request: the standard layout's byte count is checked (250, two present)
@@ -71,28 +72,29 @@ TEST_CASE("decode modbus response: registers, bits, exceptions, FC11, checked ag
         "{\"ok\":true,\"slave\":1,\"function\":8,\"data\":\"0000a5371234\",\"crc\":29334}\n");
   // the response to another request
   CHECK(cli("decode modbus response 110103cd6b054012 --request 1103006B00037687") ==
-        "{\"ok\":false,\"error\":\"response_mismatch\"}\n");
+        "{\"ok\":false,\"error\":\"response_mismatch\",\"expected\":3,\"received\":1}\n");
   int status = 0;
   cli("decode modbus response 110306022b00000064c8ba --request zz", &status);
   CHECK(status == 2);
 }
 
 TEST_CASE("encode modbus request: RTU ADU as hex") {
-  CHECK(cli("encode modbus request 3 --slave 17 --address 107 --quantity 3") ==
+  CHECK(cli("encode modbus request --function 3 --slave 17 --address 107 --quantity 3") ==
         "{\"ok\":true,\"hex\":\"1103006b00037687\"}\n");
-  CHECK(cli("encode modbus request 0x10 --slave 1 --address 1 --values 10,258") ==
+  CHECK(cli("encode modbus request --function 0x10 --slave 1 --address 1 --values 10,258") ==
         "{\"ok\":true,\"hex\":\"01100001000204000a01029230\"}\n");
-  CHECK(cli("encode modbus request 15 --slave 17 --address 19 --values 1,0,1,1,0,0,1,1,1,0") ==
-        "{\"ok\":true,\"hex\":\"110f0013000a02cd01bf0b\"}\n");
-  CHECK(cli("encode modbus request 0x11 --slave 1") == "{\"ok\":true,\"hex\":\"0111c02c\"}\n");
+  CHECK(cli("encode modbus request --function 15 --slave 17 --address 19 --values "
+            "1,0,1,1,0,0,1,1,1,0") == "{\"ok\":true,\"hex\":\"110f0013000a02cd01bf0b\"}\n");
+  CHECK(cli("encode modbus request --function 0x11 --slave 1") ==
+        "{\"ok\":true,\"hex\":\"0111c02c\"}\n");
   int status = 0;
-  CHECK(cli("encode modbus request 3 --slave 17 --quantity 126", &status) ==
+  CHECK(cli("encode modbus request --function 3 --slave 17 --quantity 126", &status) ==
         "{\"ok\":false,\"error\":\"illegal_quantity\"}\n");
   CHECK(status == 1);
-  CHECK(cli("encode modbus request 3 --slave 248") ==
+  CHECK(cli("encode modbus request --function 3 --slave 248") ==
         "{\"ok\":false,\"error\":\"slave_address\"}\n");
-  cli("encode modbus request 3", &status);
+  cli("encode modbus request --function 3", &status);
   CHECK(status == 2);
-  cli("encode modbus request 3 --slave 1 --values x", &status);
+  cli("encode modbus request --function 3 --slave 1 --values x", &status);
   CHECK(status == 2);
 }

@@ -12,8 +12,8 @@ namespace testcli {
 
 /// Stdout of `motionbus <args>` (args already shell-quoted); stderr is discarded. `stdin_text`,
 /// when given, is piped in through printf (so \\n and \\r escapes are expanded).
-inline std::string run(const std::string& args, int* status = nullptr,
-                       const std::string& stdin_text = "") {
+inline std::string run_as_is(const std::string& args, int* status = nullptr,
+                             const std::string& stdin_text = "") {
   std::string command;
   if (!stdin_text.empty()) {
     command = "printf '" + stdin_text + "' | ";
@@ -32,6 +32,12 @@ inline std::string run(const std::string& args, int* status = nullptr,
     *status = WIFEXITED(s) ? WEXITSTATUS(s) : -1;
   }
   return out;
+}
+
+/// run_as_is with --json: one JSON object per line, as scripts read the tool.
+inline std::string run(const std::string& args, int* status = nullptr,
+                       const std::string& stdin_text = "") {
+  return run_as_is(args + " --json", status, stdin_text);
 }
 
 }  // namespace testcli

@@ -103,7 +103,7 @@ TEST_CASE("decode/encode tformat: fields as JSON integers, errors as codes") {
         "{\"ok\":true,\"data_id\":13,\"cf\":234,\"address\":5,\"busy\":1,\"edf\":0,\"crc\":111}\n");
   // errors
   CHECK(run_cli("decode tformat response 020000000001") ==
-        "{\"ok\":false,\"error\":\"crc_mismatch\"}\n");
+        "{\"ok\":false,\"error\":\"crc_mismatch\",\"expected\":2,\"received\":1}\n");
   CHECK(run_cli("decode tformat response 0200000000") ==
         "{\"ok\":false,\"error\":\"truncated\"}\n");
   CHECK(run_cli("decode tformat response 02000000000200") ==
@@ -113,22 +113,23 @@ TEST_CASE("decode/encode tformat: fields as JSON integers, errors as codes") {
   // requests
   CHECK(run_cli("decode tformat request 1a") == "{\"ok\":true,\"data_id\":3,\"cf\":26}\n");
   CHECK(run_cli("decode tformat request ea0564") ==  // 0xEA ^ 0x05 = 0xEF: CRC wrong
-        "{\"ok\":false,\"error\":\"crc_mismatch\"}\n");
+        "{\"ok\":false,\"error\":\"crc_mismatch\",\"expected\":239,\"received\":100}\n");
   CHECK(run_cli("decode tformat request ea05ef") ==
         "{\"ok\":true,\"data_id\":13,\"cf\":234,\"address\":5,\"crc\":239}\n");
-  CHECK(run_cli("encode tformat request 3", &status) == "{\"ok\":true,\"hex\":\"1a\"}\n");
+  CHECK(run_cli("encode tformat request --id 3", &status) == "{\"ok\":true,\"hex\":\"1a\"}\n");
   CHECK(status == 0);
-  CHECK(run_cli("encode tformat request 6 --address 5 --data 18") ==
+  CHECK(run_cli("encode tformat request --id 6 --address 5 --data 18") ==
         "{\"ok\":true,\"hex\":\"32051225\"}\n");
-  CHECK(run_cli("encode tformat request D --address 127") == "{\"ok\":true,\"hex\":\"ea7f95\"}\n");
-  CHECK(run_cli("encode tformat request 4", &status) ==
+  CHECK(run_cli("encode tformat request --id D --address 127") ==
+        "{\"ok\":true,\"hex\":\"ea7f95\"}\n");
+  CHECK(run_cli("encode tformat request --id 4", &status) ==
         "{\"ok\":false,\"error\":\"unknown_data_id\"}\n");
   CHECK(status == 1);
-  CHECK(run_cli("encode tformat request D --address 128") ==
+  CHECK(run_cli("encode tformat request --id D --address 128") ==
         "{\"ok\":false,\"error\":\"out_of_range\"}\n");
   run_cli("encode tformat request", &status);
   CHECK(status == 2);
-  run_cli("encode tformat request 3 --bogus 1", &status);
+  run_cli("encode tformat request --id 3 --bogus 1", &status);
   CHECK(status == 2);
 }
 

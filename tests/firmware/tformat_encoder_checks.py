@@ -27,7 +27,8 @@ def check(name, condition):
 
 
 def read(cli, device, data_id, address=None, data=None):
-    cmd = [cli, "read", "tformat", "--device", device, "--id", data_id, "--timeout-ms", "1000"]
+    cmd = [cli, "read", "tformat", "--device", device, "--id", data_id, "--timeout-ms", "1000",
+           "--json"]
     if address is not None:
         cmd += ["--address", str(address)]
     if data is not None:
@@ -120,10 +121,10 @@ def main():
     wait_ready(cli, device)  # ID8 writes the EEPROM: 18 ms
     r = read(cli, device, "0")
     check("ID8 x10: single-turn reads 0", r.get("ok") and r.get("abs") == 0)
-    for _ in range(10):
-        read(cli, device, "C")
+    idc = [read(cli, device, "C") for _ in range(10)]
     r = read(cli, device, "1")
-    check("IDC x10: multi-turn reads 0", r.get("ok") and r.get("abm") == 0)
+    check(f"IDC x10: multi-turn reads 0 (ID1 {r}, IDC answers {idc})",
+          r.get("ok") and r.get("abm") == 0)
     answers = [read(cli, device, "7") for _ in range(10)]
     check("ID7 x10 (reset errors): each answered with ID0's layout, no error flag",
           all(a.get("ok") and a.get("data_id") == 7 and a.get("abs") == 0 and a.get("ea0") == 0

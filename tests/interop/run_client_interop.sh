@@ -12,7 +12,7 @@ expect() {  # expect NAME EXPECTED-SUBSTRING ARGS...
   local name="$1" want="$2"
   shift 2
   local out
-  out="$("$cli" read modbus "$@" 2>/dev/null || true)"
+  out="$("$cli" read modbus "$@" --json 2>/dev/null || true)"
   if [[ "$out" == *"$want"* ]]; then
     echo "ok   $name"
   else

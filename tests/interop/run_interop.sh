@@ -27,14 +27,14 @@ echo "== libmodbus"
 "$libmodbus_client" "$dir/master" || status=1
 sleep 0.2
 echo "== motionbus read sm-unit (no login needed: libmodbus left the unit logged out)"
-out="$("$cli" read sm-unit --device "$dir/master" 2>/dev/null || true)"
+out="$("$cli" read sm-unit --device "$dir/master" --json 2>/dev/null || true)"
 echo "$out"
 case "$out" in
   *'"ok":true,"slave":1,"version":"1.0.0","voltage":{"value":'*) ;;
   *) echo "FAIL read sm-unit"; status=1 ;;
 esac
 echo "== motionbus read sm-unit --read password (logs in for the read, then out again)"
-out="$("$cli" read sm-unit --device "$dir/master" --read password 2>/dev/null || true)"
+out="$("$cli" read sm-unit --device "$dir/master" --read password --json 2>/dev/null || true)"
 echo "$out"
 case "$out" in
   *'"logged_in":false,"logged_in_by_read":true,"login_restored":true,"password":"password"}'*) ;;

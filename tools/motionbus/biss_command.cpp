@@ -146,14 +146,14 @@ cli::outcome decode_csd(const std::string& input, const cli::options& opts) {
     return cli::outcome::failure(mb::to_string(e));
   }
   if (r.is_failed()) {
-    return cli::outcome::failure(mb::to_string(r.error()));
+    return cli::failure_of(r, 2);
   }
-  cli::json_object f;
+  cli::record f;
   f.add("position", static_cast<std::int64_t>(d.single_turn));
   f.add("ne", d.ne ? 1 : 0);
   f.add("nw", d.nw ? 1 : 0);
   f.add("cds", r->cds ? 1 : 0);
-  f.add("crc", static_cast<std::int64_t>(d.crc));
+  f.hex("crc", static_cast<std::int64_t>(d.crc));
   f.add("start", static_cast<std::int64_t>(r->start));
   f.add("ack_bits", static_cast<std::int64_t>(r->ack_bits()));
   return cli::outcome::success(f);
@@ -163,7 +163,7 @@ bool option_bit(const cli::options& opts, const std::string& name, bool fallback
   return option_number(opts, name, fallback ? 1 : 0, 1) != 0U;
 }
 
-cli::outcome encode_csd(const cli::options& opts) {
+int encode_csd(const cli::options& opts) {
   const bs::slave_layout layout = layout_from(opts);
   if (!opts.has("position")) {
     throw cli::usage_error{"encode biss csd needs --position N"};
@@ -184,15 +184,15 @@ cli::outcome encode_csd(const cli::options& opts) {
   const auto n =
       bs::encode_frame(layout, v, mb::span<std::uint8_t>(words.data(), words.size()), line);
   if (!n) {
-    return cli::outcome::failure(mb::to_string(n.error()));
+    return cli::finish(cli::outcome::failure(mb::to_string(n.error())));
   }
   std::string bits;
   for (std::size_t i = 0; i < *n; ++i) {
     bits.push_back(((words[i / 8U] >> (7U - i % 8U)) & 1U) != 0U ? '1' : '0');
   }
-  cli::json_object f;
+  cli::record f;
   f.add("bits", bits);
-  return cli::outcome::success(f);
+  return cli::finish(cli::outcome::success(f));
 }
 
 }  // namespace
@@ -200,15 +200,32 @@ cli::outcome encode_csd(const cli::options& opts) {
 namespace cli {
 
 protocol_entries biss_entries() {
-  const std::vector<std::string> layout_options = {"data-bits", "crc-bits", "crc-poly",
-                                                   "crc-start"};
-  std::vector<std::string> decode_options = layout_options;
+  const std::vector<option_use> layout_options = {
+      {"data-bits", "32"}, {"crc-bits", "6"}, "crc-poly", {"crc-start", "0"}};
+  std::vector<option_use> decode_options = layout_options;
   decode_options.insert(decode_options.end(), {"hex", "bits"});
-  std::vector<std::string> encode_options = layout_options;
-  encode_options.insert(encode_options.end(), {"position", "ne", "nw", "ack", "cds", "idle"});
+  std::vector<option_use> encode_options = layout_options;
+  encode_options.insert(
+      encode_options.end(),
+      {"position", {"ne", "1"}, {"nw", "1"}, {"ack", "1"}, {"cds", "0"}, {"idle", "0"}});
   protocol_entries e;
-  e.decoders.push_back({"biss", "csd", &decode_csd, decode_options, {"no-crc-invert"}});
-  e.encoders.push_back({"biss", "csd", &encode_csd, encode_options, {"no-crc-invert"}, 0});
+  e.decoders.push_back({"decode",
+                        "biss",
+                        "csd",
+                        "a sensor data frame from the SL samples taken on MA's rising edges "
+                        "(bits, or --hex words); default layout AMO ABSYS",
+                        &decode_csd,
+                        decode_options,
+                        {"no-crc-invert"},
+                        false});
+  e.commands.push_back({"encode",
+                        "biss",
+                        "csd",
+                        "the SL bits of a sensor data frame (default layout AMO ABSYS)",
+                        &encode_csd,
+                        encode_options,
+                        {"no-crc-invert"},
+                        {}});
   return e;
 }
 

@@ -4,70 +4,150 @@
 #include <cctype>
 #include <cstdio>
 #include <iostream>
+#include <sstream>
 #include <utility>
 
 namespace cli {
 
-std::string json_quote(const std::string& s) {
-  std::string out = "\"";
-  for (const char c : s) {
-    switch (c) {
-      case '"': out += "\\\""; break;
-      case '\\': out += "\\\\"; break;
-      case '\n': out += "\\n"; break;
-      case '\r': out += "\\r"; break;
-      case '\t': out += "\\t"; break;
-      default:
-        if (static_cast<unsigned char>(c) < 0x20U) {
-          char buf[8];
-          std::snprintf(buf, sizeof buf, "\\u%04x",
-                        static_cast<unsigned>(static_cast<unsigned char>(c)));
-          out += buf;
-        } else {
-          out += c;
-        }
-    }
-  }
-  return out + "\"";
+namespace {
+
+std::string hex_text(std::int64_t value, int digits) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "0x%0*llX", digits, static_cast<unsigned long long>(value));
+  return buf;
 }
 
-json_object& json_object::add(const std::string& key, std::int64_t value) {
-  fields_.emplace_back(key, std::to_string(value));
+format& current_format() {
+  static format f = format::text;
+  return f;
+}
+
+}  // namespace
+
+format output_format() {
+  return current_format();
+}
+void set_output_format(format f) {
+  current_format() = f;
+}
+
+record& record::add(const std::string& key, std::int64_t value) {
+  json_[key] = value;
+  text_.emplace_back(key, std::to_string(value));
   return *this;
 }
-json_object& json_object::add(const std::string& key, const std::string& value) {
-  fields_.emplace_back(key, json_quote(value));
+record& record::hex(const std::string& key, std::int64_t value, int digits) {
+  json_[key] = value;
+  text_.emplace_back(key, hex_text(value, digits));
   return *this;
 }
-json_object& json_object::add(const std::string& key, const char* value) {
+record& record::quantity(const std::string& key, double value, const std::string& unit) {
+  json_[key] = value;
+  std::ostringstream s;
+  s << value << ' ' << unit;
+  text_.emplace_back(key, s.str());
+  return *this;
+}
+record& record::measured(const std::string& key, double value, const std::string& unit,
+                         std::int64_t raw) {
+  json_[key] = nlohmann::ordered_json{{"value", value}, {"unit", unit}, {"raw", raw}};
+  std::ostringstream s;
+  s << value << (unit.empty() ? "" : " ") << unit;
+  text_.emplace_back(key, s.str());
+  return *this;
+}
+record& record::add(const std::string& key, const std::string& value) {
+  json_[key] = value;
+  const bool quote = value.empty() || value.find(' ') != std::string::npos;
+  text_.emplace_back(key, quote ? "\"" + value + "\"" : value);
+  return *this;
+}
+record& record::add(const std::string& key, const char* value) {
   return add(key, std::string(value));
 }
-json_object& json_object::add_bool(const std::string& key, bool value) {
-  fields_.emplace_back(key, value ? "true" : "false");
+record& record::add_bool(const std::string& key, bool value) {
+  json_[key] = value;
+  text_.emplace_back(key, value ? "yes" : "no");
   return *this;
 }
-json_object& json_object::add(const std::string& key, const std::vector<std::int64_t>& values) {
-  std::string list = "[";
-  for (std::size_t i = 0; i < values.size(); ++i) {
-    list += (i == 0 ? "" : ",") + std::to_string(values[i]);
+record& record::add(const std::string& key, const std::vector<std::int64_t>& values) {
+  json_[key] = values;
+  std::string t;
+  for (const std::int64_t v : values) {
+    t += (t.empty() ? "" : ",") + std::to_string(v);
   }
-  fields_.emplace_back(key, list + "]");
+  text_.emplace_back(key, values.empty() ? "-" : t);
   return *this;
 }
-json_object& json_object::add(const std::string& key, const std::vector<std::string>& values) {
-  std::string list = "[";
-  for (std::size_t i = 0; i < values.size(); ++i) {
-    list += (i == 0 ? "" : ",") + json_quote(values[i]);
+record& record::add(const std::string& key, const std::vector<std::string>& values) {
+  json_[key] = values;
+  std::string t;
+  for (const std::string& v : values) {
+    t += (t.empty() ? "" : ",") + v;
   }
-  fields_.emplace_back(key, list + "]");
+  text_.emplace_back(key, values.empty() ? "none" : t);
   return *this;
 }
-std::string json_object::str() const {
-  std::string out = "{";
-  for (std::size_t i = 0; i < fields_.size(); ++i) {
-    out += (i == 0 ? "" : ",") + json_quote(fields_[i].first) + ":" + fields_[i].second;
+record& record::bytes(const std::string& key, const std::uint8_t* data, std::size_t size) {
+  json_[key] = to_hex(data, size);
+  std::string t;
+  for (std::size_t i = 0; i < size; ++i) {
+    char buf[4];
+    std::snprintf(buf, sizeof buf, "%02X", static_cast<unsigned>(data[i]));
+    t += (i == 0 ? "" : " ") + std::string(buf);
   }
-  return out + "}";
+  text_.emplace_back(key, size == 0 ? "-" : "[" + t + "]");
+  return *this;
+}
+record& record::append(const record& other) {
+  for (const auto& item : other.json_.items()) {
+    json_[item.key()] = item.value();
+  }
+  text_.insert(text_.end(), other.text_.begin(), other.text_.end());
+  return *this;
+}
+std::string record::text() const {
+  std::string out;
+  for (const auto& f : text_) {
+    out += (out.empty() ? "" : " ") + f.first + "=" + f.second;
+  }
+  return out;
+}
+
+void print(const outcome& o, const record& prefix) {
+  if (output_format() == format::json) {
+    nlohmann::ordered_json j = prefix.json();
+    j["ok"] = o.ok;
+    if (!o.ok) {
+      j["error"] = o.error;
+    }
+    for (const auto& item : (o.ok ? o.fields : o.evidence).json().items()) {
+      j[item.key()] = item.value();
+    }
+    std::cout << j.dump() << '\n';
+    return;
+  }
+  std::string line = prefix.text();
+  line += (line.empty() ? "" : "  ") + std::string(o.ok ? "ok" : "FAIL " + o.error);
+  const std::string body = (o.ok ? o.fields : o.evidence).text();
+  if (!body.empty()) {
+    line += "  " + body;
+  }
+  std::cout << line << '\n';
+}
+
+void print_record(const record& r) {
+  if (output_format() == format::json) {
+    std::cout << r.json().dump() << '\n';
+  } else {
+    std::cout << "# " << r.text() << '\n';
+  }
+}
+
+int finish(const outcome& o) {
+  print(o);
+  std::cout.flush();
+  return o.ok ? 0 : 1;
 }
 
 namespace {
@@ -208,48 +288,6 @@ std::optional<std::string> options::get(const std::string& name) const {
   return it->second;
 }
 
-options parse_options(const std::vector<std::string>& args, std::size_t first,
-                      const std::vector<std::string>& with_value,
-                      const std::vector<std::string>& switches) {
-  options o;
-  for (std::size_t i = first; i < args.size(); ++i) {
-    const std::string& a = args[i];
-    if (a.size() < 3 || a.compare(0, 2, "--") != 0) {
-      throw usage_error{"unexpected argument '" + a + "'"};
-    }
-    std::string name = a.substr(2);
-    std::optional<std::string> inline_value;
-    const std::size_t eq = name.find('=');
-    if (eq != std::string::npos) {
-      inline_value = name.substr(eq + 1);
-      name = name.substr(0, eq);
-    }
-    bool known = false;
-    for (const auto& v : with_value) {
-      if (v == name) {
-        known = true;
-        if (inline_value) {
-          o.values[name] = *inline_value;
-        } else if (i + 1 < args.size()) {
-          o.values[name] = args[++i];
-        } else {
-          throw usage_error{"option --" + name + " needs a value"};
-        }
-      }
-    }
-    for (const auto& s : switches) {
-      if (s == name && !inline_value) {
-        known = true;
-        o.flags.push_back(name);
-      }
-    }
-    if (!known) {
-      throw usage_error{"unknown option '" + a + "'"};
-    }
-  }
-  return o;
-}
-
 std::string to_hex(const std::uint8_t* data, std::size_t size) {
   static const char digits[] = "0123456789abcdef";
   std::string out;
@@ -258,25 +296,6 @@ std::string to_hex(const std::uint8_t* data, std::size_t size) {
     out += digits[data[i] & 0x0FU];
   }
   return out;
-}
-
-void print(const outcome& o) {
-  if (o.ok) {
-    json_object out;
-    out.add_bool("ok", true);
-    std::string body = o.fields.str();
-    std::string head = out.str();
-    // splice: {"ok":true} + {fields...}
-    if (body.size() > 2) {
-      head.pop_back();
-      head += "," + body.substr(1);
-    }
-    std::cout << head << '\n';
-  } else {
-    json_object out;
-    out.add_bool("ok", false).add("error", o.error);
-    std::cout << out.str() << '\n';
-  }
 }
 
 int run_inputs(const std::string& input, const std::function<outcome(const std::string&)>& handle) {

@@ -1,44 +1,94 @@
-// Shared pieces of the motionbus CLI: JSON output, input parsing, options, command registry.
-// Host code: uses the standard library freely (unlike include/).
+// Shared pieces of the motionbus CLI: output records (text for people, JSON lines for programs,
+// through nlohmann-json), input parsing, the parsed options, the command registry (the command
+// line itself is parsed by CLI11: commands.cpp). Host code: uses the standard library freely
+// (unlike include/).
 #ifndef MOTIONBUS_TOOLS_CLI_HPP
 #define MOTIONBUS_TOOLS_CLI_HPP
 
 #include <cstdint>
 #include <functional>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
+
+#include <motionbus/core/errc.hpp>
+#include <motionbus/core/result.hpp>
 
 namespace cli {
 
-/// One JSON object, fields in insertion order. Values are integers, strings, booleans or lists
-/// of integers/strings.
-class json_object {
+/// One output record: fields in order, each a JSON value (numbers stay numbers, with the field
+/// names scripts already use) and the text a person reads (hex where engineers think in hex,
+/// units where the profile has them).
+class record {
  public:
-  json_object& add(const std::string& key, std::int64_t value);
-  json_object& add(const std::string& key, const std::string& value);
-  json_object& add(const std::string& key, const char* value);
-  json_object& add_bool(const std::string& key, bool value);
-  json_object& add(const std::string& key, const std::vector<std::int64_t>& values);
-  json_object& add(const std::string& key, const std::vector<std::string>& values);
-  std::string str() const;
+  record& add(const std::string& key, std::int64_t value);
+  /// A number shown in hex in text ("0x1A", `digits` wide); a plain number in JSON.
+  record& hex(const std::string& key, std::int64_t value, int digits = 2);
+  /// A number with its unit in text ("12.5 A"); a plain number in JSON.
+  record& quantity(const std::string& key, double value, const std::string& unit);
+  /// A measurement: {"value", "unit", "raw"} in JSON, "12.5 A" in text.
+  record& measured(const std::string& key, double value, const std::string& unit, std::int64_t raw);
+  record& add(const std::string& key, const std::string& value);
+  record& add(const std::string& key, const char* value);
+  record& add_bool(const std::string& key, bool value);
+  record& add(const std::string& key, const std::vector<std::int64_t>& values);
+  record& add(const std::string& key, const std::vector<std::string>& values);
+  /// Raw bytes: lower-case contiguous hex in JSON (as the CLI always wrote them), spaced upper-case
+  /// hex in text.
+  record& bytes(const std::string& key, const std::uint8_t* data, std::size_t size);
+  /// Appends the fields of `other` (after this record's own).
+  record& append(const record& other);
+
+  const nlohmann::ordered_json& json() const { return json_; }
+  /// "key=value key=value ...", in order.
+  std::string text() const;
+  bool empty() const { return text_.empty(); }
 
  private:
-  std::vector<std::pair<std::string, std::string>> fields_;
+  nlohmann::ordered_json json_ = nlohmann::ordered_json::object();
+  std::vector<std::pair<std::string, std::string>> text_;
 };
 
-std::string json_quote(const std::string& s);
-
-/// Outcome of one input: ok with fields, or an error code (snake_case).
+/// Outcome of one input: ok with fields, or an error code (snake_case) with its evidence
+/// (expected and received values, where the failure was found).
 struct outcome {
   bool ok = false;
-  json_object fields;
+  record fields;
   std::string error;
+  record evidence;
 
-  static outcome success(json_object f) { return outcome{true, std::move(f), {}}; }
-  static outcome failure(std::string code) { return outcome{false, {}, std::move(code)}; }
+  static outcome success(record f) { return outcome{true, std::move(f), {}, {}}; }
+  static outcome failure(std::string code, record evidence = {}) {
+    return outcome{false, {}, std::move(code), std::move(evidence)};
+  }
 };
+
+/// The failure of a decode_result with its evidence: `expected` and `received` (in hex,
+/// `digits` wide, in text) when the error carries them (a CRC computed and received, a CF or an
+/// address that does not match the request).
+template <class T>
+outcome failure_of(const motionbus::decode_result<T>& r, int digits = 2) {
+  record e;
+  if (r.expected() != r.received()) {
+    e.hex("expected", r.expected(), digits).hex("received", r.received(), digits);
+  }
+  return outcome::failure(motionbus::to_string(r.error()), std::move(e));
+}
+
+/// Text (default) or one JSON object per line (--json).
+enum class format : std::uint8_t { text, json };
+/// The output format for this run (set once from the command line).
+format output_format();
+void set_output_format(format f);
+
+/// Prints one outcome: "ok" or "FAIL <error>" then the fields, or one JSON object. `prefix`
+/// fields (a time, a direction) come first.
+void print(const outcome& o, const record& prefix = {});
+/// Prints one summary or note record (never a frame): text "# key=value ...", or JSON.
+void print_record(const record& r);
 
 /// "02 20 b4", "0220B4" or "0x02 0x20": hex bytes. Error code in `error` when invalid.
 std::optional<std::vector<std::uint8_t>> parse_hex(const std::string& text, std::string& error);
@@ -47,7 +97,8 @@ std::optional<std::vector<std::uint8_t>> parse_bits(const std::string& text, std
 /// Decimal or 0x-prefixed hex integer.
 std::optional<std::uint64_t> parse_uint(const std::string& text);
 
-/// `--name value` options and `--flag` switches after the positional arguments.
+/// The options given to one command, as CLI11 parsed them: values by name (defaults filled in),
+/// switches by name, and the command's positional arguments.
 struct options {
   std::vector<std::string> positional;
   std::map<std::string, std::string> values;
@@ -65,70 +116,70 @@ struct usage_error {
   std::string message;
 };
 
-/// Parses args[first..] as options; `with_value` names take a value, `switches` take none.
-/// Anything else is a usage error.
-options parse_options(const std::vector<std::string>& args, std::size_t first,
-                      const std::vector<std::string>& with_value,
-                      const std::vector<std::string>& switches);
-
 /// A per-line handler: turns one input (hex, bits...) into an outcome.
 using line_handler = outcome (*)(const std::string& input, const options& opts);
-/// A no-input handler (encode).
-using encode_handler = outcome (*)(const options& opts);
+/// A whole-command handler (encode, capture decoders, serve, read, monitor): the exit status.
+using command_handler = int (*)(const options& opts);
 
+/// An option of a command: its name (one name for one idea, across the tool: see the catalogue
+/// in commands.cpp for its help text and allowed values) and this command's default, if any.
+struct option_use {
+  std::string name;
+  std::string default_value;  ///< shown in --help and filled in when absent; "" for none
+  option_use(const char* n) : name(n) {}  // NOLINT(google-explicit-constructor): lists of names
+  option_use(const char* n, const char* d) : name(n), default_value(d) {}
+};
+
+/// `decode <protocol> <kind> <input|->` or `crc <protocol> <input|->`: one outcome per input
+/// line.
 struct decoder {
+  const char* group;  ///< "decode" or "crc"
   const char* protocol;
-  const char* kind;
+  const char* kind;  ///< "" where the protocol is the command (crc)
+  const char* help;
   line_handler handle;
-  std::vector<std::string> value_options;
+  std::vector<option_use> value_options;
   std::vector<std::string> switch_options;
+  bool input = true;  ///< the input is required (else the options may carry it)
 };
 
-/// An encoder: `positional` arguments after the kind arrive in opts.positional.
-struct encoder {
+/// A command that takes no per-line input: `encode <protocol> <kind>`, `decode <protocol>
+/// capture FILE`, `serve <name>`, `read <name>`, `monitor <name>`. `positional` names its
+/// positional arguments (in order, all required).
+struct command {
+  const char* group;  ///< "encode", "decode", "serve", "read", "monitor"
   const char* protocol;
-  const char* kind;
-  encode_handler handle;
-  std::vector<std::string> value_options;
+  const char* kind;  ///< "" for serve/read/monitor
+  const char* help;
+  command_handler run;
+  std::vector<option_use> value_options;
   std::vector<std::string> switch_options;
-  std::size_t positional = 0;
-};
-
-/// `serve <name>` and `read <name>`: long-running or one-shot device I/O.
-using service_handler = int (*)(const options& opts);
-struct service {
-  const char* name;
-  service_handler run;
-  std::vector<std::string> value_options;
-  std::vector<std::string> switch_options;
+  std::vector<std::string> positional;
 };
 
 /// Each protocol's file provides its entries; the registry gathers them.
 struct protocol_entries {
   std::vector<decoder> decoders;
-  std::vector<encoder> encoders;
-  std::vector<service> emulators;  ///< serve <name>
-  std::vector<service> devices;    ///< read <name>
+  std::vector<command> commands;
 };
 protocol_entries tformat_entries();
 protocol_entries modbus_entries();
 protocol_entries sm_unit_entries();
 protocol_entries biss_entries();
+protocol_entries crc_entries();
 
 const std::vector<decoder>& decoders();
-const std::vector<encoder>& encoders();
-const std::vector<service>& emulators();
-const std::vector<service>& devices();
+const std::vector<command>& commands();
 
 /// Lower-case contiguous hex of bytes.
 std::string to_hex(const std::uint8_t* data, std::size_t size);
 
 /// Runs `handle` on `input`, or on each non-empty line of standard input when input is "-".
-/// Prints one JSON object per input; returns 0 when all were valid, 1 otherwise.
+/// Prints one outcome per input; returns 0 when all were valid, 1 otherwise.
 int run_inputs(const std::string& input, const std::function<outcome(const std::string&)>& handle);
 
-/// Prints one outcome as a JSON line.
-void print(const outcome& o);
+/// Prints one outcome and returns its exit status (0 ok, 1 failed).
+int finish(const outcome& o);
 
 }  // namespace cli
 

@@ -1,4 +1,4 @@
-// `motionbus crc <tformat|modbus|biss6|biss4> <input>`
+// `motionbus crc <tformat|modbus|biss6|biss4> <input|->`
 #include <motionbus/core/crc.hpp>
 
 #include <cstdint>
@@ -6,7 +6,6 @@
 #include <vector>
 
 #include "cli.hpp"
-#include "commands.hpp"
 
 namespace mb = motionbus;
 
@@ -23,7 +22,7 @@ std::vector<std::uint8_t> pack_msb_first(const std::vector<std::uint8_t>& bits) 
 }
 
 template <class Crc>
-cli::outcome crc_of_bits(const std::string& input) {
+cli::outcome crc_of_bits(const std::string& input, const cli::options&) {
   std::string error;
   const auto bits = cli::parse_bits(input, error);
   if (!bits) {
@@ -35,42 +34,59 @@ cli::outcome crc_of_bits(const std::string& input) {
                       bits->size()) != mb::errc::ok) {
     return cli::outcome::failure("truncated");
   }
-  cli::json_object f;
-  f.add("crc", static_cast<std::int64_t>(c.value()));
+  cli::record f;
+  f.hex("crc", static_cast<std::int64_t>(c.value()), 2);
   return cli::outcome::success(f);
 }
 
 template <class Crc>
-cli::outcome crc_of_hex(const std::string& input) {
+cli::outcome crc_of_hex(const std::string& input, const cli::options&) {
   std::string error;
   const auto bytes = cli::parse_hex(input, error);
   if (!bytes) {
     return cli::outcome::failure(error);
   }
-  cli::json_object f;
-  f.add("crc",
-        static_cast<std::int64_t>(Crc::compute(mb::byte_view(bytes->data(), bytes->size()))));
+  cli::record f;
+  f.hex("crc", static_cast<std::int64_t>(Crc::compute(mb::byte_view(bytes->data(), bytes->size()))),
+        Crc::spec::width > 8 ? 4 : 2);
   return cli::outcome::success(f);
 }
 
 }  // namespace
 
-int command_crc(const std::vector<std::string>& args) {
-  if (args.size() != 4) {
-    throw cli::usage_error{"usage: motionbus crc <tformat|modbus|biss6|biss4> <input|->"};
-  }
-  const std::string& which = args[2];
-  cli::outcome (*handler)(const std::string&) = nullptr;
-  if (which == "tformat") {
-    handler = &crc_of_hex<mb::crc8_tformat<>>;
-  } else if (which == "modbus") {
-    handler = &crc_of_hex<mb::crc16_modbus<>>;
-  } else if (which == "biss6") {
-    handler = &crc_of_bits<mb::crc6_biss<>>;
-  } else if (which == "biss4") {
-    handler = &crc_of_bits<mb::crc4_biss<>>;
-  } else {
-    throw cli::usage_error{"unknown CRC '" + which + "' (tformat, modbus, biss6, biss4)"};
-  }
-  return cli::run_inputs(args[3], handler);
+namespace cli {
+
+protocol_entries crc_entries() {
+  protocol_entries e;
+  e.decoders.push_back({"crc",
+                        "tformat",
+                        "",
+                        "T-format CRC-8 of hex bytes",
+                        &crc_of_hex<mb::crc8_tformat<>>,
+                        {},
+                        {}});
+  e.decoders.push_back({"crc",
+                        "modbus",
+                        "",
+                        "Modbus CRC-16 of hex bytes (sent low byte first)",
+                        &crc_of_hex<mb::crc16_modbus<>>,
+                        {},
+                        {}});
+  e.decoders.push_back({"crc",
+                        "biss6",
+                        "",
+                        "BiSS-C CRC6 (x^6+x+1) of a 0/1 bit string, before inversion",
+                        &crc_of_bits<mb::crc6_biss<>>,
+                        {},
+                        {}});
+  e.decoders.push_back({"crc",
+                        "biss4",
+                        "",
+                        "BiSS-C CRC4 (x^4+x+1) of a 0/1 bit string, before inversion",
+                        &crc_of_bits<mb::crc4_biss<>>,
+                        {},
+                        {}});
+  return e;
 }
+
+}  // namespace cli

@@ -4,8 +4,9 @@
 //                                                   a client's view (checked against the request
 //                                                   when given; alone, every check the response
 //                                                   carries itself)
-//   encode modbus request <function> --slave N [--address N] [--quantity N] [--values a,b,...]
-//                                    [--write-address N] [--data HEX]
+//   encode modbus request --function FC --slave N [--address N] [--quantity N]
+//                         [--values a,b,...] [--write-address N] [--data HEX]
+//   read modbus --device PATH --function FC --slave N [...] [--baud N] [--parity E|O|N]
 #include <motionbus/core/errc.hpp>
 #include <motionbus/modbus.hpp>
 
@@ -47,7 +48,8 @@ struct parsed_adu {
   mo::rtu_frame frame;
 };
 
-std::optional<parsed_adu> adu_of(const std::string& input, std::string& error) {
+std::optional<parsed_adu> adu_of(const std::string& input, std::string& error,
+                                 cli::record& evidence) {
   auto bytes = cli::parse_hex(input, error);
   if (!bytes) {
     return std::nullopt;
@@ -56,6 +58,7 @@ std::optional<parsed_adu> adu_of(const std::string& input, std::string& error) {
   const auto f = mo::decode_rtu(mb::byte_view(p.bytes.data(), p.bytes.size()));
   if (!f.is_complete()) {
     error = mb::to_string(f.error());
+    evidence = cli::failure_of(f, 4).evidence;
     return std::nullopt;
   }
   p.frame = f.value();
@@ -64,21 +67,22 @@ std::optional<parsed_adu> adu_of(const std::string& input, std::string& error) {
 
 cli::outcome decode_request_line(const std::string& input, const cli::options&) {
   std::string error;
-  const auto parsed = adu_of(input, error);
+  cli::record evidence;
+  const auto parsed = adu_of(input, error, evidence);
   if (!parsed) {
-    return cli::outcome::failure(error);
+    return cli::outcome::failure(error, evidence);
   }
   const mo::rtu_frame* adu = &parsed->frame;
   const auto q = mo::decode_request(adu->pdu);
   if (!q.is_complete()) {
-    return cli::outcome::failure(mb::to_string(q.error()));
+    return cli::failure_of(q, 2);
   }
-  cli::json_object f;
+  cli::record f;
   f.add("slave", static_cast<std::int64_t>(adu->slave));
-  f.add("function", static_cast<std::int64_t>(q->function));
+  f.hex("function", static_cast<std::int64_t>(q->function));
   const std::uint8_t fc = q->function;
   if (fc <= 0x06 || fc == 0x0F || fc == 0x10 || fc == 0x16 || fc == 0x17) {
-    f.add("address", static_cast<std::int64_t>(q->address));
+    f.hex("address", static_cast<std::int64_t>(q->address), 4);
   }
   if (fc <= 0x04 || fc == 0x0F || fc == 0x10 || fc == 0x17) {
     f.add("quantity", static_cast<std::int64_t>(q->quantity));
@@ -87,11 +91,11 @@ cli::outcome decode_request_line(const std::string& input, const cli::options&) 
     f.add("value", static_cast<std::int64_t>(q->value));
   }
   if (fc == 0x16) {
-    f.add("and_mask", static_cast<std::int64_t>(q->and_mask));
-    f.add("or_mask", static_cast<std::int64_t>(q->or_mask));
+    f.hex("and_mask", static_cast<std::int64_t>(q->and_mask), 4);
+    f.hex("or_mask", static_cast<std::int64_t>(q->or_mask), 4);
   }
   if (fc == 0x17) {
-    f.add("write_address", static_cast<std::int64_t>(q->write_address));
+    f.hex("write_address", static_cast<std::int64_t>(q->write_address), 4);
     f.add("write_quantity", static_cast<std::int64_t>(q->write_quantity));
   }
   if (fc == 0x0F) {
@@ -101,17 +105,18 @@ cli::outcome decode_request_line(const std::string& input, const cli::options&) 
     f.add("byte_count", static_cast<std::int64_t>(q->data.size()));
     f.add("values", registers_of(q->data));
   } else if (!q->data.empty()) {
-    f.add("data", cli::to_hex(q->data.data(), q->data.size()));
+    f.bytes("data", q->data.data(), q->data.size());
   }
-  f.add("crc", static_cast<std::int64_t>(adu->crc));
+  f.hex("crc", static_cast<std::int64_t>(adu->crc), 4);
   return cli::outcome::success(f);
 }
 
 cli::outcome decode_response_line(const std::string& input, const cli::options& opts) {
   std::string error;
-  const auto parsed = adu_of(input, error);
+  cli::record evidence;
+  const auto parsed = adu_of(input, error, evidence);
   if (!parsed) {
-    return cli::outcome::failure(error);
+    return cli::outcome::failure(error, evidence);
   }
   const mo::rtu_frame* adu = &parsed->frame;
   const mo::report_id_format fc11 = modbus_io::fc11_of(opts, mo::report_id_format::standard);
@@ -130,7 +135,10 @@ cli::outcome decode_response_line(const std::string& input, const cli::options& 
       throw cli::usage_error{"--request is not a valid RTU request"};
     }
     if (radu->slave != adu->slave && radu->slave != 0) {
-      return cli::outcome::failure(mb::to_string(mb::errc::modbus_mismatch));
+      cli::record e;
+      e.add("expected_slave", static_cast<std::int64_t>(radu->slave))
+          .add("received_slave", static_cast<std::int64_t>(adu->slave));
+      return cli::outcome::failure(mb::to_string(mb::errc::modbus_mismatch), e);
     }
     request = mo::decode_request(radu->pdu).value();
     r = mo::decode_response(pdu, radu->pdu, fc11);
@@ -138,14 +146,15 @@ cli::outcome decode_response_line(const std::string& input, const cli::options& 
     r = mo::decode_response_unpaired(pdu, fc11);  // no request: what the response carries
   }
   if (!r.is_complete()) {
-    return cli::outcome::failure(mb::to_string(r.error()));
+    return cli::failure_of(r, 2);
   }
-  cli::json_object f;
+  cli::record f;
   f.add("slave", static_cast<std::int64_t>(adu->slave));
   const std::uint8_t fc = r->function;
-  f.add("function", static_cast<std::int64_t>(fc));
+  f.hex("function", static_cast<std::int64_t>(fc));
   if (r->exception) {
-    f.add("exception", static_cast<std::int64_t>(r->exception_code));
+    f.hex("exception", static_cast<std::int64_t>(r->exception_code));
+    f.add("exception_name", modbus_io::exception_name(r->exception_code));
   } else if (fc <= 0x04 || fc == 0x17) {
     f.add("byte_count", static_cast<std::int64_t>(r->byte_count));
     if (fc <= 0x02) {
@@ -154,13 +163,13 @@ cli::outcome decode_response_line(const std::string& input, const cli::options& 
       f.add("values", registers_of(r->data));
     }
   } else if (fc == 0x05 || fc == 0x06 || fc == 0x0F || fc == 0x10) {
-    f.add("address", static_cast<std::int64_t>(r->address));
+    f.hex("address", static_cast<std::int64_t>(r->address), 4);
     f.add(fc <= 0x06 ? "value" : "quantity",
           static_cast<std::int64_t>(fc <= 0x06 ? r->value : r->quantity));
   } else if (fc == 0x16) {
-    f.add("address", static_cast<std::int64_t>(r->address));
-    f.add("and_mask", static_cast<std::int64_t>(r->and_mask));
-    f.add("or_mask", static_cast<std::int64_t>(r->or_mask));
+    f.hex("address", static_cast<std::int64_t>(r->address), 4);
+    f.hex("and_mask", static_cast<std::int64_t>(r->and_mask), 4);
+    f.hex("or_mask", static_cast<std::int64_t>(r->or_mask), 4);
   } else if (fc == 0x11 && fc11 == mo::report_id_format::two_bytes_no_count) {
     // the SM unit's layout: version upper, version lower (SM unit guideline §11)
     f.add("version_upper", static_cast<std::int64_t>(r->data[0]));
@@ -169,9 +178,9 @@ cli::outcome decode_response_line(const std::string& input, const cli::options& 
   } else {
     // FC11 (standard layout: byte count, then the device's bytes) and the other functions:
     // the data part as hex
-    f.add("data", cli::to_hex(pdu.data() + 1, pdu.size() - 1));
+    f.bytes("data", pdu.data() + 1, pdu.size() - 1);
   }
-  f.add("crc", static_cast<std::int64_t>(adu->crc));
+  f.hex("crc", static_cast<std::int64_t>(adu->crc), 4);
   return cli::outcome::success(f);
 }
 
@@ -207,9 +216,9 @@ std::uint16_t option16(const cli::options& opts, const char* name, std::uint16_t
 
 // Builds the request ADU from the options; an error code when the codec refuses it.
 std::vector<std::uint8_t> build_request(const cli::options& opts, std::string& error) {
-  const auto fc_value = cli::parse_uint(opts.positional.at(0));
+  const auto fc_value = cli::parse_uint(opts.get("function").value_or(""));
   if (!fc_value || *fc_value == 0 || *fc_value > 0x7F) {
-    throw cli::usage_error{"the function is a number 1..127 (decimal or 0x..)"};
+    throw cli::usage_error{"--function takes a function code 1..127 (decimal or 0x..)"};
   }
   const auto slave_text = opts.get("slave");
   const auto slave = slave_text ? cli::parse_uint(*slave_text) : std::nullopt;
@@ -285,27 +294,22 @@ std::vector<std::uint8_t> build_request(const cli::options& opts, std::string& e
   return std::vector<std::uint8_t>(adu, adu + k.value());
 }
 
-cli::outcome encode_request(const cli::options& opts) {
+int encode_request(const cli::options& opts) {
   std::string error;
   const auto adu = build_request(opts, error);
   if (adu.empty()) {
-    return cli::outcome::failure(error);
+    return cli::finish(cli::outcome::failure(error));
   }
-  cli::json_object f;
-  f.add("hex", cli::to_hex(adu.data(), adu.size()));
-  return cli::outcome::success(f);
+  cli::record f;
+  f.bytes("hex", adu.data(), adu.size());
+  return cli::finish(cli::outcome::success(f));
 }
 
 // read modbus: one transaction as a client; the response printed like `decode modbus response
 // --request`.
 int read_modbus(const cli::options& opts) {
-  if (!opts.get("function")) {
-    throw cli::usage_error{"--function N is required"};
-  }
-  cli::options request_opts = opts;
-  request_opts.positional = {*opts.get("function")};
   std::string error;
-  const auto adu = build_request(request_opts, error);
+  const auto adu = build_request(opts, error);
   if (adu.empty()) {
     cli::print(cli::outcome::failure(error));
     return 1;
@@ -317,13 +321,10 @@ int read_modbus(const cli::options& opts) {
   if (!modbus_io::open_port(port, opts)) {
     return 1;
   }
-  const auto timeout = cli::parse_uint(opts.get("timeout-ms").value_or("1000"));
-  if (!timeout || *timeout > 60000) {
-    throw cli::usage_error{"--timeout-ms takes 0..60000"};
-  }
+  const auto timeout = cli::option_number(opts, "timeout-ms", 1000, 60000);
   const mo::report_id_format fc11 = modbus_io::fc11_of(opts, mo::report_id_format::standard);
   const auto e =
-      modbus_io::transact(port, adu[0], adu.data(), adu.size(), fc11, static_cast<int>(*timeout));
+      modbus_io::transact(port, adu[0], adu.data(), adu.size(), fc11, static_cast<int>(timeout));
   if (!e.error.empty()) {
     cli::print(cli::outcome::failure(e.error));
     return 1;
@@ -344,20 +345,54 @@ namespace cli {
 
 protocol_entries modbus_entries() {
   protocol_entries e;
-  e.decoders.push_back({"modbus", "request", &decode_request_line, {}, {}});
-  e.decoders.push_back({"modbus", "response", &decode_response_line, {"request", "fc11"}, {}});
-  e.encoders.push_back({"modbus",
+  e.decoders.push_back({"decode",
+                        "modbus",
                         "request",
-                        &encode_request,
-                        {"slave", "address", "quantity", "values", "write-address", "data"},
+                        "a request RTU ADU as a server sees it: slave, function, fields, CRC",
+                        &decode_request_line,
                         {},
-                        1});
-  e.devices.push_back(
-      {"modbus",
-       &read_modbus,
-       {"device", "slave", "function", "address", "quantity", "values", "write-address", "data",
-        "baud", "parity", "stop-bits", "timeout-ms", "fc11"},
-       {}});
+                        {}});
+  e.decoders.push_back({"decode",
+                        "modbus",
+                        "response",
+                        "a response RTU ADU as a client sees it (paired with --request if given)",
+                        &decode_response_line,
+                        {"request", {"fc11", "standard"}},
+                        {}});
+  e.commands.push_back({"encode",
+                        "modbus",
+                        "request",
+                        "a request RTU ADU",
+                        &encode_request,
+                        {"function",
+                         "slave",
+                         {"address", "0"},
+                         {"quantity", "1"},
+                         "values",
+                         "write-address",
+                         "data"},
+                        {},
+                        {}});
+  e.commands.push_back({"read",
+                        "modbus",
+                        "",
+                        "one request to a Modbus RTU server and its response, decoded",
+                        &read_modbus,
+                        {"device",
+                         "slave",
+                         "function",
+                         {"address", "0"},
+                         {"quantity", "1"},
+                         "values",
+                         "write-address",
+                         "data",
+                         {"baud", "9600"},
+                         {"parity", "E"},
+                         {"stop-bits", "1"},
+                         {"timeout-ms", "1000"},
+                         {"fc11", "standard"}},
+                        {},
+                        {}});
   return e;
 }
 

@@ -66,6 +66,21 @@ const char* fc11_name(mo::report_id_format f) {
   return f == mo::report_id_format::two_bytes_no_count ? "sm" : "standard";
 }
 
+std::string exception_name(std::uint8_t code) {
+  switch (static_cast<mo::exception_code>(code)) {
+    case mo::exception_code::illegal_function: return "illegal_function";
+    case mo::exception_code::illegal_data_address: return "illegal_data_address";
+    case mo::exception_code::illegal_data_value: return "illegal_data_value";
+    case mo::exception_code::server_device_failure: return "server_device_failure";
+    case mo::exception_code::acknowledge: return "acknowledge";
+    case mo::exception_code::server_device_busy: return "server_device_busy";
+    case mo::exception_code::memory_parity_error: return "memory_parity_error";
+    case mo::exception_code::gateway_path_unavailable: return "gateway_path_unavailable";
+    case mo::exception_code::gateway_target_failed: return "gateway_target_failed";
+  }
+  return "unknown";
+}
+
 std::string sm_version_text(std::uint8_t upper, std::uint8_t lower) {
   return std::to_string(upper) + "." + std::to_string(lower >> 4U) + "." +
          std::to_string(lower & 0x0FU);

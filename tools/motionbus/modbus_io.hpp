@@ -26,6 +26,9 @@ exchange transact(serial::port& port, std::uint8_t slave, const std::uint8_t* ad
 motionbus::modbus::report_id_format fc11_of(const cli::options& opts,
                                             motionbus::modbus::report_id_format fallback);
 const char* fc11_name(motionbus::modbus::report_id_format f);
+/// The name of a Modbus exception code (Modbus Application Protocol V1.1b3 §7), "unknown" for
+/// a code it does not define.
+std::string exception_name(std::uint8_t code);
 /// The SM unit's version bytes as text: upper byte, then the lower byte's two nibbles
 /// ("01 00" is Ver.1.0.0, SM unit guideline §11).
 std::string sm_version_text(std::uint8_t upper, std::uint8_t lower);

@@ -135,17 +135,6 @@ class paced_link {
   std::vector<std::uint8_t> pdu_;  // the last reply: the response's views point into it
 };
 
-std::string decimal(std::int32_t raw, const sm::unit_info& u) {
-  char text[32];
-  if (u.denominator == 1) {
-    std::snprintf(text, sizeof text, "%d", static_cast<int>(raw));
-  } else {
-    const int digits = u.denominator == 10 ? 1 : 2;
-    std::snprintf(text, sizeof text, "%.*f", digits, static_cast<double>(raw) / u.denominator);
-  }
-  return text;
-}
-
 int read_sm_unit(const cli::options& opts) {
   serial::port port;
   const std::uint8_t slave = slave_of(opts);
@@ -165,7 +154,8 @@ int read_sm_unit(const cli::options& opts) {
     cli::print(cli::outcome::failure(code));
     return 1;
   };
-  std::string out = "{\"ok\":true,\"slave\":" + std::to_string(slave);
+  cli::record out;
+  out.add("slave", static_cast<std::int64_t>(slave));
   if (what == "password") {
     // Reading the password needs the login state (§6 note *1): log in only if logged out,
     // and leave the unit as it was found.
@@ -221,16 +211,15 @@ int read_sm_unit(const cli::options& opts) {
     if (!restore_error.empty()) {
       return fail("logout_" + restore_error);
     }
-    out += std::string(",\"logged_in\":") + (was_logged_in ? "true" : "false") +
-           ",\"logged_in_by_read\":" + (was_logged_in ? "false" : "true") +
-           ",\"login_restored\":" + (was_logged_in ? "false" : "true") +
-           ",\"password\":" + cli::json_quote(text) + "}";
+    out.add_bool("logged_in", was_logged_in)
+        .add_bool("logged_in_by_read", !was_logged_in)
+        .add_bool("login_restored", !was_logged_in)
+        .add("password", text);
     if (!was_logged_in) {
       std::cerr << "motionbus: the unit was logged out: logged in to read the password, then "
                    "logged out again\n";
     }
-    std::cout << out << '\n';
-    return 0;
+    return cli::finish(cli::outcome::success(out));
   }
   std::size_t n = sm::read_instantaneous(slave, adu).value();
   const auto r = link.ask(adu, n, error);
@@ -254,9 +243,9 @@ int read_sm_unit(const cli::options& opts) {
   }
   if (fc11 == mo::report_id_format::two_bytes_no_count) {
     const auto ver = sm::decode_version(v.value());
-    out += ",\"version\":" + cli::json_quote(modbus_io::sm_version_text(ver->upper, ver->lower));
+    out.add("version", modbus_io::sm_version_text(ver->upper, ver->lower));
   } else {
-    out += ",\"slave_id\":" + cli::json_quote(cli::to_hex(v->data.data(), v->data.size()));
+    out.bytes("slave_id", v->data.data(), v->data.size());
   }
   static const char* const names[sm::channel_count] = {
       "voltage",        "current",        "power",     "temperature", "acceleration_x",
@@ -264,12 +253,10 @@ int read_sm_unit(const cli::options& opts) {
   for (std::size_t i = 0; i < sm::channel_count; ++i) {
     const auto c = static_cast<sm::channel>(i);
     const sm::unit_info u = sm::unit_of(c);
-    out += ",\"" + std::string(names[i]) + "\":{\"value\":" + decimal(data.value()[c], u) +
-           ",\"unit\":" + cli::json_quote(u.unit) + ",\"raw\":" + std::to_string(data.value()[c]) +
-           "}";
+    const std::int32_t raw = data.value()[c];
+    out.measured(names[i], static_cast<double>(raw) / u.denominator, u.unit, raw);
   }
-  std::cout << out << "}\n";
-  return 0;
+  return cli::finish(cli::outcome::success(out));
 }
 
 }  // namespace
@@ -277,14 +264,28 @@ int read_sm_unit(const cli::options& opts) {
 namespace cli {
 
 protocol_entries sm_unit_entries() {
+  const std::vector<option_use> line = {
+      "device", {"slave", "1"}, {"baud", "9600"}, {"parity", "E"}, {"stop-bits", "1"}};
+  std::vector<option_use> read_options = line;
+  read_options.insert(read_options.end(),
+                      {{"password", "password"}, {"read", "instantaneous"}, {"fc11", "sm"}});
   protocol_entries e;
-  e.emulators.push_back(
-      {"sm-unit", &serve_sm_unit, {"device", "slave", "baud", "parity", "stop-bits"}, {}});
-  e.devices.push_back(
-      {"sm-unit",
-       &read_sm_unit,
-       {"device", "slave", "baud", "parity", "stop-bits", "password", "read", "fc11"},
-       {}});
+  e.commands.push_back({"serve",
+                        "sm-unit",
+                        "",
+                        "the Tsubaki SM unit emulator: a Modbus RTU server on the port",
+                        &serve_sm_unit,
+                        line,
+                        {},
+                        {}});
+  e.commands.push_back({"read",
+                        "sm-unit",
+                        "",
+                        "the SM unit's instantaneous data and version (or its password)",
+                        &read_sm_unit,
+                        read_options,
+                        {},
+                        {}});
   return e;
 }
 

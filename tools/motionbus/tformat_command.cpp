@@ -1,9 +1,9 @@
 // T-format in the CLI:
 //   decode tformat request <hex>                      encoder side: what an encoder received
 //   decode tformat response <hex> [--resolution N]    master side (ID3's ENID may select N)
-//   encode tformat request <id hex digit> [--address N] [--data N]
+//   encode tformat request --id ID [--address N] [--data N]
 //   serve tformat-encoder --device PATH [--baud N]    the TS5700N8500 emulator on a serial line
-//   read tformat --device PATH --id N [--address N] [--data N] [--baud N] [--echo]
+//   read tformat --device PATH --id ID [--address N] [--data N] [--baud N] [--echo]
 #include <motionbus/core/errc.hpp>
 #include <motionbus/devices/ts5700n8500_emulator.hpp>
 #include <motionbus/tformat.hpp>
@@ -33,13 +33,13 @@ unsigned option_uint(const cli::options& opts, const std::string& name, unsigned
   return static_cast<unsigned>(cli::option_number(opts, name, fallback, max));
 }
 
-cli::json_object response_json(const tf::response& r) {
-  cli::json_object f;
+cli::record response_json(const tf::response& r) {
+  cli::record f;
   const tf::response_layout lay = r.layout();
   f.add("data_id", static_cast<std::int64_t>(static_cast<std::uint8_t>(r.id)));
-  f.add("cf", static_cast<std::int64_t>(r.cf));
+  f.hex("cf", static_cast<std::int64_t>(r.cf));
   if (lay.sf()) {
-    f.add("sf", static_cast<std::int64_t>(r.sf));
+    f.hex("sf", static_cast<std::int64_t>(r.sf));
     f.add("ea0", bit(r.ea0()))
         .add("ea1", bit(r.ea1()))
         .add("ca0", bit(r.ca0()))
@@ -52,10 +52,10 @@ cli::json_object response_json(const tf::response& r) {
     f.add("abm", static_cast<std::int64_t>(r.abm));
   }
   if (lay.enid()) {
-    f.add("enid", static_cast<std::int64_t>(r.enid));
+    f.hex("enid", static_cast<std::int64_t>(r.enid));
   }
   if (lay.almc()) {
-    f.add("almc", static_cast<std::int64_t>(r.almc));
+    f.hex("almc", static_cast<std::int64_t>(r.almc));
     std::vector<std::string> names;
     for (tf::almc_bit a : tf::all_alarms) {
       if (tf::has_alarm(r.almc, a)) {
@@ -65,11 +65,11 @@ cli::json_object response_json(const tf::response& r) {
     f.add("alarms", names);
   }
   if (lay.eeprom()) {
-    f.add("address", static_cast<std::int64_t>(r.address));
+    f.hex("address", static_cast<std::int64_t>(r.address));
     f.add("busy", bit(r.busy));
-    f.add("edf", static_cast<std::int64_t>(r.edf));
+    f.hex("edf", static_cast<std::int64_t>(r.edf));
   }
-  f.add("crc", static_cast<std::int64_t>(r.crc));
+  f.hex("crc", static_cast<std::int64_t>(r.crc));
   return f;
 }
 
@@ -95,7 +95,7 @@ cli::outcome decode_response_line(const std::string& input, const cli::options& 
   const auto r =
       tf::decode_response_frame(mb::byte_view(bytes->data(), bytes->size()), options_for(opts));
   if (!r.is_complete()) {
-    return cli::outcome::failure(mb::to_string(r.error()));
+    return cli::failure_of(r, 2);
   }
   return cli::outcome::success(response_json(r.value()));
 }
@@ -112,20 +112,23 @@ cli::outcome decode_request_line(const std::string& input, const cli::options&) 
     return cli::outcome::failure("truncated");
   }
   if (q.is_failed()) {
-    return cli::outcome::failure(mb::to_string(q.error()));
+    return cli::failure_of(q, 2);
   }
   if (q.consumed() != in.size()) {
-    return cli::outcome::failure(mb::to_string(mb::errc::tformat_length));
+    cli::record e;
+    e.add("expected_bytes", static_cast<std::int64_t>(q.consumed()))
+        .add("received_bytes", static_cast<std::int64_t>(in.size()));
+    return cli::outcome::failure(mb::to_string(mb::errc::tformat_length), e);
   }
-  cli::json_object f;
+  cli::record f;
   f.add("data_id", static_cast<std::int64_t>(static_cast<std::uint8_t>(q->id)));
-  f.add("cf", static_cast<std::int64_t>(q->cf));
+  f.hex("cf", static_cast<std::int64_t>(q->cf));
   if (q->id == tf::data_id::eeprom_write || q->id == tf::data_id::eeprom_read) {
-    f.add("address", static_cast<std::int64_t>(q->address));
+    f.hex("address", static_cast<std::int64_t>(q->address));
     if (q->id == tf::data_id::eeprom_write) {
-      f.add("edf", static_cast<std::int64_t>(q->edf));
+      f.hex("edf", static_cast<std::int64_t>(q->edf));
     }
-    f.add("crc", static_cast<std::int64_t>(q->crc));
+    f.hex("crc", static_cast<std::int64_t>(q->crc));
   }
   return cli::outcome::success(f);
 }
@@ -146,26 +149,31 @@ std::optional<std::uint8_t> parse_data_id(const std::string& text) {
   return static_cast<std::uint8_t>(*v);
 }
 
-cli::outcome encode_request(const cli::options& opts) {
-  const auto id = parse_data_id(opts.positional.at(0));
+std::uint8_t data_id_of(const cli::options& opts) {
+  const auto id = opts.get("id") ? parse_data_id(*opts.get("id")) : std::nullopt;
   if (!id) {
-    throw cli::usage_error{"the Data ID is one hex digit (0..F)"};
+    throw cli::usage_error{"--id takes a Data ID: one hex digit 0..F"};
   }
+  return *id;
+}
+
+int encode_request(const cli::options& opts) {
+  const std::uint8_t id = data_id_of(opts);
   const unsigned address = option_uint(opts, "address", 0, 0xFFFF);
   const unsigned data = option_uint(opts, "data", 0, 0xFF);
   if (address > 0xFF) {
-    return cli::outcome::failure(mb::to_string(mb::errc::out_of_range));
+    return cli::finish(cli::outcome::failure(mb::to_string(mb::errc::out_of_range)));
   }
   std::uint8_t out[tf::max_request_size] = {};
   const auto n =
-      tf::encode_request(static_cast<tf::data_id>(*id), static_cast<std::uint8_t>(address),
+      tf::encode_request(static_cast<tf::data_id>(id), static_cast<std::uint8_t>(address),
                          static_cast<std::uint8_t>(data), out);
   if (!n) {
-    return cli::outcome::failure(mb::to_string(n.error()));
+    return cli::finish(cli::outcome::failure(mb::to_string(n.error())));
   }
-  cli::json_object f;
-  f.add("hex", cli::to_hex(out, n.value()));
-  return cli::outcome::success(f);
+  cli::record f;
+  f.bytes("hex", out, n.value());
+  return cli::finish(cli::outcome::success(f));
 }
 
 serial::settings line_settings(const cli::options& opts) {
@@ -228,15 +236,11 @@ int serve_encoder(const cli::options& opts) {
 
 // read tformat: one transaction, printed like `decode tformat response`.
 int read_encoder(const cli::options& opts) {
-  const auto id = opts.get("id") ? parse_data_id(*opts.get("id")) : std::nullopt;
-  if (!id) {
-    throw cli::usage_error{"--id <hex digit> is required"};
-  }
+  const std::uint8_t id = data_id_of(opts);
   std::uint8_t request[tf::max_request_size] = {};
-  const auto n =
-      tf::encode_request(static_cast<tf::data_id>(*id),
-                         static_cast<std::uint8_t>(option_uint(opts, "address", 0, 127)),
-                         static_cast<std::uint8_t>(option_uint(opts, "data", 0, 255)), request);
+  const auto n = tf::encode_request(
+      static_cast<tf::data_id>(id), static_cast<std::uint8_t>(option_uint(opts, "address", 0, 127)),
+      static_cast<std::uint8_t>(option_uint(opts, "data", 0, 255)), request);
   if (!n) {
     cli::print(cli::outcome::failure(mb::to_string(n.error())));
     return 1;
@@ -269,7 +273,7 @@ int read_encoder(const cli::options& opts) {
         cli::print(cli::outcome::success(response_json(r.value())));
         status = 0;
       } else {
-        cli::print(cli::outcome::failure(mb::to_string(r.error())));
+        cli::print(cli::failure_of(r, 2));
         status = 1;
       }
       return false;
@@ -288,14 +292,50 @@ namespace cli {
 
 protocol_entries tformat_entries() {
   protocol_entries e;
-  e.decoders.push_back({"tformat", "request", &decode_request_line, {}, {}});
-  e.decoders.push_back({"tformat", "response", &decode_response_line, {"resolution"}, {}});
-  e.encoders.push_back({"tformat", "request", &encode_request, {"address", "data"}, {}, 1});
-  e.emulators.push_back({"tformat-encoder", &serve_encoder, {"device", "baud"}, {}});
-  e.devices.push_back({"tformat",
-                       &read_encoder,
-                       {"device", "baud", "id", "address", "data", "resolution", "timeout-ms"},
-                       {"echo"}});
+  e.decoders.push_back({"decode",
+                        "tformat",
+                        "request",
+                        "a request as the encoder receives it (CF, and ADF/EDF/CRC for EEPROM)",
+                        &decode_request_line,
+                        {},
+                        {}});
+  e.decoders.push_back({"decode",
+                        "tformat",
+                        "response",
+                        "a response as the master receives it: position, status, alarms, CRC",
+                        &decode_response_line,
+                        {"resolution"},
+                        {}});
+  e.commands.push_back({"encode",
+                        "tformat",
+                        "request",
+                        "a request frame for a Data ID (EEPROM: with --address and --data)",
+                        &encode_request,
+                        {"id", {"address", "0"}, {"data", "0"}},
+                        {},
+                        {}});
+  e.commands.push_back({"serve",
+                        "tformat-encoder",
+                        "",
+                        "the TS5700N8500 encoder emulator: answers every request on the port",
+                        &serve_encoder,
+                        {"device", {"baud", "2500000"}},
+                        {},
+                        {}});
+  e.commands.push_back({"read",
+                        "tformat",
+                        "",
+                        "one request to an encoder and its response, decoded",
+                        &read_encoder,
+                        {"device",
+                         {"baud", "2500000"},
+                         "id",
+                         {"address", "0"},
+                         {"data", "0"},
+                         "resolution",
+                         {"timeout-ms", "200"}},
+                        {"echo"},
+                        {}});
   return e;
 }
 

@@ -1,0 +1,332 @@
+// The motionbus command line, parsed by CLI11: every command and subcommand is built from the
+// registry of each protocol's file (decoders and commands), with one catalogue of options so
+// that one idea has one option name, one help text and one set of allowed values everywhere.
+//
+//   motionbus crc <tformat|modbus|biss6|biss4> <input|->
+//   motionbus decode <protocol> <kind> <input|-> [options]
+//   motionbus decode <protocol> capture FILE [options]
+//   motionbus encode <protocol> <kind> [options]
+//   motionbus serve <emulator> --device PATH [options]
+//   motionbus read <device> --device PATH [options]
+//   motionbus monitor <protocol> --device PATH [options]
+//
+// Output: readable text, or with --json one JSON object per line. Exit status: 0 all inputs
+// decoded, 1 an input failed, 2 usage error.
+#include <CLI/CLI.hpp>
+
+#include <deque>
+#include <iostream>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <motionbus/version.hpp>
+#include "cli.hpp"
+
+namespace cli {
+
+namespace {
+
+const std::vector<protocol_entries>& all_protocols() {
+  static const std::vector<protocol_entries> list = {
+      crc_entries(), tformat_entries(), modbus_entries(), sm_unit_entries(), biss_entries()};
+  return list;
+}
+
+// One option of the catalogue: what a value looks like, what it means, and the values allowed
+// (empty: any).
+struct option_info {
+  const char* type;
+  const char* help;
+  std::vector<std::string> allowed;
+};
+
+const std::map<std::string, option_info>& catalogue() {
+  static const std::map<std::string, option_info> c = {
+      // T-format
+      {"id", {"HEX", "T-format Data ID, one hex digit 0-F", {}}},
+      {"resolution",
+       {"BITS",
+        "single-turn resolution in bits, 1..24 (default: from an ID3 response's ENID)",
+        {}}},
+      {"echo",
+       {"", "the adapter hands back the request (half duplex, receiver always on): skip it", {}}},
+      // Modbus
+      {"function", {"FC", "Modbus function code, 1..127 (decimal or 0x..)", {}}},
+      {"slave",
+       {"N", "Modbus slave address, 1..247 (0: broadcast, where a command allows it)", {}}},
+      {"quantity", {"N", "number of registers or coils to read", {}}},
+      {"values", {"LIST", "comma-separated values to write (registers 0..65535, coils 0/1)", {}}},
+      {"write-address", {"ADDR", "FC17: the first register to write", {}}},
+      {"request", {"HEX", "the request ADU in hex: the response is checked against it", {}}},
+      {"fc11",
+       {"LAYOUT",
+        "FC11 response layout: standard (byte count first) or sm (the SM unit's)",
+        {"standard", "sm"}}},
+      // Both
+      {"address",
+       {"ADDR",
+        "Modbus: first register or coil; T-format: EEPROM address 0..127 (decimal or 0x..)",
+        {}}},
+      {"data",
+       {"DATA",
+        "T-format: the EEPROM byte to write; Modbus: PDU data bytes in hex (other codes)",
+        {}}},
+      // Serial lines
+      {"device", {"PORT", "serial port: /dev/ttyUSB0, COM3, /dev/tty.usbserial-...", {}}},
+      {"baud", {"BAUD", "line speed in bit/s", {}}},
+      {"parity", {"P", "parity: E (even), O (odd) or N (none)", {"E", "O", "N"}}},
+      {"stop-bits", {"N", "stop bits: 1 or 2", {"1", "2"}}},
+      {"timeout-ms", {"MS", "how long to wait for the response, in milliseconds", {}}},
+      // SM unit
+      {"password", {"TEXT", "the SM unit's password (4 characters)", {}}},
+      {"read", {"WHAT", "what to read", {"instantaneous", "password"}}},
+      // BiSS-C
+      {"data-bits", {"N", "BiSS-C single-cycle data bits", {}}},
+      {"crc-bits", {"N", "BiSS-C CRC bits", {}}},
+      {"crc-poly", {"HEX", "BiSS-C CRC polynomial, BiSS notation with the x^N term (43)", {}}},
+      {"crc-start", {"N", "BiSS-C CRC start value", {}}},
+      {"no-crc-invert", {"", "the BiSS-C CRC is sent as computed (not inverted)", {}}},
+      {"hex", {"WORDS", "the SL samples as hex words, most significant bit first", {}}},
+      {"bits", {"N", "how many of the --hex bits to use", {}}},
+      {"position", {"N", "BiSS-C position to encode", {}}},
+      {"ne", {"0|1", "BiSS-C nE (error) bit, active low: 1 = no error", {}}},
+      {"nw", {"0|1", "BiSS-C nW (warning) bit, active low: 1 = no warning", {}}},
+      {"ack", {"N", "BiSS-C Ack bits before the Start bit", {}}},
+      {"cds", {"0|1", "BiSS-C CDS bit", {}}},
+      {"idle", {"N", "idle (high) bits before the frame", {}}},
+  };
+  return c;
+}
+
+const option_info& info(const std::string& name) {
+  const auto it = catalogue().find(name);
+  if (it == catalogue().end()) {
+    throw std::logic_error("motionbus: option --" + name + " is not in the catalogue");
+  }
+  return it->second;
+}
+
+// A leaf command as CLI11 parses it: the values bound to its options, and what to run.
+struct leaf {
+  CLI::App* app = nullptr;
+  std::vector<option_use> uses;
+  std::map<std::string, std::string> values;
+  std::map<std::string, CLI::Option*> given;
+  std::vector<std::string> switch_names;
+  std::vector<std::string> positional_names;
+  std::vector<std::string> positional;
+  bool json = false;
+  std::function<int(const options&)> run;
+
+  options parsed() const {
+    options o;
+    for (const option_use& u : uses) {
+      if (given.at(u.name)->count() > 0) {
+        o.values[u.name] = values.at(u.name);
+      } else if (!u.default_value.empty()) {
+        o.values[u.name] = u.default_value;
+      }
+    }
+    for (const std::string& s : switch_names) {
+      if (given.at(s)->count() > 0) {
+        o.flags.push_back(s);
+      }
+    }
+    o.positional = positional;
+    return o;
+  }
+};
+
+CLI::App* child(CLI::App* parent, const std::string& name, const std::string& help) {
+  for (CLI::App* sub : parent->get_subcommands([](CLI::App*) { return true; })) {
+    if (sub->get_name() == name) {
+      return sub;
+    }
+  }
+  CLI::App* sub = parent->add_subcommand(name, help);
+  sub->require_subcommand(0, 1);
+  return sub;
+}
+
+void add_options(leaf& l) {
+  for (const option_use& u : l.uses) {
+    const option_info& i = info(u.name);
+    CLI::Option* o = l.app->add_option("--" + u.name, l.values[u.name], i.help);
+    o->type_name(i.type);
+    if (!u.default_value.empty()) {
+      o->default_str(u.default_value);
+    }
+    if (!i.allowed.empty()) {
+      o->check(CLI::IsMember(i.allowed));
+    }
+    l.given[u.name] = o;
+  }
+  for (const std::string& s : l.switch_names) {
+    l.given[s] = l.app->add_flag("--" + s, info(s).help);
+  }
+  l.app->add_flag("--json", l.json, "print one JSON object per line instead of text");
+}
+
+std::string protocol_help(const std::string& protocol) {
+  static const std::map<std::string, std::string> help = {
+      {"tformat", "T-format (Tamagawa Smart-Abs encoders, 2.5 Mbps half duplex)"},
+      {"modbus", "Modbus RTU (any server; the SM unit has its own commands)"},
+      {"biss", "BiSS-C (sensor data frames, AMO ABSYS by default)"},
+  };
+  const auto it = help.find(protocol);
+  return it != help.end() ? it->second : protocol;
+}
+
+std::string listing() {
+  std::string out = "Commands by protocol:\n";
+  for (const decoder& d : decoders()) {
+    out += std::string("  ") + d.group + " " + d.protocol + (*d.kind ? " " : "") + d.kind +
+           (d.input ? " <input|->" : "") + "\n";
+  }
+  for (const command& c : commands()) {
+    out += std::string("  ") + c.group + " " + c.protocol + (*c.kind ? " " : "") + c.kind;
+    for (const std::string& p : c.positional) {
+      out += " <" + p + ">";
+    }
+    out += "\n";
+  }
+  return out + "Run `motionbus <command> ... --help` for a command's options.";
+}
+
+}  // namespace
+
+const std::vector<decoder>& decoders() {
+  static const std::vector<decoder> list = [] {
+    std::vector<decoder> out;
+    for (const auto& p : all_protocols()) {
+      out.insert(out.end(), p.decoders.begin(), p.decoders.end());
+    }
+    return out;
+  }();
+  return list;
+}
+
+const std::vector<command>& commands() {
+  static const std::vector<command> list = [] {
+    std::vector<command> out;
+    for (const auto& p : all_protocols()) {
+      out.insert(out.end(), p.commands.begin(), p.commands.end());
+    }
+    return out;
+  }();
+  return list;
+}
+
+int main_of(int argc, char** argv) {
+  const std::string version = std::to_string(MOTIONBUS_VERSION_MAJOR) + "." +
+                              std::to_string(MOTIONBUS_VERSION_MINOR) + "." +
+                              std::to_string(MOTIONBUS_VERSION_PATCH);
+  CLI::App app{"motionbus " + version +
+                   ": T-format, Modbus RTU and BiSS-C frames decoded, encoded, served and watched",
+               "motionbus"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", version);
+  const std::map<std::string, std::string> group_help = {
+      {"crc", "the CRC of hex bytes (tformat, modbus) or of a 0/1 bit string (biss6, biss4)"},
+      {"decode", "decode frames given as hex or bits, or every frame in a capture file"},
+      {"encode", "encode a frame (as hex or bits, or as a waveform with --vcd)"},
+      {"serve", "run a device emulator on a serial port"},
+      {"read", "one transaction with a device on a serial port"},
+      {"monitor", "watch a tapped line: every frame, paired, checked and timed"},
+  };
+  for (const auto& g : group_help) {
+    child(&app, g.first, g.second)->require_subcommand(1);
+  }
+  CLI::App* version_app = app.add_subcommand("version", "print the library version");
+  bool version_json = false;
+  version_app->add_flag("--json", version_json, "print one JSON object");
+
+  std::deque<leaf> leaves;  // stable addresses: CLI11 binds to their members
+  for (const decoder& d : decoders()) {
+    CLI::App* parent = child(&app, d.group, "");
+    CLI::App* at = *d.kind ? child(parent, d.protocol, protocol_help(d.protocol)) : parent;
+    leaf& l = leaves.emplace_back();
+    l.app = at->add_subcommand(*d.kind ? d.kind : d.protocol, d.help);
+    l.uses = d.value_options;
+    l.switch_names = d.switch_options;
+    l.positional.resize(1);
+    CLI::Option* in = l.app->add_option(
+        "input", l.positional[0],
+        "the frame: hex bytes (\"02 20 b4\", \"0220B4\") or 0/1 bits; - reads one per line "
+        "from standard input");
+    if (d.input) {
+      in->required();
+    }
+    add_options(l);
+    const line_handler handle = d.handle;
+    const bool needs_input = d.input;
+    l.run = [handle, needs_input](const options& o) {
+      if (!needs_input && o.positional[0].empty()) {
+        return finish(handle("", o));
+      }
+      return run_inputs(o.positional[0], [&](const std::string& text) { return handle(text, o); });
+    };
+  }
+  for (const command& c : commands()) {
+    CLI::App* parent = child(&app, c.group, "");
+    CLI::App* at = *c.kind ? child(parent, c.protocol, protocol_help(c.protocol)) : parent;
+    leaf& l = leaves.emplace_back();
+    l.app = at->add_subcommand(*c.kind ? c.kind : c.protocol, c.help);
+    l.uses = c.value_options;
+    l.switch_names = c.switch_options;
+    l.positional.resize(c.positional.size());
+    for (std::size_t i = 0; i < c.positional.size(); ++i) {
+      l.app->add_option(c.positional[i], l.positional[i], c.positional[i])->required();
+    }
+    add_options(l);
+    l.run = c.run;
+  }
+
+  app.footer(listing());  // after the subcommands: only the top level lists every command
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    (void)app.exit(e);
+    return 2;
+  }
+  if (version_app->parsed()) {
+    if (version_json) {
+      std::cout << nlohmann::ordered_json{{"ok", true}, {"version", version}}.dump() << '\n';
+    } else {
+      std::cout << "motionbus " << version << '\n';
+    }
+    return 0;
+  }
+  for (const leaf& l : leaves) {
+    if (!l.app->parsed()) {
+      continue;
+    }
+    set_output_format(l.json ? format::json : format::text);
+    try {
+      return l.run(l.parsed());
+    } catch (const usage_error& e) {
+      std::cerr << "motionbus: " << e.message << "\nRun with --help for more information.\n";
+      return 2;
+    }
+  }
+  std::cerr << "motionbus: a command is required\n" << app.help();
+  return 2;
+}
+
+}  // namespace cli
+
+int main(int argc, char** argv) {
+  try {
+    return cli::main_of(argc, argv);
+  } catch (const std::exception& e) {  // a fault of the tool itself (e.g. out of memory)
+    std::cerr << "motionbus: " << e.what() << '\n';
+    return 3;
+  }
+}
