@@ -1,11 +1,14 @@
-// Serial ports for the CLI (Linux): raw mode at any baud rate (termios2/BOTHER, e.g. 2.5 Mbaud
-// for T-format on a USB-RS485 adapter), reads with a timeout, a microsecond clock.
+// Serial ports for the CLI, through libserialport (Linux, macOS, Windows; serial.cpp says how a
+// pseudo-terminal is opened): 8 data bits at any baud rate the driver takes (2.5 Mbaud for
+// T-format on a USB-RS485 adapter), reads with a timeout, a microsecond clock.
 #ifndef MOTIONBUS_TOOLS_SERIAL_HPP
 #define MOTIONBUS_TOOLS_SERIAL_HPP
 
 #include <cstddef>
 #include <cstdint>
 #include <string>
+
+struct sp_port;
 
 namespace serial {
 
@@ -32,10 +35,11 @@ class port {
   long read_some(std::uint8_t* buffer, std::size_t capacity, int timeout_ms);
   /// Discards unread input.
   void flush_input();
-  int fd() const { return fd_; }
+  void close();
 
  private:
-  int fd_ = -1;
+  sp_port* sp_ = nullptr;
+  int pty_fd_ = -1;  // a pseudo-terminal, which libserialport does not open (POSIX only)
 };
 
 /// port::open that reports an error or warning on stderr ("motionbus: ..."); false on error.
