@@ -12,6 +12,15 @@ if(TARGET motionbus_cli)
   motionbus_project_target(motionbus_cli_tests)
   add_test(NAME cli COMMAND motionbus_cli_tests --no-version)
   set_tests_properties(cli PROPERTIES LABELS "cli" TIMEOUT 120)
+  # The bus monitors on a tapped line of pseudo-terminals (tests/cli/monitor_checks.py): timed,
+  # so run alone.
+  foreach(protocol modbus tformat)
+    add_test(NAME cli.monitor.${protocol}
+      COMMAND /usr/bin/python3 "${CMAKE_CURRENT_SOURCE_DIR}/cli/monitor_checks.py"
+              "$<TARGET_FILE:motionbus_cli>" ${protocol})
+    set_tests_properties(cli.monitor.${protocol} PROPERTIES LABELS "cli" TIMEOUT 120
+      RUN_SERIAL TRUE)
+  endforeach()
 endif()
 
 # --- interoperability: third-party Modbus masters against the SM unit emulator ------------

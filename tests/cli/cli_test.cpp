@@ -124,6 +124,13 @@ TEST_CASE("--help at every level prints the options, defaults and allowed values
   const std::string modbus = testcli::run_as_is("read modbus --help", &status);
   CHECK(modbus.find("--parity P:{E,O,N}=E") != std::string::npos);
   CHECK(modbus.find("--function FC") != std::string::npos);
+  const std::string monitor = testcli::run_as_is("monitor modbus --help", &status);
+  CHECK(status == 0);
+  for (const char* option : {"--device PORT", "--count N=0", "--duration S=0", "--baud BAUD=9600",
+                             "--fc11 LAYOUT:{standard,sm}=standard", "--json"}) {
+    CAPTURE(option);
+    CHECK(monitor.find(option) != std::string::npos);
+  }
   testcli::run_as_is("read modbus --parity X --slave 1 --function 3 --device /dev/null", &status);
   CHECK(status == 2);  // not an allowed value
 }

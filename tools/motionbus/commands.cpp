@@ -28,8 +28,9 @@ namespace cli {
 namespace {
 
 const std::vector<protocol_entries>& all_protocols() {
-  static const std::vector<protocol_entries> list = {
-      crc_entries(), tformat_entries(), modbus_entries(), sm_unit_entries(), biss_entries()};
+  static const std::vector<protocol_entries> list = {crc_entries(),    tformat_entries(),
+                                                     modbus_entries(), sm_unit_entries(),
+                                                     biss_entries(),   monitor_entries()};
   return list;
 }
 
@@ -95,6 +96,11 @@ const std::map<std::string, option_info>& catalogue() {
       {"ack", {"N", "BiSS-C Ack bits before the Start bit", {}}},
       {"cds", {"0|1", "BiSS-C CDS bit", {}}},
       {"idle", {"N", "idle (high) bits before the frame", {}}},
+      // Monitors
+      {"count", {"N", "stop after N frames (0: no limit)", {}}},
+      {"duration", {"S", "stop after S seconds (0: no limit; Ctrl-C stops too)", {}}},
+      {"response-ms",
+       {"MS", "a request not answered within this many milliseconds is flagged", {}}},
   };
   return c;
 }

@@ -65,14 +65,12 @@ std::optional<parsed_adu> adu_of(const std::string& input, std::string& error,
   return p;
 }
 
-cli::outcome decode_request_line(const std::string& input, const cli::options&) {
-  std::string error;
-  cli::record evidence;
-  const auto parsed = adu_of(input, error, evidence);
-  if (!parsed) {
-    return cli::outcome::failure(error, evidence);
-  }
-  const mo::rtu_frame* adu = &parsed->frame;
+}  // namespace
+
+namespace modbus_io {
+
+cli::outcome describe_request(const mo::rtu_frame& frame) {
+  const mo::rtu_frame* adu = &frame;
   const auto q = mo::decode_request(adu->pdu);
   if (!q.is_complete()) {
     return cli::failure_of(q, 2);
@@ -111,37 +109,24 @@ cli::outcome decode_request_line(const std::string& input, const cli::options&) 
   return cli::outcome::success(f);
 }
 
-cli::outcome decode_response_line(const std::string& input, const cli::options& opts) {
-  std::string error;
-  cli::record evidence;
-  const auto parsed = adu_of(input, error, evidence);
-  if (!parsed) {
-    return cli::outcome::failure(error, evidence);
-  }
-  const mo::rtu_frame* adu = &parsed->frame;
-  const mo::report_id_format fc11 = modbus_io::fc11_of(opts, mo::report_id_format::standard);
+cli::outcome describe_response(const mo::rtu_frame& frame, const mo::rtu_frame* request_adu,
+                               mo::report_id_format fc11) {
+  const mo::rtu_frame* adu = &frame;
   const mb::byte_view pdu = adu->pdu;
   std::optional<mo::request> request;
-  std::vector<std::uint8_t> request_bytes;
   mb::decode_result<mo::response> r = mb::need_input{1};
-  if (const auto text = opts.get("request")) {
-    const auto rb = cli::parse_hex(*text, error);
-    if (!rb) {
-      throw cli::usage_error{"--request needs a hex RTU ADU"};
-    }
-    request_bytes = *rb;
-    const auto radu = mo::decode_rtu(mb::byte_view(request_bytes.data(), request_bytes.size()));
-    if (!radu.is_complete() || !mo::decode_request(radu->pdu).is_complete()) {
-      throw cli::usage_error{"--request is not a valid RTU request"};
-    }
-    if (radu->slave != adu->slave && radu->slave != 0) {
+  if (request_adu != nullptr) {
+    if (request_adu->slave != adu->slave && request_adu->slave != 0) {
       cli::record e;
-      e.add("expected_slave", static_cast<std::int64_t>(radu->slave))
+      e.add("expected_slave", static_cast<std::int64_t>(request_adu->slave))
           .add("received_slave", static_cast<std::int64_t>(adu->slave));
       return cli::outcome::failure(mb::to_string(mb::errc::modbus_mismatch), e);
     }
-    request = mo::decode_request(radu->pdu).value();
-    r = mo::decode_response(pdu, radu->pdu, fc11);
+    const auto q = mo::decode_request(request_adu->pdu);
+    if (q.is_complete()) {
+      request = q.value();
+    }
+    r = mo::decode_response(pdu, request_adu->pdu, fc11);
   } else {
     r = mo::decode_response_unpaired(pdu, fc11);  // no request: what the response carries
   }
@@ -182,6 +167,40 @@ cli::outcome decode_response_line(const std::string& input, const cli::options& 
   }
   f.hex("crc", static_cast<std::int64_t>(adu->crc), 4);
   return cli::outcome::success(f);
+}
+
+}  // namespace modbus_io
+
+namespace {
+
+cli::outcome decode_request_line(const std::string& input, const cli::options&) {
+  std::string error;
+  cli::record evidence;
+  const auto parsed = adu_of(input, error, evidence);
+  if (!parsed) {
+    return cli::outcome::failure(error, evidence);
+  }
+  return modbus_io::describe_request(parsed->frame);
+}
+
+cli::outcome decode_response_line(const std::string& input, const cli::options& opts) {
+  std::string error;
+  cli::record evidence;
+  const auto parsed = adu_of(input, error, evidence);
+  if (!parsed) {
+    return cli::outcome::failure(error, evidence);
+  }
+  const mo::report_id_format fc11 = modbus_io::fc11_of(opts, mo::report_id_format::standard);
+  if (const auto text = opts.get("request")) {
+    std::string request_error;
+    cli::record request_evidence;
+    const auto request = adu_of(*text, request_error, request_evidence);
+    if (!request || !mo::decode_request(request->frame.pdu).is_complete()) {
+      throw cli::usage_error{"--request is not a valid RTU request"};
+    }
+    return modbus_io::describe_response(parsed->frame, &request->frame, fc11);
+  }
+  return modbus_io::describe_response(parsed->frame, nullptr, fc11);
 }
 
 std::vector<std::uint64_t> parse_values(const std::string& text) {

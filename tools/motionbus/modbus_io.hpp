@@ -3,6 +3,7 @@
 #define MOTIONBUS_TOOLS_MODBUS_IO_HPP
 
 #include <motionbus/modbus/pdu_client.hpp>
+#include <motionbus/modbus/rtu.hpp>
 
 #include <cstdint>
 #include <string>
@@ -32,6 +33,14 @@ std::string exception_name(std::uint8_t code);
 /// The SM unit's version bytes as text: upper byte, then the lower byte's two nibbles
 /// ("01 00" is Ver.1.0.0, SM unit guideline §11).
 std::string sm_version_text(std::uint8_t upper, std::uint8_t lower);
+
+/// An RTU frame as a server sees it (decode modbus request, monitor modbus).
+cli::outcome describe_request(const motionbus::modbus::rtu_frame& frame);
+/// An RTU frame as a client sees it: checked against `request` when given (decode modbus
+/// response --request, monitor modbus), else what the response carries alone.
+cli::outcome describe_response(const motionbus::modbus::rtu_frame& frame,
+                               const motionbus::modbus::rtu_frame* request,
+                               motionbus::modbus::report_id_format fc11);
 
 /// Line settings from --baud, --parity (E, N, O) and --stop-bits; defaults 9600 8E1.
 serial::settings line_settings(const cli::options& opts);

@@ -16,24 +16,20 @@
 
 #include "cli.hpp"
 #include "serial.hpp"
+#include "tformat_io.hpp"
 
 namespace mb = motionbus;
 namespace tf = motionbus::tformat;
 
+namespace tformat_io {
+
 namespace {
-
-constexpr unsigned default_baud = 2500000;
-
 std::int64_t bit(bool b) {
   return b ? 1 : 0;
 }
+}  // namespace
 
-unsigned option_uint(const cli::options& opts, const std::string& name, unsigned fallback,
-                     unsigned max) {
-  return static_cast<unsigned>(cli::option_number(opts, name, fallback, max));
-}
-
-cli::record response_json(const tf::response& r) {
+cli::record response_record(const tf::response& r) {
   cli::record f;
   const tf::response_layout lay = r.layout();
   f.add("data_id", static_cast<std::int64_t>(static_cast<std::uint8_t>(r.id)));
@@ -73,6 +69,31 @@ cli::record response_json(const tf::response& r) {
   return f;
 }
 
+cli::record request_record(const tf::request& q) {
+  cli::record f;
+  f.add("data_id", static_cast<std::int64_t>(static_cast<std::uint8_t>(q.id)));
+  f.hex("cf", static_cast<std::int64_t>(q.cf));
+  if (q.id == tf::data_id::eeprom_write || q.id == tf::data_id::eeprom_read) {
+    f.hex("address", static_cast<std::int64_t>(q.address));
+    if (q.id == tf::data_id::eeprom_write) {
+      f.hex("edf", static_cast<std::int64_t>(q.edf));
+    }
+    f.hex("crc", static_cast<std::int64_t>(q.crc));
+  }
+  return f;
+}
+
+}  // namespace tformat_io
+
+namespace {
+
+constexpr unsigned default_baud = 2500000;
+
+unsigned option_uint(const cli::options& opts, const std::string& name, unsigned fallback,
+                     unsigned max) {
+  return static_cast<unsigned>(cli::option_number(opts, name, fallback, max));
+}
+
 tf::decode_options options_for(const cli::options& opts) {
   tf::decode_options o;
   if (opts.get("resolution")) {
@@ -97,7 +118,7 @@ cli::outcome decode_response_line(const std::string& input, const cli::options& 
   if (!r.is_complete()) {
     return cli::failure_of(r, 2);
   }
-  return cli::outcome::success(response_json(r.value()));
+  return cli::outcome::success(tformat_io::response_record(r.value()));
 }
 
 cli::outcome decode_request_line(const std::string& input, const cli::options&) {
@@ -120,17 +141,7 @@ cli::outcome decode_request_line(const std::string& input, const cli::options&) 
         .add("received_bytes", static_cast<std::int64_t>(in.size()));
     return cli::outcome::failure(mb::to_string(mb::errc::tformat_length), e);
   }
-  cli::record f;
-  f.add("data_id", static_cast<std::int64_t>(static_cast<std::uint8_t>(q->id)));
-  f.hex("cf", static_cast<std::int64_t>(q->cf));
-  if (q->id == tf::data_id::eeprom_write || q->id == tf::data_id::eeprom_read) {
-    f.hex("address", static_cast<std::int64_t>(q->address));
-    if (q->id == tf::data_id::eeprom_write) {
-      f.hex("edf", static_cast<std::int64_t>(q->edf));
-    }
-    f.hex("crc", static_cast<std::int64_t>(q->crc));
-  }
-  return cli::outcome::success(f);
+  return cli::outcome::success(tformat_io::request_record(q.value()));
 }
 
 // Parses a Data ID given as one hex digit ("3", "D", "0xD").
@@ -270,7 +281,7 @@ int read_encoder(const cli::options& opts) {
     int status = -1;  // a response, or a failure: the first result settles the command
     mb::feed_all(rx, mb::byte_view(buffer, static_cast<std::size_t>(got)), [&](const auto& r) {
       if (r.is_complete()) {
-        cli::print(cli::outcome::success(response_json(r.value())));
+        cli::print(cli::outcome::success(tformat_io::response_record(r.value())));
         status = 0;
       } else {
         cli::print(cli::failure_of(r, 2));

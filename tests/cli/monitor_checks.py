@@ -1,0 +1,227 @@
+"""`motionbus monitor modbus|tformat` on a tapped line made of pseudo-terminals.
+
+A tap (this script) joins a client's pty to an emulator's pty and copies every byte of both
+directions onto a third pty, where the monitor listens; it can corrupt the copy, drop a
+response, or put line noise on the monitor's side only. The clients are the CLI's own `read`
+commands; the emulators are the CLI's `serve` commands. Every line the monitor prints (with
+--json) is checked: each request paired with its response, each injected fault flagged as what
+it is, and the summary's counts.
+
+Usage: monitor_checks.py MOTIONBUS_CLI modbus|tformat. Exit 0 when every check holds.
+"""
+import json
+import os
+import select
+import signal
+import subprocess
+import sys
+import threading
+import time
+import tty
+
+failures = []
+
+
+def check(name, condition, detail=""):
+    print(("ok   " if condition else "FAIL ") + name + ("" if condition else f": {detail}"))
+    if not condition:
+        failures.append(name)
+
+
+class Tap(threading.Thread):
+    """Client pty <-> emulator pty, every byte also copied onto the monitor's pty."""
+
+    def __init__(self):
+        super().__init__(daemon=True)
+        self.ends = {}
+        for side in ("client", "device", "monitor"):
+            master, slave = os.openpty()
+            tty.setraw(slave)
+            self.ends[side] = (master, slave, os.ttyname(slave))
+        self.lock = threading.Lock()
+        self.corrupt_next_request = False   # flips the last byte, towards device and monitor
+        self.corrupt_next_response = False  # flips a byte of the monitor's copy only
+        self.drop_next_response = False     # the monitor never sees the next response
+        self.running = True
+
+    def path(self, side):
+        return self.ends[side][2]
+
+    def noise(self, data):
+        os.write(self.ends["monitor"][0], bytes(data))
+
+    def run(self):
+        client, device, monitor = (self.ends[s][0] for s in ("client", "device", "monitor"))
+        while self.running:
+            ready, _, _ = select.select([client, device], [], [], 0.05)
+            for fd in ready:
+                data = bytearray(os.read(fd, 512))
+                with self.lock:
+                    if fd == client:
+                        if self.corrupt_next_request:
+                            data[-1] ^= 0x01
+                            self.corrupt_next_request = False
+                        os.write(device, data)
+                        os.write(monitor, data)
+                    else:
+                        os.write(client, data)
+                        if self.drop_next_response:
+                            self.drop_next_response = False
+                            continue
+                        copy = bytearray(data)
+                        if self.corrupt_next_response:
+                            copy[len(copy) // 2] ^= 0x10
+                            self.corrupt_next_response = False
+                        os.write(monitor, copy)
+
+
+def start(cmd):
+    return subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
+
+
+def run(cmd):
+    return subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True,
+                          timeout=20).stdout
+
+
+def stop_monitor(monitor):
+    time.sleep(0.3)
+    monitor.send_signal(signal.SIGINT)
+    out, _ = monitor.communicate(timeout=10)
+    lines = [json.loads(line) for line in out.splitlines() if line.strip()]
+    return [l for l in lines if not l.get("summary")], [l for l in lines if l.get("summary")]
+
+
+def modbus(cli):
+    tap = Tap()
+    tap.start()
+    server = start([cli, "serve", "sm-unit", "--device", tap.path("device")])
+    monitor = start([cli, "monitor", "modbus", "--device", tap.path("monitor"), "--json",
+                     "--response-ms", "300"])
+    time.sleep(0.5)
+    client = [cli, "read", "modbus", "--device", tap.path("client"), "--json"]
+
+    def ask(*args):
+        out = run(client + list(args))
+        time.sleep(0.15)  # the SM unit wants 0.1 s between commands
+        return out
+
+    ask("--slave", "1", "--function", "3", "--address", "36", "--quantity", "1")  # 1: a pair
+    ask("--slave", "1", "--function", "3", "--address", "200", "--quantity", "1")  # 2: exception 02
+    tap.corrupt_next_request = True
+    ask("--slave", "1", "--function", "4", "--address", "0", "--quantity", "2",
+        "--timeout-ms", "300")  # 3: a request with a bad CRC, never answered
+    tap.noise([0xFF, 0x00, 0x55])  # 4: line noise on the tap
+    time.sleep(0.2)
+    ask("--slave", "5", "--function", "3", "--quantity", "1", "--timeout-ms", "400")  # 5: nobody
+    tap.corrupt_next_response = True
+    ask("--slave", "1", "--function", "3", "--address", "36", "--quantity", "1")  # 6: bad copy
+    ask("--slave", "1", "--function", "4", "--address", "0", "--quantity", "2")  # 7: a pair
+    frames, summary = stop_monitor(monitor)
+    server.terminate()
+    tap.running = False
+    for f in frames:
+        print("  " + json.dumps(f))
+    kinds = [(f.get("dir"), f.get("ok"), f.get("error"), f.get("function"), f.get("exception"))
+             for f in frames]
+    want = [
+        ("request", True, None, 3, None), ("response", True, None, 3, None),
+        ("request", True, None, 3, None), ("response", True, None, 3, 2),
+        ("?", False, "crc_mismatch", None, None),
+        ("?", False, "garbage", None, None),
+        ("request", True, None, 3, None), ("response", False, "no_response", 3, None),
+        ("request", True, None, 3, None), ("?", False, "crc_mismatch", None, None),
+        ("response", False, "no_response", 3, None),
+        ("request", True, None, 4, None), ("response", True, None, 4, None),
+    ]
+    check("modbus: every frame seen, in order, with its direction and state",
+          kinds == want, f"{kinds}")
+    responses = [f for f in frames if f.get("dir") == "response" and f.get("ok")]
+    check("modbus: each response paired with its request (latency between 0 and 1 s)",
+          len(responses) == 3 and all(0 < f["latency_us"] < 1000000 for f in responses))
+    check("modbus: times rise", all(a["time_us"] <= b["time_us"] for a, b in zip(frames,
+                                                                                 frames[1:])))
+    check("modbus: the exception spelled out", any(
+        f.get("exception_name") == "illegal_data_address" for f in frames),
+        "the SM unit answers a read outside its map (holding 200) with exception 02")
+    bad = [f for f in frames if f.get("error") == "crc_mismatch"]
+    check("modbus: CRC errors with the expected and received CRC",
+          len(bad) == 2 and all("expected" in f and "received" in f for f in bad))
+    check("modbus: the garbage's bytes reported",
+          any(f.get("error") == "garbage" and f.get("bytes") == "ff0055" for f in frames))
+    s = summary[0] if summary else {}
+    check("modbus: the summary", summary and s.get("frames") == 11 and s.get("requests") == 5
+          and s.get("responses") == 3 and s.get("missing_responses") == 2
+          and s.get("exceptions") == 1 and s.get("crc_errors") == 2
+          and s.get("garbage_bytes") == 3 and s.get("slave_1") == [4, 3, 4]
+          and s.get("slave_5") == [1, 0, 1], f"{summary}")
+
+
+def tformat(cli):
+    tap = Tap()
+    tap.start()
+    encoder = start([cli, "serve", "tformat-encoder", "--device", tap.path("device")])
+    monitor = start([cli, "monitor", "tformat", "--device", tap.path("monitor"), "--json",
+                     "--response-ms", "300"])
+    time.sleep(0.5)
+
+    def ask(*args):
+        out = run([cli, "read", "tformat", "--device", tap.path("client"), "--json"] +
+                  list(args))
+        time.sleep(0.1)
+        return out
+
+    ask("--id", "3")                                          # a pair (ID3)
+    ask("--id", "6", "--address", "5", "--data", "0x5A")      # a pair (EEPROM write)
+    time.sleep(0.1)                                           # the EEPROM's busy time
+    ask("--id", "D", "--address", "5")                        # a pair (EEPROM read)
+    tap.corrupt_next_response = True
+    ask("--id", "0")                                          # the monitor's copy corrupted
+    tap.drop_next_response = True
+    ask("--id", "1")                                          # the monitor misses the response
+    time.sleep(0.4)                                           # (flagged after --response-ms)
+    tap.noise([0x00, 0x01])                                   # line noise (no CF)
+    time.sleep(0.2)
+    ask("--id", "3")                                          # a pair
+    frames, summary = stop_monitor(monitor)
+    encoder.terminate()
+    tap.running = False
+    for f in frames:
+        print("  " + json.dumps(f))
+    kinds = [(f.get("dir"), f.get("ok"), f.get("error"), f.get("data_id")) for f in frames]
+    want = [
+        ("request", True, None, 3), ("response", True, None, 3),
+        ("request", True, None, 6), ("response", True, None, 6),
+        ("request", True, None, 13), ("response", True, None, 13),
+        ("request", True, None, 0), ("response", False, "crc_mismatch", None),
+        ("request", True, None, 1), ("response", False, "no_response", 1),
+        ("?", False, "garbage", None),
+        ("request", True, None, 3), ("response", True, None, 3),
+    ]
+    check("tformat: every frame seen, in order, with its direction and state",
+          kinds == want, f"{kinds}")
+    eeprom = [f for f in frames if f.get("dir") == "response" and f.get("data_id") in (6, 13)]
+    check("tformat: the EEPROM write echoed (address 5, 0x5A), the read answered for address 5",
+          len(eeprom) == 2 and eeprom[0].get("edf") == 0x5A and eeprom[0].get("address") == 5
+          and eeprom[1].get("address") == 5, f"{eeprom}")
+    check("tformat: times rise", all(a["time_us"] <= b["time_us"] for a, b in zip(frames,
+                                                                                  frames[1:])))
+    s = summary[0] if summary else {}
+    check("tformat: the summary", summary and s.get("frames") == 12 and s.get("requests") == 6
+          and s.get("responses") == 5 and s.get("missing_responses") == 1
+          and s.get("crc_errors") == 1 and s.get("garbage_bytes") == 2
+          and s.get("data_id_3") == [2, 2, 0] and s.get("data_id_1") == [1, 0, 1],
+          f"{summary}")
+
+
+def main():
+    cli, protocol = sys.argv[1], sys.argv[2]
+    {"modbus": modbus, "tformat": tformat}[protocol](cli)
+    if failures:
+        print(f"{len(failures)} check(s) failed")
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
