@@ -21,6 +21,20 @@ if(TARGET motionbus_cli)
     set_tests_properties(cli.monitor.${protocol} PROPERTIES LABELS "cli" TIMEOUT 120
       RUN_SERIAL TRUE)
   endforeach()
+  # Recordings made by the real tools (Icarus Verilog, sigrok-cli) and encode --vcd, decoded
+  # (tests/captures/capture_checks.py).
+  find_program(MOTIONBUS_IVERILOG iverilog)
+  find_program(MOTIONBUS_VVP vvp)
+  find_program(MOTIONBUS_SIGROK_CLI sigrok-cli)
+  if(MOTIONBUS_IVERILOG AND MOTIONBUS_VVP AND MOTIONBUS_SIGROK_CLI)
+    add_test(NAME cli.captures
+      COMMAND /usr/bin/python3 "${CMAKE_CURRENT_SOURCE_DIR}/captures/capture_checks.py"
+              "$<TARGET_FILE:motionbus_cli>" "${CMAKE_CURRENT_SOURCE_DIR}/captures"
+              "${CMAKE_CURRENT_BINARY_DIR}/captures")
+    set_tests_properties(cli.captures PROPERTIES LABELS "cli" TIMEOUT 120)
+  elseif(MOTIONBUS_REQUIRE_ALL_CHECKS)
+    message(FATAL_ERROR "the capture tests need iverilog and sigrok-cli")
+  endif()
 endif()
 
 # --- interoperability: third-party Modbus masters against the SM unit emulator ------------

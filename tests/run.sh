@@ -26,7 +26,7 @@ bash tools/scripts/ensure-packages.sh \
   g++-s390x-linux-gnu g++-arm-linux-gnueabihf qemu-user \
   socat pkg-config libmodbus-dev python3-pymodbus python3-serial python3-serial-asyncio gcovr \
   python3-unicorn clang-tidy qemu-system-arm qemu-system-misc \
-  libcli11-dev nlohmann-json3-dev libserialport-dev sigrok-cli iverilog
+  libcli11-dev nlohmann-json3-dev libserialport-dev libzip-dev sigrok-cli iverilog
 
 passed=0
 failed=0

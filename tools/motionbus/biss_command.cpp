@@ -14,6 +14,8 @@
 #include <string>
 #include <vector>
 
+#include "biss_io.hpp"
+#include "capture.hpp"
 #include "cli.hpp"
 
 namespace mb = motionbus;
@@ -44,6 +46,10 @@ std::optional<std::uint64_t> parse_hex_number(std::string t) {
   }
   return v;
 }
+
+}  // namespace
+
+namespace biss_io {
 
 bs::slave_layout layout_from(const cli::options& opts) {
   bs::slave_layout l = bs::absys_layout;
@@ -77,6 +83,53 @@ bs::slave_layout layout_from(const cli::options& opts) {
   l.crc.inverted = !opts.has("no-crc-invert");
   return l;
 }
+
+cli::outcome describe_samples(const std::vector<std::uint8_t>& samples,
+                              const bs::slave_layout& layout) {
+  const std::vector<std::uint8_t>* bits = &samples;
+  std::vector<std::uint8_t> words((bits->size() + 7U) / 8U, 0);
+  for (std::size_t i = 0; i < bits->size(); ++i) {
+    if ((*bits)[i] != 0U) {
+      words[i / 8U] = static_cast<std::uint8_t>(words[i / 8U] | (0x80U >> (i % 8U)));
+    }
+  }
+  bs::slave_data d;
+  const auto r = bs::decode_frame(mb::span<const std::uint8_t>(words.data(), words.size()),
+                                  bits->size(), layout, d);
+  if (r.is_incomplete()) {
+    // The capture is all there is: name what it lacks.
+    std::size_t ack = 0;
+    while (ack < bits->size() && (*bits)[ack] != 0U) {
+      ++ack;
+    }
+    std::size_t start = ack;
+    while (start < bits->size() && (*bits)[start] == 0U) {
+      ++start;
+    }
+    const mb::errc e = ack == bits->size()     ? mb::errc::biss_no_ack
+                       : start == bits->size() ? mb::errc::biss_no_start
+                                               : mb::errc::truncated;
+    return cli::outcome::failure(mb::to_string(e));
+  }
+  if (r.is_failed()) {
+    return cli::failure_of(r, 2);
+  }
+  cli::record f;
+  f.add("position", static_cast<std::int64_t>(d.single_turn));
+  f.add("ne", d.ne ? 1 : 0);
+  f.add("nw", d.nw ? 1 : 0);
+  f.add("cds", r->cds ? 1 : 0);
+  f.hex("crc", static_cast<std::int64_t>(d.crc));
+  f.add("start", static_cast<std::int64_t>(r->start));
+  f.add("ack_bits", static_cast<std::int64_t>(r->ack_bits()));
+  return cli::outcome::success(f);
+}
+
+}  // namespace biss_io
+
+namespace {
+
+using biss_io::layout_from;
 
 // The capture as 0/1 samples: the positional bit string, or --hex words (MSB first) cut to
 // --bits samples.
@@ -121,42 +174,7 @@ cli::outcome decode_csd(const std::string& input, const cli::options& opts) {
   if (!bits) {
     return cli::outcome::failure(error);
   }
-  std::vector<std::uint8_t> words((bits->size() + 7U) / 8U, 0);
-  for (std::size_t i = 0; i < bits->size(); ++i) {
-    if ((*bits)[i] != 0U) {
-      words[i / 8U] = static_cast<std::uint8_t>(words[i / 8U] | (0x80U >> (i % 8U)));
-    }
-  }
-  bs::slave_data d;
-  const auto r = bs::decode_frame(mb::span<const std::uint8_t>(words.data(), words.size()),
-                                  bits->size(), layout, d);
-  if (r.is_incomplete()) {
-    // The capture is all there is: name what it lacks.
-    std::size_t ack = 0;
-    while (ack < bits->size() && (*bits)[ack] != 0U) {
-      ++ack;
-    }
-    std::size_t start = ack;
-    while (start < bits->size() && (*bits)[start] == 0U) {
-      ++start;
-    }
-    const mb::errc e = ack == bits->size()     ? mb::errc::biss_no_ack
-                       : start == bits->size() ? mb::errc::biss_no_start
-                                               : mb::errc::truncated;
-    return cli::outcome::failure(mb::to_string(e));
-  }
-  if (r.is_failed()) {
-    return cli::failure_of(r, 2);
-  }
-  cli::record f;
-  f.add("position", static_cast<std::int64_t>(d.single_turn));
-  f.add("ne", d.ne ? 1 : 0);
-  f.add("nw", d.nw ? 1 : 0);
-  f.add("cds", r->cds ? 1 : 0);
-  f.hex("crc", static_cast<std::int64_t>(d.crc));
-  f.add("start", static_cast<std::int64_t>(r->start));
-  f.add("ack_bits", static_cast<std::int64_t>(r->ack_bits()));
-  return cli::outcome::success(f);
+  return biss_io::describe_samples(*bits, layout);
 }
 
 bool option_bit(const cli::options& opts, const std::string& name, bool fallback) {
@@ -192,6 +210,21 @@ int encode_csd(const cli::options& opts) {
   }
   cli::record f;
   f.add("bits", bits);
+  if (const auto vcd = opts.get("vcd")) {  // MA and SLO at --baud clocks a second, from 1 us
+    std::vector<std::uint8_t> samples;
+    for (const char c : bits) {
+      samples.push_back(c == '1' ? 1 : 0);
+    }
+    capture::channel ma;
+    capture::channel slo;
+    ma.name = "MA";
+    slo.name = "SLO";
+    capture::biss_levels(samples,
+                         static_cast<double>(option_number(opts, "baud", 1000000, 100000000)), 1e-6,
+                         ma, slo);
+    capture::write_vcd_file(*vcd, {ma, slo});
+    f.add("vcd", *vcd);
+  }
   return cli::finish(cli::outcome::success(f));
 }
 
@@ -205,9 +238,14 @@ protocol_entries biss_entries() {
   std::vector<option_use> decode_options = layout_options;
   decode_options.insert(decode_options.end(), {"hex", "bits"});
   std::vector<option_use> encode_options = layout_options;
-  encode_options.insert(
-      encode_options.end(),
-      {"position", {"ne", "1"}, {"nw", "1"}, {"ack", "1"}, {"cds", "0"}, {"idle", "0"}});
+  encode_options.insert(encode_options.end(), {"position",
+                                               {"ne", "1"},
+                                               {"nw", "1"},
+                                               {"ack", "1"},
+                                               {"cds", "0"},
+                                               {"idle", "0"},
+                                               "vcd",
+                                               {"baud", "1000000"}});
   protocol_entries e;
   e.decoders.push_back({"decode",
                         "biss",

@@ -168,6 +168,7 @@ protocol_entries sm_unit_entries();
 protocol_entries biss_entries();
 protocol_entries crc_entries();
 protocol_entries monitor_entries();
+protocol_entries capture_entries();
 
 const std::vector<decoder>& decoders();
 const std::vector<command>& commands();

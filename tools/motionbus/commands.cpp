@@ -28,9 +28,9 @@ namespace cli {
 namespace {
 
 const std::vector<protocol_entries>& all_protocols() {
-  static const std::vector<protocol_entries> list = {crc_entries(),    tformat_entries(),
-                                                     modbus_entries(), sm_unit_entries(),
-                                                     biss_entries(),   monitor_entries()};
+  static const std::vector<protocol_entries> list = {
+      crc_entries(),  tformat_entries(), modbus_entries(), sm_unit_entries(),
+      biss_entries(), monitor_entries(), capture_entries()};
   return list;
 }
 
@@ -96,6 +96,11 @@ const std::map<std::string, option_info>& catalogue() {
       {"ack", {"N", "BiSS-C Ack bits before the Start bit", {}}},
       {"cds", {"0|1", "BiSS-C CDS bit", {}}},
       {"idle", {"N", "idle (high) bits before the frame", {}}},
+      // Recordings and waveforms
+      {"line", {"CHANNEL", "the channel holding the UART line (as the recording names it)", {}}},
+      {"clock", {"CHANNEL", "the channel holding BiSS-C MA (as the recording names it)", {}}},
+      {"vcd",
+       {"FILE", "also write the frame as a waveform (VCD: the UART line, or MA and SLO)", {}}},
       // Monitors
       {"count", {"N", "stop after N frames (0: no limit)", {}}},
       {"duration", {"S", "stop after S seconds (0: no limit; Ctrl-C stops too)", {}}},

@@ -16,6 +16,7 @@
 #include <utility>
 #include <vector>
 
+#include "capture.hpp"
 #include "cli.hpp"
 #include "modbus_io.hpp"
 #include "serial.hpp"
@@ -321,6 +322,14 @@ int encode_request(const cli::options& opts) {
   }
   cli::record f;
   f.bytes("hex", adu.data(), adu.size());
+  if (const auto vcd = opts.get("vcd")) {  // the UART line at the line settings, from 1 us
+    const serial::settings s = modbus_io::line_settings(opts);
+    capture::channel line;
+    line.name = "line";
+    capture::uart_levels(adu, s.baud, s.parity, s.stop_bits, 1e-6, line);
+    capture::write_vcd_file(*vcd, {line});
+    f.add("vcd", *vcd);
+  }
   return cli::finish(cli::outcome::success(f));
 }
 
@@ -389,7 +398,11 @@ protocol_entries modbus_entries() {
                          {"quantity", "1"},
                          "values",
                          "write-address",
-                         "data"},
+                         "data",
+                         "vcd",
+                         {"baud", "9600"},
+                         {"parity", "E"},
+                         {"stop-bits", "1"}},
                         {},
                         {}});
   e.commands.push_back({"read",

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "capture.hpp"
 #include "cli.hpp"
 #include "serial.hpp"
 #include "tformat_io.hpp"
@@ -184,6 +185,15 @@ int encode_request(const cli::options& opts) {
   }
   cli::record f;
   f.bytes("hex", out, n.value());
+  if (const auto vcd = opts.get("vcd")) {  // the UART line, 8N1 at --baud, from 1 us
+    capture::channel line;
+    line.name = "line";
+    capture::uart_levels(std::vector<std::uint8_t>(out, out + n.value()),
+                         static_cast<double>(cli::option_number(opts, "baud", 2500000, 100000000)),
+                         'N', 1, 1e-6, line);
+    capture::write_vcd_file(*vcd, {line});
+    f.add("vcd", *vcd);
+  }
   return cli::finish(cli::outcome::success(f));
 }
 
@@ -322,7 +332,7 @@ protocol_entries tformat_entries() {
                         "request",
                         "a request frame for a Data ID (EEPROM: with --address and --data)",
                         &encode_request,
-                        {"id", {"address", "0"}, {"data", "0"}},
+                        {"id", {"address", "0"}, {"data", "0"}, "vcd", {"baud", "2500000"}},
                         {},
                         {}});
   e.commands.push_back({"serve",

@@ -1,0 +1,192 @@
+// Every frame in a logic-analyzer or simulation recording (sigrok .sr, VCD, CSV):
+//   decode modbus capture FILE --line CH [--baud N] [--parity E|O|N] [--stop-bits N] [--fc11 sm]
+//   decode tformat capture FILE --line CH [--baud 2500000]
+//   decode biss capture FILE --clock CH --data CH [layout options]
+// Channels by the names the file gives them. The UART protocols go through the bus monitors'
+// framing and pairing (bus_monitor.hpp): a T-format line holds both directions (half duplex),
+// and each frame is labelled request or response; a Modbus frame ends at a t3.5 silence seen
+// in the recording. BiSS-C: SL is sampled at each rising edge of MA (the level just before the
+// edge); a frame is a burst of MA clocks, the next one starting after MA stayed high for more
+// than four clock periods. Times are microseconds from the recording's start.
+#include <motionbus/biss.hpp>
+#include <motionbus/modbus.hpp>
+#include <motionbus/tformat.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "biss_io.hpp"
+#include "bus_monitor.hpp"
+#include "capture.hpp"
+#include "cli.hpp"
+#include "modbus_io.hpp"
+
+namespace mb = motionbus;
+namespace mo = motionbus::modbus;
+
+namespace {
+
+std::uint32_t us(double seconds) {
+  return static_cast<std::uint32_t>(std::llround(seconds * 1e6));
+}
+
+const capture::channel& channel_of(const capture::recording& r, const cli::options& opts,
+                                   const char* option) {
+  const auto name = opts.get(option);
+  if (!name) {
+    throw cli::usage_error{std::string("--") + option + " CHANNEL is required"};
+  }
+  return r.find(*name);
+}
+
+// Feeds the bytes a UART decoder found to a bus monitor: a silence of `gap_us` between two
+// bytes ends what is held. Parity and framing errors are printed where they occur.
+template <class Monitor>
+void feed(Monitor& m, const std::vector<capture::uart_byte>& bytes, std::uint32_t gap_us) {
+  double last_end = 0;
+  bool first = true;
+  for (const capture::uart_byte& b : bytes) {
+    // (a sampled start edge may come a sample before the previous stop bit's computed end)
+    const double silent = b.start - last_end;
+    if (!first && silent > 0 && us(silent) >= gap_us) {
+      m.tick(us(b.start), us(silent));
+    }
+    if (b.parity_error || b.framing_error) {
+      cli::record e;
+      e.hex("byte", b.value);
+      cli::print(cli::outcome::failure(b.parity_error ? "parity_error" : "framing_error", e),
+                 bus_monitor::at(us(b.start), "?"));
+    }
+    m.byte_at(b.value, us(b.start), us(b.end));
+    last_end = b.end;
+    first = false;
+  }
+  m.end(us(last_end) + gap_us);
+}
+
+int modbus_capture(const cli::options& opts) {
+  const capture::recording r = capture::load(opts.positional.at(0));
+  const capture::channel& line = channel_of(r, opts, "line");
+  const serial::settings s = modbus_io::line_settings(opts);
+  const mo::report_id_format fc11 = modbus_io::fc11_of(opts, mo::report_id_format::standard);
+  const mo::parity p =
+      s.parity == 'N' ? mo::parity::none : (s.parity == 'O' ? mo::parity::odd : mo::parity::even);
+  const std::uint32_t t35 = mo::t35_us(s.baud, p, s.stop_bits);
+  const std::uint32_t bits = 1U + 8U + (s.parity == 'N' ? 0U : 1U) + s.stop_bits;
+  // a response is expected before the next request: the recording's end settles the last one
+  bus_monitor::modbus_monitor m(fc11, t35, bits * 1000000U / s.baud, ~std::uint32_t{0});
+  feed(m, capture::decode_uart(line, s.baud, s.parity, s.stop_bits), t35);
+  cli::print_record(m.counts().summary("slave"));
+  const bus_monitor::tally& t = m.counts();
+  return t.crc_errors + t.other_errors + t.missing + t.garbage_bytes == 0 ? 0 : 1;
+}
+
+int tformat_capture(const cli::options& opts) {
+  const capture::recording r = capture::load(opts.positional.at(0));
+  const capture::channel& line = channel_of(r, opts, "line");
+  const double baud = static_cast<double>(cli::option_number(opts, "baud", 2500000, 100000000));
+  if (baud <= 0) {
+    throw cli::usage_error{"--baud must be above 0"};
+  }
+  const auto byte_us = static_cast<std::uint32_t>(std::ceil(10e6 / baud));
+  const std::uint32_t gap = 10 * byte_us;  // well past the encoder's turnaround
+  bus_monitor::tformat_monitor m(gap, byte_us, ~std::uint32_t{0});
+  feed(m, capture::decode_uart(line, baud, 'N', 1), gap);
+  cli::print_record(m.counts().summary("data_id"));
+  const bus_monitor::tally& t = m.counts();
+  return t.crc_errors + t.other_errors + t.missing + t.garbage_bytes == 0 ? 0 : 1;
+}
+
+int biss_capture(const cli::options& opts) {
+  const capture::recording r = capture::load(opts.positional.at(0));
+  const capture::channel& ma = channel_of(r, opts, "clock");
+  const capture::channel& slo = channel_of(r, opts, "data");
+  const mb::biss::slave_layout layout = biss_io::layout_from(opts);
+  std::vector<double> rises;
+  std::vector<double> falls;
+  for (std::size_t i = 1; i < ma.times.size(); ++i) {
+    (ma.levels[i] ? rises : falls).push_back(ma.times[i]);
+  }
+  double period = 0;
+  for (std::size_t i = 1; i < rises.size(); ++i) {
+    const double d = rises[i] - rises[i - 1];
+    period = period == 0 ? d : std::min(period, d);
+  }
+  std::uint64_t frames = 0;
+  std::uint64_t failed = 0;
+  std::size_t i = 0;
+  while (i < rises.size()) {
+    std::size_t j = i + 1;
+    while (j < rises.size() && rises[j] - rises[j - 1] <= 4 * period) {
+      ++j;
+    }
+    std::vector<std::uint8_t> samples;
+    for (std::size_t k = i; k < j; ++k) {
+      samples.push_back(slo.level_before(rises[k]) ? 1 : 0);
+    }
+    // the frame starts at MA's falling edge before its first rising edge
+    const auto fall = std::upper_bound(falls.begin(), falls.end(), rises[i]);
+    const double start = fall == falls.begin() ? rises[i] : *(fall - 1);
+    cli::record at;
+    at.add("time_us", static_cast<std::int64_t>(us(start)))
+        .add("clocks", static_cast<std::int64_t>(j - i));
+    const cli::outcome o = biss_io::describe_samples(samples, layout);
+    cli::print(o, at);
+    ++frames;
+    failed += o.ok ? 0 : 1;
+    i = j;
+  }
+  cli::record summary;
+  summary.add_bool("summary", true)
+      .add("frames", static_cast<std::int64_t>(frames))
+      .add("errors", static_cast<std::int64_t>(failed));
+  if (period > 0) {
+    summary.add("clock_hz", static_cast<std::int64_t>(std::llround(1.0 / period)));
+  }
+  cli::print_record(summary);
+  return failed == 0 ? 0 : 1;
+}
+
+}  // namespace
+
+namespace cli {
+
+protocol_entries capture_entries() {
+  const std::vector<option_use> biss = {"clock",           "data",     {"data-bits", "32"},
+                                        {"crc-bits", "6"}, "crc-poly", {"crc-start", "0"}};
+  protocol_entries e;
+  e.commands.push_back(
+      {"decode",
+       "modbus",
+       "capture",
+       "every Modbus RTU frame on a UART line in a recording (.sr, .vcd, .csv), "
+       "requests paired with responses",
+       &modbus_capture,
+       {"line", {"baud", "9600"}, {"parity", "E"}, {"stop-bits", "1"}, {"fc11", "standard"}},
+       {},
+       {"file"}});
+  e.commands.push_back({"decode",
+                        "tformat",
+                        "capture",
+                        "every T-format request and response on a line in a recording (.sr, "
+                        ".vcd, .csv): both directions, labelled",
+                        &tformat_capture,
+                        {"line", {"baud", "2500000"}},
+                        {},
+                        {"file"}});
+  e.commands.push_back({"decode",
+                        "biss",
+                        "capture",
+                        "every BiSS-C sensor data frame in a recording of MA and SLO (.sr, .vcd, "
+                        ".csv)",
+                        &biss_capture,
+                        biss,
+                        {"no-crc-invert"},
+                        {"file"}});
+  return e;
+}
+
+}  // namespace cli
