@@ -86,6 +86,13 @@ def tb_vcd(cli, source, work):
           [(f.get("time_us"), f.get("dir"), f.get("function"), f.get("values")) for f in frames]
           == [(1000, "request", 3, None), (20167, "response", 3, [555, 0, 100])]
           and frames[1].get("latency_us") == 19167 and status == 0, f"{frames} {err}")
+    text = subprocess.run([cli, "decode", "modbus", "capture", vcd, "--line", "mb_line"],
+                          stdout=subprocess.PIPE, text=True, timeout=60).stdout.splitlines()
+    check("VCD (Icarus): the Modbus frames in text", text[:2] == [
+        "time_us=1000 dir=request  ok  slave=17 function=0x03 address=0x006B quantity=3 "
+        "crc=0x8776",
+        "time_us=20167 dir=response latency_us=19167  ok  slave=17 function=0x03 byte_count=6 "
+        "values=555,0,100 crc=0xBAC8"], f"{text}")
     frames, summary, status, err = decode(cli, "tformat", "capture", vcd, "--line", "tf_line")
     check("VCD (Icarus): the T-format request and response, both directions labelled",
           [(f.get("time_us"), f.get("dir"), f.get("data_id")) for f in frames] ==

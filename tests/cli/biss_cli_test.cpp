@@ -98,6 +98,15 @@ TEST_CASE("decode biss csd: other layouts through --data-bits and the CRC option
   CHECK(status == 2);  // a width other than 6 needs its polynomial
 }
 
+TEST_CASE("decode and encode biss csd in text") {
+  CHECK(testcli::run_as_is("encode biss csd --position 123456 --ack 3 --cds 1") ==
+        "ok  bits=000110000000000000001111000100100000011111110\n");
+  CHECK(testcli::run_as_is("decode biss csd 000110000000000000001111000100100000011111110") ==
+        "ok  position=123456 ne=1 nw=1 cds=1 crc=0x3E start=3 ack_bits=3\n");
+  CHECK(testcli::run_as_is("decode biss csd 000110000000000000001111000100100000011111111") ==
+        "FAIL crc_mismatch  expected=0x3E received=0x3F\n");
+}
+
 TEST_CASE("encode biss csd: the frame of the notes, and a round trip") {
   int status = -1;
   CHECK(testcli::run("encode biss csd --position 123456 --ack 3 --cds 1 --nw 0", &status) ==

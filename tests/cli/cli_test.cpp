@@ -86,6 +86,9 @@ TEST_CASE("usage errors exit with status 2 and print nothing on stdout") {
   const auto v = run("version");
   CHECK(v.status == 0);
   CHECK(v.out.find("\"ok\":true") != std::string::npos);
+  int status = -1;
+  CHECK(testcli::run_as_is("version", &status).find("motionbus ") == 0);
+  CHECK(status == 0);
 }
 
 TEST_CASE("text output: hex where engineers think in hex, failures with their evidence") {

@@ -78,6 +78,15 @@ TEST_CASE("decode modbus response: registers, bits, exceptions, FC11, checked ag
   CHECK(status == 2);
 }
 
+TEST_CASE("decode modbus response in text: exceptions by name, registers, CRC in hex") {
+  CHECK(testcli::run_as_is("decode modbus response 118302c134") ==
+        "ok  slave=17 function=0x03 exception=0x02 exception_name=illegal_data_address "
+        "crc=0x34C1\n");
+  CHECK(testcli::run_as_is("decode modbus response 110306022b00000064c8ba --request "
+                           "1103006b00037687") ==
+        "ok  slave=17 function=0x03 byte_count=6 values=555,0,100 crc=0xBAC8\n");
+}
+
 TEST_CASE("encode modbus request: RTU ADU as hex") {
   CHECK(cli("encode modbus request --function 3 --slave 17 --address 107 --quantity 3") ==
         "{\"ok\":true,\"hex\":\"1103006b00037687\"}\n");

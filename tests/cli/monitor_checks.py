@@ -157,6 +157,33 @@ def modbus(cli):
           and s.get("slave_5") == [1, 0, 1], f"{summary}")
 
 
+def modbus_text(cli):
+    """The monitor's text output: one line a frame, hex where engineers read hex, a summary."""
+    tap = Tap()
+    tap.start()
+    server = start([cli, "serve", "sm-unit", "--device", tap.path("device")])
+    monitor = start([cli, "monitor", "modbus", "--device", tap.path("monitor")])
+    time.sleep(0.5)
+    run([cli, "read", "modbus", "--device", tap.path("client"), "--slave", "1", "--function",
+         "3", "--address", "36", "--quantity", "1"])
+    time.sleep(0.3)
+    monitor.send_signal(signal.SIGINT)
+    out, _ = monitor.communicate(timeout=10)
+    server.terminate()
+    tap.running = False
+    lines = out.splitlines()
+    print("\n".join("  " + l for l in lines))
+    check("modbus text: the request line", len(lines) == 3 and lines[0].startswith("time_us=")
+          and lines[0].endswith("dir=request  ok  slave=1 function=0x03 address=0x0024 "
+                                "quantity=1 crc=0x01C4"), f"{lines}")
+    check("modbus text: the response line, paired", len(lines) == 3 and
+          " dir=response latency_us=" in lines[1] and
+          lines[1].endswith("ok  slave=1 function=0x03 byte_count=2 values=800 crc=0x6CB9"),
+          f"{lines}")
+    check("modbus text: the summary", len(lines) == 3 and lines[2].startswith(
+        "# summary=yes frames=2 requests=1 responses=1 missing_responses=0"), f"{lines}")
+
+
 def tformat(cli):
     tap = Tap()
     tap.start()
@@ -216,7 +243,11 @@ def tformat(cli):
 
 def main():
     cli, protocol = sys.argv[1], sys.argv[2]
-    {"modbus": modbus, "tformat": tformat}[protocol](cli)
+    if protocol == "modbus":
+        modbus(cli)
+        modbus_text(cli)
+    else:
+        tformat(cli)
     if failures:
         print(f"{len(failures)} check(s) failed")
         return 1

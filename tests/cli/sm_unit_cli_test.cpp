@@ -170,6 +170,15 @@ TEST_CASE("read sm-unit: paced 0.1 s, no login to read data, FC11 in the unit's 
   CHECK(out.find("\"ok\":true,\"slave\":1,\"version\":\"2.0.3\",\"voltage\":{\"value\":") !=
         std::string::npos);
   const auto seen = unit.take();
+  // and as a person reads it: values with their units
+  std::this_thread::sleep_for(std::chrono::milliseconds(120));
+  const std::string text =
+      testcli::run_as_is("read sm-unit --device '" + unit.device() + "'", &status);
+  CHECK(status == 0);
+  CHECK(text.find("ok  slave=1 version=2.0.3 voltage=") == 0);
+  CHECK(text.find(" V current=") != std::string::npos);
+  CHECK(text.find(" degC ") != std::string::npos);
+  (void)unit.take();
   REQUIRE(seen.size() == 2);
   CHECK(seen[0].function == 0x04);
   CHECK(seen[0].address == sm::input::instantaneous);

@@ -112,6 +112,12 @@ TEST_CASE("decode/encode tformat: fields as JSON integers, errors as codes") {
   CHECK(run_cli("decode tformat response 82") == "{\"ok\":false,\"error\":\"parity\"}\n");
   // requests
   CHECK(run_cli("decode tformat request 1a") == "{\"ok\":true,\"data_id\":3,\"cf\":26}\n");
+  CHECK(testcli::run_as_is("decode tformat request ea05ef") ==
+        "ok  data_id=13 cf=0xEA address=0x05 crc=0xEF\n");
+  CHECK(testcli::run_as_is("decode tformat request ea0564") ==
+        "FAIL crc_mismatch  expected=0xEF received=0x64\n");
+  CHECK(testcli::run_as_is("encode tformat request --id 6 --address 5 --data 18") ==
+        "ok  hex=[32 05 12 25]\n");
   CHECK(run_cli("decode tformat request ea0564") ==  // 0xEA ^ 0x05 = 0xEF: CRC wrong
         "{\"ok\":false,\"error\":\"crc_mismatch\",\"expected\":239,\"received\":100}\n");
   CHECK(run_cli("decode tformat request ea05ef") ==
@@ -225,8 +231,15 @@ TEST_CASE("read tformat: one transaction with an encoder on a pseudo-terminal") 
   });
   int status = 0;
   const std::string out = run_cli("read tformat --device " + pty.slave + " --id 3", &status);
+  // and as a person reads it: hex where the specification writes hex, the alarm by name
+  int text_status = 0;
+  const std::string text =
+      testcli::run_as_is("read tformat --device " + pty.slave + " --id 3", &text_status);
   done = true;
   encoder.join();
+  CHECK(text_status == 0);
+  CHECK(text.find("ok  data_id=3 cf=0x1A sf=0x20") == 0);
+  CHECK(text.find("abs=109517 abm=42 enid=0x11 almc=0x80 alarms=BA crc=0x") != std::string::npos);
   CHECK(status == 0);
   CHECK(out.find("\"ok\":true,\"data_id\":3") != std::string::npos);
   CHECK(out.find("\"abs\":109517,\"abm\":42,\"enid\":17,\"almc\":128,\"alarms\":[\"BA\"]") !=
