@@ -9,7 +9,8 @@
 - encode ... --vcd, then decode ... capture: the same frame back, for the three protocols.
 
 The frames' bytes and CRCs are built here, independently of the library (the Modbus CRC-16 bit
-by bit, the T-format CRC as the XOR of the bytes, the BiSS-C CRC6 bit by bit).
+by bit in tests/support/reference.py, the T-format CRC as the XOR of the bytes, the BiSS-C
+CRC6 bit by bit).
 
 Usage: capture_checks.py MOTIONBUS_CLI TESTS_CAPTURES_DIR WORK_DIR. Exit 0 when every check
 holds.
@@ -18,6 +19,9 @@ import json
 import os
 import subprocess
 import sys
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "support"))
+import reference  # noqa: E402  (the independent CRC-16, tests/support/reference.py)
 
 failures = []
 
@@ -38,11 +42,8 @@ def decode(cli, *args):
 
 
 def crc16_modbus(data):
-    crc = 0xFFFF
-    for b in data:
-        crc ^= b
-        for _ in range(8):
-            crc = (crc >> 1) ^ 0xA001 if crc & 1 else crc >> 1
+    """The CRC's two bytes as sent, low byte first."""
+    crc = reference.crc16_modbus(data)
     return bytes([crc & 0xFF, crc >> 8])
 
 
@@ -141,6 +142,19 @@ def sigrok_sr(cli, work):
           and summary.get("clock_hz") == 100000, f"{frames} {summary} {err}")
     frames, _, status, _ = decode(cli, "biss", "capture", sr, "--clock", "MA", "--data", "nope")
     check("sigrok .sr: an unknown channel is a usage error", status == 2)
+    bad = os.path.join(work, "bad.vcd")
+    with open(bad, "w") as f:
+        f.write("$timescale 1ns $end\n$var wire 1 ! a $end\n$enddefinitions $end\n#zz\n1!\n")
+    _, _, status, err = decode(cli, "tformat", "capture", bad, "--line", "a")
+    check("a malformed VCD is a usage error, with its reason", status == 2 and
+          "cannot be read" in err, err)
+    with open(raw, "rb") as f:
+        with open(os.path.join(work, "not_a_zip.sr"), "wb") as g:
+            g.write(f.read(64))
+    _, _, status, err = decode(cli, "modbus", "capture", os.path.join(work, "not_a_zip.sr"),
+                               "--line", "line")
+    check("a .sr that is not a session file is a usage error", status == 2 and
+          "not a sigrok session file" in err, err)
 
 
 def analyzer_csv(cli, work):

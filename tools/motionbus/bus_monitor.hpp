@@ -120,43 +120,68 @@ class heard_bytes {
   std::uint32_t floor_ = 0;  // when the last frame taken was complete
 };
 
-class modbus_monitor {
+// What both monitors share: the bytes heard, the silence that ends what no length rule frames,
+// the request waiting for its response, the tally. `Protocol` frames (frame(at_silence): takes
+// every frame the bytes held begin with; at a silence, whatever is left) and reports a request
+// left unanswered (missing(time)).
+template <class Protocol>
+class line_monitor {
  public:
-  modbus_monitor(mo::report_id_format fc11, std::uint32_t gap_us, std::uint32_t byte_us,
-                 std::uint32_t response_us)
-      : fc11_(fc11), gap_us_(gap_us), response_us_(response_us), held_(byte_us) {}
+  line_monitor(std::uint32_t gap_us, std::uint32_t byte_us, std::uint32_t response_us)
+      : gap_us_(gap_us), response_us_(response_us), held_(byte_us) {}
 
+  /// Bytes read from a port, with their arrival time.
   void bytes(const std::uint8_t* data, std::size_t n, std::uint32_t time_us) {
     held_.add(data, n, time_us);
-    frame(false);
+    self().frame(false);
   }
-
+  /// A byte a UART decoder found in a recording, with its start and end.
   void byte_at(std::uint8_t byte, std::uint32_t start_us, std::uint32_t end_us) {
     held_.add_at(byte, start_us, end_us);
-    frame(false);
+    self().frame(false);
   }
-
+  /// Time passes: `silent_us` since the last byte.
   void tick(std::uint32_t time_us, std::uint32_t silent_us) {
     if (!held_.empty() && silent_us >= gap_us_) {
-      frame(true);
+      self().frame(true);
     }
     if (pending_ && time_us - pending_time_ >= response_us_) {
-      missing(time_us);
+      self().missing(time_us);
     }
   }
-
+  /// The line is no longer watched: what is held is settled.
   void end(std::uint32_t time_us) {
     if (!held_.empty()) {
-      frame(true);
+      self().frame(true);
     }
     if (pending_) {
-      missing(time_us);
+      self().missing(time_us);
     }
   }
 
   const tally& counts() const { return t_; }
 
+ protected:
+  Protocol& self() { return static_cast<Protocol&>(*this); }
+
+  std::uint32_t gap_us_;
+  std::uint32_t response_us_;
+  heard_bytes held_;
+  std::vector<std::uint8_t> request_;
+  bool pending_ = false;
+  std::uint32_t pending_time_ = 0;
+  tally t_;
+};
+
+class modbus_monitor : public line_monitor<modbus_monitor> {
+ public:
+  modbus_monitor(mo::report_id_format fc11, std::uint32_t gap_us, std::uint32_t byte_us,
+                 std::uint32_t response_us)
+      : line_monitor(gap_us, byte_us, response_us), fc11_(fc11) {}
+
  private:
+  friend class line_monitor<modbus_monitor>;
+
   // Takes every frame the bytes held begin with; at a silence, whatever is left is one frame
   // (or garbage).
   void frame(bool at_silence) {
@@ -267,51 +292,15 @@ class modbus_monitor {
   }
 
   mo::report_id_format fc11_;
-  std::uint32_t gap_us_;
-  std::uint32_t response_us_;
-  heard_bytes held_;
-  std::vector<std::uint8_t> request_;
-  bool pending_ = false;
-  std::uint32_t pending_time_ = 0;
-  tally t_;
 };
 
-class tformat_monitor {
+class tformat_monitor : public line_monitor<tformat_monitor> {
  public:
-  tformat_monitor(std::uint32_t gap_us, std::uint32_t byte_us, std::uint32_t response_us)
-      : gap_us_(gap_us), response_us_(response_us), held_(byte_us) {}
-
-  void bytes(const std::uint8_t* data, std::size_t n, std::uint32_t time_us) {
-    held_.add(data, n, time_us);
-    frame(false);
-  }
-
-  void byte_at(std::uint8_t byte, std::uint32_t start_us, std::uint32_t end_us) {
-    held_.add_at(byte, start_us, end_us);
-    frame(false);
-  }
-
-  void tick(std::uint32_t time_us, std::uint32_t silent_us) {
-    if (!held_.empty() && silent_us >= gap_us_) {
-      frame(true);
-    }
-    if (pending_ && time_us - pending_time_ >= response_us_) {
-      missing(time_us);
-    }
-  }
-
-  void end(std::uint32_t time_us) {
-    if (!held_.empty()) {
-      frame(true);
-    }
-    if (pending_) {
-      missing(time_us);
-    }
-  }
-
-  const tally& counts() const { return t_; }
+  using line_monitor::line_monitor;
 
  private:
+  friend class line_monitor<tformat_monitor>;
+
   void frame(bool at_silence) {
     while (!held_.empty()) {
       const std::uint8_t cf = held_[0];
@@ -437,14 +426,6 @@ class tformat_monitor {
     cli::print(cli::outcome::failure("no_response", e), at(time, "response"));
     pending_ = false;
   }
-
-  std::uint32_t gap_us_;
-  std::uint32_t response_us_;
-  heard_bytes held_;
-  std::vector<std::uint8_t> request_;
-  bool pending_ = false;
-  std::uint32_t pending_time_ = 0;
-  tally t_;
 };
 
 }  // namespace bus_monitor

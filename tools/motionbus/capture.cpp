@@ -385,14 +385,18 @@ const channel& recording::find(const std::string& name) const {
 recording load(const std::string& path) {
   const std::size_t dot = path.find_last_of('.');
   const std::string ext = dot == std::string::npos ? "" : lower(path.substr(dot + 1));
-  if (ext == "vcd") {
-    return load_vcd(path);
-  }
-  if (ext == "csv") {
-    return load_csv(path);
-  }
-  if (ext == "sr") {
-    return load_sr(path);
+  try {
+    if (ext == "vcd") {
+      return load_vcd(path);
+    }
+    if (ext == "csv") {
+      return load_csv(path);
+    }
+    if (ext == "sr") {
+      return load_sr(path);
+    }
+  } catch (const std::logic_error&) {  // std::stod on a malformed time or timescale
+    fail(path, "a number in the file cannot be read");
   }
   throw cli::usage_error{path + ": a recording is a .sr, .vcd or .csv file"};
 }

@@ -160,7 +160,7 @@ CLI::App* child(CLI::App* parent, const std::string& name, const std::string& he
   return sub;
 }
 
-void add_options(leaf& l) {
+void add_options(leaf& l, bool prints) {
   for (const option_use& u : l.uses) {
     const option_info& i = info(u.name);
     CLI::Option* o = l.app->add_option("--" + u.name, l.values[u.name], i.help);
@@ -176,7 +176,9 @@ void add_options(leaf& l) {
   for (const std::string& s : l.switch_names) {
     l.given[s] = l.app->add_flag("--" + s, info(s).help);
   }
-  l.app->add_flag("--json", l.json, "print one JSON object per line instead of text");
+  if (prints) {  // an emulator prints nothing on standard output
+    l.app->add_flag("--json", l.json, "print one JSON object per line instead of text");
+  }
 }
 
 std::string protocol_help(const std::string& protocol) {
@@ -207,25 +209,26 @@ std::string listing() {
 
 }  // namespace
 
+namespace {
+
+template <class T>
+std::vector<T> gather(std::vector<T> protocol_entries::*member) {
+  std::vector<T> out;
+  for (const auto& p : all_protocols()) {
+    out.insert(out.end(), (p.*member).begin(), (p.*member).end());
+  }
+  return out;
+}
+
+}  // namespace
+
 const std::vector<decoder>& decoders() {
-  static const std::vector<decoder> list = [] {
-    std::vector<decoder> out;
-    for (const auto& p : all_protocols()) {
-      out.insert(out.end(), p.decoders.begin(), p.decoders.end());
-    }
-    return out;
-  }();
+  static const std::vector<decoder> list = gather(&protocol_entries::decoders);
   return list;
 }
 
 const std::vector<command>& commands() {
-  static const std::vector<command> list = [] {
-    std::vector<command> out;
-    for (const auto& p : all_protocols()) {
-      out.insert(out.end(), p.commands.begin(), p.commands.end());
-    }
-    return out;
-  }();
+  static const std::vector<command> list = gather(&protocol_entries::commands);
   return list;
 }
 
@@ -269,7 +272,7 @@ int main_of(int argc, char** argv) {
     if (d.input) {
       in->required();
     }
-    add_options(l);
+    add_options(l, true);
     const line_handler handle = d.handle;
     const bool needs_input = d.input;
     l.run = [handle, needs_input](const options& o) {
@@ -290,7 +293,7 @@ int main_of(int argc, char** argv) {
     for (std::size_t i = 0; i < c.positional.size(); ++i) {
       l.app->add_option(c.positional[i], l.positional[i], c.positional[i])->required();
     }
-    add_options(l);
+    add_options(l, std::string(c.group) != "serve");
     l.run = c.run;
   }
 

@@ -50,31 +50,36 @@ struct limits {
   }
 };
 
-// `done` says whether enough frames were seen.
-template <class OnBytes, class OnTick, class Done>
-int listen(serial::port& port, const limits& l, std::uint32_t start, OnBytes on_bytes,
-           OnTick on_tick, Done done) {
+// Watches the port until Ctrl-C, --count frames or --duration: every read's bytes go to the
+// monitor with their arrival time, and the time since the last byte after every read; then the
+// monitor settles what it holds and the summary is printed.
+template <class Monitor>
+int watch(serial::port& port, const limits& l, Monitor& m, const char* summary_key) {
   serial::install_stop_handler();
+  const std::uint32_t start = serial::now_us();
   std::uint8_t buffer[256];
   std::uint32_t last_byte = start;
-  while (!serial::stop_requested() && !done()) {
-    const std::uint32_t now = serial::now_us();
-    if (l.duration != 0 && now - start >= l.duration * 1000000U) {
+  int status = 0;
+  while (!serial::stop_requested() && (l.count == 0 || m.counts().frames < l.count)) {
+    if (l.duration != 0 && serial::now_us() - start >= l.duration * 1000000U) {
       break;
     }
     const long n = port.read_some(buffer, sizeof buffer, 2);
     if (n < 0) {
       std::cerr << "motionbus: read error\n";
-      return 1;
+      status = 1;
+      break;
     }
     const std::uint32_t t = serial::now_us();
     if (n > 0) {
       last_byte = t;
-      on_bytes(buffer, static_cast<std::size_t>(n), t - start);
+      m.bytes(buffer, static_cast<std::size_t>(n), t - start);
     }
-    on_tick(t - start, t - last_byte);
+    m.tick(t - start, t - last_byte);
   }
-  return 0;
+  m.end(serial::now_us() - start);
+  cli::print_record(m.counts().summary(summary_key));
+  return status;
 }
 
 int monitor_modbus(const cli::options& opts) {
@@ -91,15 +96,7 @@ int monitor_modbus(const cli::options& opts) {
   const std::uint32_t bits = 1U + 8U + (s.parity == 'N' ? 0U : 1U) + s.stop_bits;
   modbus_monitor m(fc11, t35 > min_gap_us ? t35 : min_gap_us, bits * 1000000U / s.baud,
                    l.response_us);
-  const std::uint32_t start = serial::now_us();
-  const int status = listen(
-      port, l, start,
-      [&](const std::uint8_t* d, std::size_t n, std::uint32_t t) { m.bytes(d, n, t); },
-      [&](std::uint32_t t, std::uint32_t silent) { m.tick(t, silent); },
-      [&] { return l.count != 0 && m.counts().frames >= l.count; });
-  m.end(serial::now_us() - start);
-  cli::print_record(m.counts().summary("slave"));
-  return status;
+  return watch(port, l, m, "slave");
 }
 
 int monitor_tformat(const cli::options& opts) {
@@ -118,15 +115,7 @@ int monitor_tformat(const cli::options& opts) {
     return 1;
   }
   tformat_monitor m(min_gap_us, 10U * 1000000U / s.baud, l.response_us);
-  const std::uint32_t start = serial::now_us();
-  const int status = listen(
-      port, l, start,
-      [&](const std::uint8_t* d, std::size_t n, std::uint32_t t) { m.bytes(d, n, t); },
-      [&](std::uint32_t t, std::uint32_t silent) { m.tick(t, silent); },
-      [&] { return l.count != 0 && m.counts().frames >= l.count; });
-  m.end(serial::now_us() - start);
-  cli::print_record(m.counts().summary("data_id"));
-  return status;
+  return watch(port, l, m, "data_id");
 }
 
 }  // namespace
