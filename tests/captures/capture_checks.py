@@ -94,6 +94,17 @@ def tb_vcd(cli, source, work):
         "crc=0x8776",
         "time_us=20167 dir=response latency_us=19167  ok  slave=17 function=0x03 byte_count=6 "
         "values=555,0,100 crc=0xBAC8"], f"{text}")
+    text = subprocess.run([cli, "decode", "biss", "capture", vcd, "--clock", "ma", "--data",
+                           "slo"], stdout=subprocess.PIPE, text=True, timeout=60).stdout
+    check("VCD (Icarus): the BiSS-C frames in text", text.splitlines()[:1] == [
+        "time_us=2 clocks=45  ok  position=123456 ne=1 nw=1 cds=0 crc=0x3E start=3 ack_bits=3"],
+        text)
+    text = subprocess.run([cli, "decode", "tformat", "capture", vcd, "--line", "tf_line"],
+                          stdout=subprocess.PIPE, text=True, timeout=60).stdout
+    check("VCD (Icarus): the T-format frames in text", text.splitlines()[:2] == [
+        "time_us=200 dir=request  ok  data_id=3 cf=0x1A",
+        "time_us=206 dir=response latency_us=6  ok  data_id=3 cf=0x1A sf=0x20 ea0=0 ea1=1 ca0=0 "
+        "ca1=0 abs=74565 abm=4660 enid=0x11 almc=0xC0 alarms=BE,BA crc=0xAA"], text)
     frames, summary, status, err = decode(cli, "tformat", "capture", vcd, "--line", "tf_line")
     check("VCD (Icarus): the T-format request and response, both directions labelled",
           [(f.get("time_us"), f.get("dir"), f.get("data_id")) for f in frames] ==

@@ -246,6 +246,10 @@ TEST_CASE("read modbus --fc11 sm: the two-byte version reply is framed and decod
         "{\"ok\":true,\"slave\":1,\"function\":17,\"version_upper\":2,\"version_lower\":3,"
         "\"version\":\"2.0.3\",\"crc\":48144}\n");
   CHECK(status == 0);
+  std::this_thread::sleep_for(std::chrono::milliseconds(120));
+  CHECK(testcli::run_as_is("read modbus --slave 1 --function 17 --fc11 sm" + dev, &status) ==
+        "ok  slave=1 function=0x11 version_upper=2 version_lower=3 version=2.0.3 crc=0xBC10\n");
+  CHECK(status == 0);
   // in the standard layout, 02 is a byte count with one byte present: the silence ends the
   // frame and the count is refused
   CHECK(testcli::run("read modbus --slave 1 --function 17 --timeout-ms 300" + dev, &status) ==
