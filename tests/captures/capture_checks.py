@@ -104,7 +104,8 @@ def tb_vcd(cli, source, work):
     check("VCD (Icarus): the T-format frames in text", text.splitlines()[:2] == [
         "time_us=200 dir=request  ok  data_id=3 cf=0x1A",
         "time_us=206 dir=response latency_us=6  ok  data_id=3 cf=0x1A sf=0x20 ea0=0 ea1=1 ca0=0 "
-        "ca1=0 abs=74565 abm=4660 enid=0x11 almc=0xC0 alarms=BE,BA crc=0xAA"], text)
+        "ca1=0 abs=74565 abm=4660 enid=0x11 almc=0xC0 alarms=\"BE battery error, BA battery alarm\" "
+        "crc=0xAA"], text)
     frames, summary, status, err = decode(cli, "tformat", "capture", vcd, "--line", "tf_line")
     check("VCD (Icarus): the T-format request and response, both directions labelled",
           [(f.get("time_us"), f.get("dir"), f.get("data_id")) for f in frames] ==

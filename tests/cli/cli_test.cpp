@@ -95,7 +95,7 @@ TEST_CASE("text output: hex where engineers think in hex, failures with their ev
   int status = -1;
   CHECK(testcli::run_as_is("decode tformat response 1a2045230111341200c0aa", &status) ==
         "ok  data_id=3 cf=0x1A sf=0x20 ea0=0 ea1=1 ca0=0 ca1=0 abs=74565 abm=4660 enid=0x11 "
-        "almc=0xC0 alarms=BE,BA crc=0xAA\n");
+        "almc=0xC0 alarms=\"BE battery error, BA battery alarm\" crc=0xAA\n");
   CHECK(status == 0);
   CHECK(testcli::run_as_is("decode modbus request 1103006B00037688", &status) ==
         "FAIL crc_mismatch  expected=0x8776 received=0x8876\n");

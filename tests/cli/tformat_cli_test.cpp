@@ -239,7 +239,8 @@ TEST_CASE("read tformat: one transaction with an encoder on a pseudo-terminal") 
   encoder.join();
   CHECK(text_status == 0);
   CHECK(text.find("ok  data_id=3 cf=0x1A sf=0x20") == 0);
-  CHECK(text.find("abs=109517 abm=42 enid=0x11 almc=0x80 alarms=BA crc=0x") != std::string::npos);
+  CHECK(text.find("abs=109517 abm=42 enid=0x11 almc=0x80 alarms=\"BA battery alarm\" crc=0x") !=
+        std::string::npos);
   CHECK(status == 0);
   CHECK(out.find("\"ok\":true,\"data_id\":3") != std::string::npos);
   CHECK(out.find("\"abs\":109517,\"abm\":42,\"enid\":17,\"almc\":128,\"alarms\":[\"BA\"]") !=

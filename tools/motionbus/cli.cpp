@@ -99,6 +99,12 @@ record& record::bytes(const std::string& key, const std::uint8_t* data, std::siz
   text_.emplace_back(key, size == 0 ? "-" : "[" + t + "]");
   return *this;
 }
+record& record::add(const std::string& key, const nlohmann::ordered_json& value,
+                    const std::string& text) {
+  json_[key] = value;
+  text_.emplace_back(key, text);
+  return *this;
+}
 record& record::append(const record& other) {
   for (const auto& item : other.json_.items()) {
     json_[item.key()] = item.value();

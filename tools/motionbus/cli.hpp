@@ -39,6 +39,8 @@ class record {
   /// Raw bytes: lower-case contiguous hex in JSON (as the CLI always wrote them), spaced upper-case
   /// hex in text.
   record& bytes(const std::string& key, const std::uint8_t* data, std::size_t size);
+  /// A field whose JSON value and text differ otherwise (e.g. alarm symbols, spelled out in text).
+  record& add(const std::string& key, const nlohmann::ordered_json& value, const std::string& text);
   /// Appends the fields of `other` (after this record's own).
   record& append(const record& other);
 

@@ -28,6 +28,20 @@ namespace {
 std::int64_t bit(bool b) {
   return b ? 1 : 0;
 }
+
+const char* alarm_name(tf::almc_bit a) {
+  switch (a) {
+    case tf::almc_bit::os: return "over-speed";
+    case tf::almc_bit::fs: return "full-absolute status";
+    case tf::almc_bit::ce: return "counting error";
+    case tf::almc_bit::of: return "counter overflow";
+    case tf::almc_bit::oh: return "over-heat";
+    case tf::almc_bit::me: return "multi-turn error";
+    case tf::almc_bit::be: return "battery error";
+    case tf::almc_bit::ba: return "battery alarm";
+  }
+  return "unknown";
+}
 }  // namespace
 
 cli::record response_record(const tf::response& r) {
@@ -53,13 +67,16 @@ cli::record response_record(const tf::response& r) {
   }
   if (lay.almc()) {
     f.hex("almc", static_cast<std::int64_t>(r.almc));
-    std::vector<std::string> names;
+    // JSON: the symbols of the ALMC bits (the T-format specification, Table 3); text: their names
+    std::vector<std::string> symbols;
+    std::string text;
     for (tf::almc_bit a : tf::all_alarms) {
       if (tf::has_alarm(r.almc, a)) {
-        names.emplace_back(tf::symbol(a));
+        symbols.emplace_back(tf::symbol(a));
+        text += std::string(text.empty() ? "" : ", ") + tf::symbol(a) + " " + alarm_name(a);
       }
     }
-    f.add("alarms", names);
+    f.add("alarms", symbols, text.empty() ? "none" : "\"" + text + "\"");
   }
   if (lay.eeprom()) {
     f.hex("address", static_cast<std::int64_t>(r.address));
