@@ -4,9 +4,13 @@
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${MOTIONBUS_BUILD_DIR:-$root/build}/bench-release"
-bash "$root/tools/scripts/ensure-packages.sh" cmake ninja-build g++ libbenchmark-dev
+bash "$root/tools/scripts/ensure-packages.sh" cmake ninja-build g++ libbenchmark-dev pkg-config \
+  libmodbus-dev
 cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DMOTIONBUS_BUILD_TESTS=OFF \
   -DMOTIONBUS_BUILD_TOOLS=OFF -DMOTIONBUS_BUILD_EXAMPLES=OFF -DMOTIONBUS_BUILD_FUZZ=OFF >/dev/null
-cmake --build "$build" --target motionbus_bench | grep -E "error|FAILED" -A5 || true
-"$build/bench/motionbus_bench" --benchmark_repetitions=3 --benchmark_report_aggregates_only=true \
-  --benchmark_filter="${1:-.}" "${@:2}"
+cmake --build "$build" --target motionbus_bench motionbus_bench_libmodbus |
+  grep -E "error|FAILED" -A5 || true
+for program in motionbus_bench motionbus_bench_libmodbus; do
+  "$build/bench/$program" --benchmark_repetitions=3 --benchmark_report_aggregates_only=true \
+    --benchmark_filter="${1:-.}" "${@:2}"
+done

@@ -131,10 +131,12 @@ class unit_on_pty {
         size = mo::serve_rtu(unit_, 1, adu, out).value_or(0);
       }
     }
+    // Taken before the write: the CLI cannot read the reply before it (after the write, this
+    // thread may be descheduled while the CLI already reads and starts its 0.1 s).
+    s.replied = clock_type::now();
     if (size > 0U) {
       REQUIRE(write(master_, out, size) == static_cast<long>(size));
     }
-    s.replied = clock_type::now();
     const std::lock_guard<std::mutex> lock(mutex_);
     seen_.push_back(s);
   }
