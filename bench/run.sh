@@ -11,6 +11,10 @@ cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DMOTIONBUS_BUI
 cmake --build "$build" --target motionbus_bench motionbus_bench_libmodbus |
   grep -E "error|FAILED" -A5 || true
 for program in motionbus_bench motionbus_bench_libmodbus; do
-  "$build/bench/$program" --benchmark_repetitions=3 --benchmark_report_aggregates_only=true \
-    --benchmark_filter="${1:-.}" "${@:2}"
+  # a filter may select benchmarks of one program only
+  if "$build/bench/$program" --benchmark_list_tests --benchmark_filter="${1:-.}" 2>/dev/null |
+      grep -q .; then
+    "$build/bench/$program" --benchmark_repetitions=3 --benchmark_report_aggregates_only=true \
+      --benchmark_filter="${1:-.}" "${@:2}"
+  fi
 done
