@@ -30,7 +30,7 @@ cleanup() {
 }
 trap cleanup EXIT
 for _ in $(seq 50); do [ -e "$pty_dir/encoder" ] && break; sleep 0.1; done
-"$cli" serve tformat-encoder --device "$pty_dir/encoder" 2>/dev/null &
+"$cli" serve tformat-encoder --device "$pty_dir/encoder" >/dev/null 2>&1 &
 serve_pid=$!
 sleep 0.3
 for i in 1 2 3; do
@@ -49,7 +49,7 @@ echo "== Modbus RTU: client <-> Tsubaki SM unit emulator over a pseudo-terminal 
 socat pty,raw,echo=0,link="$pty_dir/unit" pty,raw,echo=0,link="$pty_dir/master" &
 socat2_pid=$!
 for _ in $(seq 50); do [ -e "$pty_dir/master" ] && break; sleep 0.1; done
-"$cli" serve sm-unit --device "$pty_dir/unit" 2>/dev/null &
+"$cli" serve sm-unit --device "$pty_dir/unit" >/dev/null 2>&1 &
 sm_pid=$!
 sleep 0.3
 for i in 1 2; do

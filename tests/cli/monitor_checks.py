@@ -84,6 +84,13 @@ def run(cmd):
                           timeout=20).stdout
 
 
+def stop_server(server):
+    """Stops an emulator; the lines it printed (one per request it served)."""
+    server.terminate()
+    out, _ = server.communicate(timeout=10)
+    return [l for l in out.splitlines() if l.strip()]
+
+
 def stop_monitor(monitor):
     time.sleep(0.3)
     monitor.send_signal(signal.SIGINT)
@@ -95,7 +102,7 @@ def stop_monitor(monitor):
 def modbus(cli):
     tap = Tap()
     tap.start()
-    server = start([cli, "serve", "sm-unit", "--device", tap.path("device")])
+    server = start([cli, "serve", "sm-unit", "--device", tap.path("device"), "--json"])
     monitor = start([cli, "monitor", "modbus", "--device", tap.path("monitor"), "--json",
                      "--response-ms", "300"])
     time.sleep(0.5)
@@ -118,10 +125,13 @@ def modbus(cli):
     ask("--slave", "1", "--function", "3", "--address", "36", "--quantity", "1")  # 6: bad copy
     ask("--slave", "1", "--function", "4", "--address", "0", "--quantity", "2")  # 7: a pair
     frames, summary = stop_monitor(monitor)
-    server.terminate()
+    served = stop_server(server)
     tap.running = False
     for f in frames:
         print("  " + json.dumps(f))
+    check("modbus: the emulator printed the four requests it answered (--json)",
+          [(json.loads(l).get("function"), json.loads(l).get("answer", "none")[:4])
+           for l in served] == [(3, "0103"), (3, "0183"), (3, "0103"), (4, "0104")], f"{served}")
     kinds = [(f.get("dir"), f.get("ok"), f.get("error"), f.get("function"), f.get("exception"))
              for f in frames]
     want = [
@@ -169,8 +179,12 @@ def modbus_text(cli):
     time.sleep(0.3)
     monitor.send_signal(signal.SIGINT)
     out, _ = monitor.communicate(timeout=10)
-    server.terminate()
+    served = stop_server(server)
     tap.running = False
+    check("modbus text: the emulator's line for what it served", len(served) == 1 and
+          served[0].startswith("time_us=") and served[0].endswith(
+              "ok  slave=1 function=0x03 address=0x0024 quantity=1 crc=0x01C4 "
+              "answer=[01 03 02 03 20 B9 6C]"), f"{served}")
     lines = out.splitlines()
     print("\n".join("  " + l for l in lines))
     check("modbus text: the request line", len(lines) == 3 and lines[0].startswith("time_us=")
@@ -187,7 +201,7 @@ def modbus_text(cli):
 def tformat(cli):
     tap = Tap()
     tap.start()
-    encoder = start([cli, "serve", "tformat-encoder", "--device", tap.path("device")])
+    encoder = start([cli, "serve", "tformat-encoder", "--device", tap.path("device"), "--json"])
     monitor = start([cli, "monitor", "tformat", "--device", tap.path("monitor"), "--json",
                      "--response-ms", "300"])
     time.sleep(0.5)
@@ -211,8 +225,11 @@ def tformat(cli):
     time.sleep(0.2)
     ask("--id", "3")                                          # a pair
     frames, summary = stop_monitor(monitor)
-    encoder.terminate()
+    served = [json.loads(l) for l in stop_server(encoder)]
     tap.running = False
+    check("tformat: the emulator printed each request it answered (--json)",
+          [(l.get("data_id"), l.get("answer", "")[:2]) for l in served] ==
+          [(3, "1a"), (6, "32"), (13, "ea"), (0, "02"), (1, "8a"), (3, "1a")], f"{served}")
     for f in frames:
         print("  " + json.dumps(f))
     kinds = [(f.get("dir"), f.get("ok"), f.get("error"), f.get("data_id")) for f in frames]

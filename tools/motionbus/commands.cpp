@@ -160,7 +160,7 @@ CLI::App* child(CLI::App* parent, const std::string& name, const std::string& he
   return sub;
 }
 
-void add_options(leaf& l, bool prints) {
+void add_options(leaf& l) {
   for (const option_use& u : l.uses) {
     const option_info& i = info(u.name);
     CLI::Option* o = l.app->add_option("--" + u.name, l.values[u.name], i.help);
@@ -176,9 +176,7 @@ void add_options(leaf& l, bool prints) {
   for (const std::string& s : l.switch_names) {
     l.given[s] = l.app->add_flag("--" + s, info(s).help);
   }
-  if (prints) {  // an emulator prints nothing on standard output
-    l.app->add_flag("--json", l.json, "print one JSON object per line instead of text");
-  }
+  l.app->add_flag("--json", l.json, "print one JSON object per line instead of text");
 }
 
 std::string protocol_help(const std::string& protocol) {
@@ -272,7 +270,7 @@ int main_of(int argc, char** argv) {
     if (d.input) {
       in->required();
     }
-    add_options(l, true);
+    add_options(l);
     const line_handler handle = d.handle;
     const bool needs_input = d.input;
     l.run = [handle, needs_input](const options& o) {
@@ -293,7 +291,7 @@ int main_of(int argc, char** argv) {
     for (std::size_t i = 0; i < c.positional.size(); ++i) {
       l.app->add_option(c.positional[i], l.positional[i], c.positional[i])->required();
     }
-    add_options(l, std::string(c.group) != "serve");
+    add_options(l);
     l.run = c.run;
   }
 

@@ -3,6 +3,8 @@
 
 #include <motionbus/modbus/framer.hpp>
 
+#include <iostream>
+
 namespace mb = motionbus;
 namespace mo = motionbus::modbus;
 
@@ -64,6 +66,21 @@ mo::report_id_format fc11_of(const cli::options& opts, mo::report_id_format fall
 
 const char* fc11_name(mo::report_id_format f) {
   return f == mo::report_id_format::two_bytes_no_count ? "sm" : "standard";
+}
+
+void print_served(const mo::rtu_frame& request, const std::uint8_t* reply, std::size_t size,
+                  std::uint32_t time_us) {
+  cli::outcome o = describe_request(request);
+  cli::record& r = o.ok ? o.fields : o.evidence;
+  if (size > 0) {
+    r.bytes("answer", reply, size);
+  } else {
+    r.add("answer", "none");
+  }
+  cli::record at;
+  at.add("time_us", static_cast<std::int64_t>(time_us));
+  cli::print(o, at);
+  std::cout.flush();
 }
 
 std::string exception_name(std::uint8_t code) {

@@ -42,6 +42,11 @@ cli::outcome describe_response(const motionbus::modbus::rtu_frame& frame,
                                const motionbus::modbus::rtu_frame* request,
                                motionbus::modbus::report_id_format fc11);
 
+/// What an emulator served: the request's fields and the reply's bytes ("none": no reply, a
+/// broadcast or another address), one line (text or JSON) at `time_us` since it started.
+void print_served(const motionbus::modbus::rtu_frame& request, const std::uint8_t* reply,
+                  std::size_t size, std::uint32_t time_us);
+
 /// Line settings from --baud, --parity (E, N, O) and --stop-bits; defaults 9600 8E1.
 serial::settings line_settings(const cli::options& opts);
 

@@ -76,10 +76,12 @@ int serve_sm_unit(const cli::options& opts) {
       if (r.is_complete()) {
         std::uint8_t out[mo::max_rtu_size] = {};
         const auto reply = mo::serve_frame(unit, slave, r.value(), out);  // checked by the framer
-        if (reply.ok() && reply.value() > 0 && !port.write_all(out, reply.value())) {
+        const std::size_t size = reply.value_or(0);
+        if (size > 0 && !port.write_all(out, size)) {
           std::cerr << "motionbus: write error\n";
           return 1;
         }
+        modbus_io::print_served(r.value(), out, size, serial::now_us() - start);
       }
       if (n == 0) {
         break;
@@ -270,14 +272,16 @@ protocol_entries sm_unit_entries() {
   read_options.insert(read_options.end(),
                       {{"password", "password"}, {"read", "instantaneous"}, {"fc11", "sm"}});
   protocol_entries e;
-  e.commands.push_back({"serve",
-                        "sm-unit",
-                        "",
-                        "the Tsubaki SM unit emulator: a Modbus RTU server on the port",
-                        &serve_sm_unit,
-                        line,
-                        {},
-                        {}});
+  e.commands.push_back(
+      {"serve",
+       "sm-unit",
+       "",
+       "the Tsubaki SM unit emulator: a Modbus RTU server on the port; prints each "
+       "request served with the answer's bytes",
+       &serve_sm_unit,
+       line,
+       {},
+       {}});
   e.commands.push_back({"read",
                         "sm-unit",
                         "",

@@ -262,11 +262,27 @@ int serve_encoder(const cli::options& opts) {
     }
     if (complete) {
       const motionbus::devices::ts5700n8500::reply r = enc.respond(mb::byte_view(frame, size), now);
-      size = 0;
       if (r.size > 0 && !port.write_all(r.bytes, r.size)) {
         std::cerr << "motionbus: write error\n";
         return 1;
       }
+      // what was served: the request's fields (or why it is not one) and the reply's bytes
+      const auto q = tf::decode_request(mb::byte_view(frame, size));
+      cli::outcome o = q.is_complete()
+                           ? cli::outcome::success(tformat_io::request_record(q.value()))
+                       : q.is_failed() ? cli::failure_of(q, 2)
+                                       : cli::outcome::failure("truncated");
+      cli::record& fields = o.ok ? o.fields : o.evidence;
+      if (r.size > 0) {
+        fields.bytes("answer", r.bytes, r.size);
+      } else {
+        fields.add("answer", "none");
+      }
+      cli::record at;
+      at.add("time_us", static_cast<std::int64_t>(now - start));
+      cli::print(o, at);
+      std::cout.flush();
+      size = 0;
     }
   }
   return 0;
@@ -352,14 +368,16 @@ protocol_entries tformat_entries() {
                         {"id", {"address", "0"}, {"data", "0"}, "vcd", {"baud", "2500000"}},
                         {},
                         {}});
-  e.commands.push_back({"serve",
-                        "tformat-encoder",
-                        "",
-                        "the TS5700N8500 encoder emulator: answers every request on the port",
-                        &serve_encoder,
-                        {"device", {"baud", "2500000"}},
-                        {},
-                        {}});
+  e.commands.push_back(
+      {"serve",
+       "tformat-encoder",
+       "",
+       "the TS5700N8500 encoder emulator: answers every request on the port and prints it "
+       "with the answer's bytes",
+       &serve_encoder,
+       {"device", {"baud", "2500000"}},
+       {},
+       {}});
   e.commands.push_back({"read",
                         "tformat",
                         "",
