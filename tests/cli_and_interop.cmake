@@ -59,6 +59,8 @@ if(TARGET motionbus_cli)
       add_executable(motionbus_libmodbus_${peer} interop/libmodbus_${peer}.c)
       target_include_directories(motionbus_libmodbus_${peer} SYSTEM PRIVATE
         ${MOTIONBUS_LIBMODBUS_INCLUDE_DIRS})
+      target_include_directories(motionbus_libmodbus_${peer} PRIVATE
+        "${CMAKE_CURRENT_SOURCE_DIR}/support")
       target_link_libraries(motionbus_libmodbus_${peer} PRIVATE ${MOTIONBUS_LIBMODBUS_LINK_LIBRARIES})
       target_compile_options(motionbus_libmodbus_${peer} PRIVATE -Wall -Wextra -Werror)
     endforeach()

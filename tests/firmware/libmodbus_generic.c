@@ -7,26 +7,16 @@
 #include <stdio.h>
 #include <string.h>
 
-static int failures = 0;
-
-static void check(const char* name, int condition) {
-  printf("%s %s\n", condition ? "ok  " : "FAIL", name);
-  if (!condition) {
-    ++failures;
-  }
-}
+#include "libmodbus_peer.h"
 
 int main(int argc, char** argv) {
   if (argc < 2) {
     return 2;
   }
-  modbus_t* ctx = modbus_new_rtu(argv[1], 9600, 'E', 8, 1);
-  if (ctx == NULL || modbus_connect(ctx) != 0) {
-    fprintf(stderr, "cannot open %s\n", argv[1]);
+  modbus_t* ctx = open_master(argv[1]);
+  if (ctx == NULL) {
     return 1;
   }
-  modbus_set_response_timeout(ctx, 1, 0);
-  modbus_set_slave(ctx, 1);
   uint8_t bits[100] = {0};
   uint16_t regs[100] = {0};
 

@@ -3,23 +3,16 @@ pty: reads and writes of each table, and the exceptions for bad addresses and qu
 
 Usage: pymodbus_generic.py DEVICE. Exit 0 when every check holds. Run with Debian's python3.
 """
+import os
 import sys
 
-from pymodbus.client import ModbusSerialClient
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "support"))
+from pymodbus_peer import Checks, open_master  # noqa: E402  (tests/support/pymodbus_peer.py)
 
 
 def main() -> int:
-    # strict=False: pymodbus would otherwise set an inter-character timeout that pyserial
-    # cannot apply to a pseudo-terminal.
-    client = ModbusSerialClient(port=sys.argv[1], baudrate=9600, parity="E", stopbits=1,
-                                bytesize=8, timeout=1, strict=False)
-    assert client.connect(), "cannot open the port"
-    failures = []
-
-    def check(name, condition):
-        print(("ok   " if condition else "FAIL ") + name)
-        if not condition:
-            failures.append(name)
+    client = open_master(sys.argv[1])
+    check = Checks()
 
     r = client.write_registers(0, [100 + i for i in range(20)], slave=1)
     check("FC10 holding 0..19", not r.isError())
@@ -43,7 +36,7 @@ def main() -> int:
     r = client.read_holding_registers(0, 1, slave=9)
     check("another slave stays silent", r.isError())
     client.close()
-    return 1 if failures else 0
+    return 1 if check.failures else 0
 
 
 if __name__ == "__main__":

@@ -42,10 +42,12 @@ const capture::channel& channel_of(const capture::recording& r, const cli::optio
   return r.find(*name);
 }
 
-// Feeds the bytes a UART decoder found to a bus monitor: a silence of `gap_us` between two
-// bytes ends what is held. Parity and framing errors are printed where they occur.
+// Feeds the bytes a UART decoder found to a bus monitor (a silence of `gap_us` between two
+// bytes ends what is held; parity and framing errors are printed where they occur), then
+// prints the summary under `summary_key`. 0 when every frame was sound, else 1.
 template <class Monitor>
-void feed(Monitor& m, const std::vector<capture::uart_byte>& bytes, std::uint32_t gap_us) {
+int decode_line(Monitor& m, const std::vector<capture::uart_byte>& bytes, std::uint32_t gap_us,
+                const char* summary_key) {
   double last_end = 0;
   bool first = true;
   for (const capture::uart_byte& b : bytes) {
@@ -65,6 +67,9 @@ void feed(Monitor& m, const std::vector<capture::uart_byte>& bytes, std::uint32_
     first = false;
   }
   m.end(us(last_end) + gap_us);
+  cli::print_record(m.counts().summary(summary_key));
+  const bus_monitor::tally& t = m.counts();
+  return t.crc_errors + t.other_errors + t.missing + t.garbage_bytes == 0 ? 0 : 1;
 }
 
 int modbus_capture(const cli::options& opts) {
@@ -72,16 +77,12 @@ int modbus_capture(const cli::options& opts) {
   const capture::channel& line = channel_of(r, opts, "line");
   const serial::settings s = modbus_io::line_settings(opts);
   const mo::report_id_format fc11 = modbus_io::fc11_of(opts, mo::report_id_format::standard);
-  const mo::parity p =
-      s.parity == 'N' ? mo::parity::none : (s.parity == 'O' ? mo::parity::odd : mo::parity::even);
+  const mo::parity p = modbus_io::parity_of(s);
   const std::uint32_t t35 = mo::t35_us(s.baud, p, s.stop_bits);
-  const std::uint32_t bits = 1U + 8U + (s.parity == 'N' ? 0U : 1U) + s.stop_bits;
   // a response is expected before the next request: the recording's end settles the last one
-  bus_monitor::modbus_monitor m(fc11, t35, bits * 1000000U / s.baud, ~std::uint32_t{0});
-  feed(m, capture::decode_uart(line, s.baud, s.parity, s.stop_bits), t35);
-  cli::print_record(m.counts().summary("slave"));
-  const bus_monitor::tally& t = m.counts();
-  return t.crc_errors + t.other_errors + t.missing + t.garbage_bytes == 0 ? 0 : 1;
+  bus_monitor::modbus_monitor m(fc11, t35, mo::character_time_us(s.baud, p, s.stop_bits),
+                                ~std::uint32_t{0});
+  return decode_line(m, capture::decode_uart(line, s.baud, s.parity, s.stop_bits), t35, "slave");
 }
 
 int tformat_capture(const cli::options& opts) {
@@ -94,10 +95,7 @@ int tformat_capture(const cli::options& opts) {
   const auto byte_us = static_cast<std::uint32_t>(std::ceil(10e6 / baud));
   const std::uint32_t gap = 10 * byte_us;  // well past the encoder's turnaround
   bus_monitor::tformat_monitor m(gap, byte_us, ~std::uint32_t{0});
-  feed(m, capture::decode_uart(line, baud, 'N', 1), gap);
-  cli::print_record(m.counts().summary("data_id"));
-  const bus_monitor::tally& t = m.counts();
-  return t.crc_errors + t.other_errors + t.missing + t.garbage_bytes == 0 ? 0 : 1;
+  return decode_line(m, capture::decode_uart(line, baud, 'N', 1), gap, "data_id");
 }
 
 int biss_capture(const cli::options& opts) {

@@ -255,13 +255,20 @@ int main_of(int argc, char** argv) {
   version_app->add_flag("--json", version_json, "print one JSON object");
 
   std::deque<leaf> leaves;  // stable addresses: CLI11 binds to their members
-  for (const decoder& d : decoders()) {
-    CLI::App* parent = child(&app, d.group, "");
-    CLI::App* at = *d.kind ? child(parent, d.protocol, protocol_help(d.protocol)) : parent;
+  // a leaf at group / protocol [/ kind]
+  auto add_leaf = [&](const char* group, const char* protocol, const char* kind, const char* help,
+                      const std::vector<option_use>& uses,
+                      const std::vector<std::string>& switches) -> leaf& {
+    CLI::App* parent = child(&app, group, "");
+    CLI::App* at = *kind ? child(parent, protocol, protocol_help(protocol)) : parent;
     leaf& l = leaves.emplace_back();
-    l.app = at->add_subcommand(*d.kind ? d.kind : d.protocol, d.help);
-    l.uses = d.value_options;
-    l.switch_names = d.switch_options;
+    l.app = at->add_subcommand(*kind ? kind : protocol, help);
+    l.uses = uses;
+    l.switch_names = switches;
+    return l;
+  };
+  for (const decoder& d : decoders()) {
+    leaf& l = add_leaf(d.group, d.protocol, d.kind, d.help, d.value_options, d.switch_options);
     l.positional.resize(1);
     CLI::Option* in = l.app->add_option(
         "input", l.positional[0],
@@ -281,12 +288,7 @@ int main_of(int argc, char** argv) {
     };
   }
   for (const command& c : commands()) {
-    CLI::App* parent = child(&app, c.group, "");
-    CLI::App* at = *c.kind ? child(parent, c.protocol, protocol_help(c.protocol)) : parent;
-    leaf& l = leaves.emplace_back();
-    l.app = at->add_subcommand(*c.kind ? c.kind : c.protocol, c.help);
-    l.uses = c.value_options;
-    l.switch_names = c.switch_options;
+    leaf& l = add_leaf(c.group, c.protocol, c.kind, c.help, c.value_options, c.switch_options);
     l.positional.resize(c.positional.size());
     for (std::size_t i = 0; i < c.positional.size(); ++i) {
       l.app->add_option(c.positional[i], l.positional[i], c.positional[i])->required();

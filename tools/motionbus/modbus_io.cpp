@@ -127,6 +127,11 @@ serial::settings line_settings(const cli::options& opts) {
   return s;
 }
 
+mo::parity parity_of(const serial::settings& s) {
+  return s.parity == 'N' ? mo::parity::none
+                         : (s.parity == 'O' ? mo::parity::odd : mo::parity::even);
+}
+
 bool open_port(serial::port& port, const cli::options& opts) {
   const auto device = opts.get("device");
   if (!device) {

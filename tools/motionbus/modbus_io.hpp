@@ -4,6 +4,7 @@
 
 #include <motionbus/modbus/pdu_client.hpp>
 #include <motionbus/modbus/rtu.hpp>
+#include <motionbus/modbus/timing.hpp>
 
 #include <cstdint>
 #include <string>
@@ -49,6 +50,9 @@ void print_served(const motionbus::modbus::rtu_frame& request, const std::uint8_
 
 /// Line settings from --baud, --parity (E, N, O) and --stop-bits; defaults 9600 8E1.
 serial::settings line_settings(const cli::options& opts);
+
+/// The library's parity for the line settings (character and silence times: modbus/timing.hpp).
+motionbus::modbus::parity parity_of(const serial::settings& s);
 
 /// Opens --device with those settings; false (message on stderr) when it cannot.
 bool open_port(serial::port& port, const cli::options& opts);

@@ -90,12 +90,10 @@ int monitor_modbus(const cli::options& opts) {
   if (!modbus_io::open_port(port, opts)) {
     return 1;
   }
-  const mo::parity p =
-      s.parity == 'N' ? mo::parity::none : (s.parity == 'O' ? mo::parity::odd : mo::parity::even);
+  const mo::parity p = modbus_io::parity_of(s);
   const std::uint32_t t35 = mo::t35_us(s.baud, p, s.stop_bits);
-  const std::uint32_t bits = 1U + 8U + (s.parity == 'N' ? 0U : 1U) + s.stop_bits;
-  modbus_monitor m(fc11, t35 > min_gap_us ? t35 : min_gap_us, bits * 1000000U / s.baud,
-                   l.response_us);
+  modbus_monitor m(fc11, t35 > min_gap_us ? t35 : min_gap_us,
+                   mo::character_time_us(s.baud, p, s.stop_bits), l.response_us);
   return watch(port, l, m, "slave");
 }
 

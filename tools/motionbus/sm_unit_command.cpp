@@ -51,8 +51,7 @@ int serve_sm_unit(const cli::options& opts) {
   sm::emulator unit;
   mo::rtu_framer rx({mo::framer_role::server, slave});
   const serial::settings s = modbus_io::line_settings(opts);
-  const mo::parity p =
-      s.parity == 'N' ? mo::parity::none : (s.parity == 'O' ? mo::parity::odd : mo::parity::even);
+  const mo::parity p = modbus_io::parity_of(s);
   // t3.5, but at least the SM unit's own 5 ms silent interval; the OS adds its own delays
   const int silence_ms = static_cast<int>((mo::t35_us(s.baud, p, s.stop_bits) + 999U) / 1000U) + 4;
   const std::uint32_t start = serial::now_us();
