@@ -40,9 +40,8 @@ int main() {
     rx.sent(request);
     // receive interrupt: bytes arrive one by one
     for (std::size_t i = 0; i < rx_fifo_size; ++i) {
-      const auto r = rx.feed(mb::byte_view(&rx_fifo[i], 1));
-      if (r.is_complete()) {
-        position = r->abs;
+      if (rx.put(rx_fifo[i]) && rx.result().is_complete()) {
+        position = rx.result()->abs;
         ++good;
       }
     }

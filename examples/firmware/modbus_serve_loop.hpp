@@ -51,7 +51,7 @@ template <class Device, class EachPass>
     std::uint8_t byte = 0;
     if (board::uart_read(byte)) {
       last_byte = now;
-      motionbus::feed_all(rx, motionbus::byte_view(&byte, 1), [&serve](const auto& r) {
+      motionbus::put_each(rx, byte, [&serve](const auto& r) {
         if (r.is_complete()) {
           serve(r.value());
         }

@@ -53,7 +53,7 @@ void transact(tf::data_id id, std::uint8_t address) {
       if (!board::uart_read(byte)) {
         continue;
       }
-      mb::feed_all(rx, mb::byte_view(&byte, 1), [&](const auto& r) {
+      mb::put_each(rx, byte, [&](const auto& r) {
         if (!r.is_complete()) {
           ++rejected;
           return true;

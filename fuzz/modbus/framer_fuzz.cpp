@@ -1,11 +1,15 @@
 // Modbus RTU stream framer. Oracles: never holds more than 256 bytes; every frame it delivers
-// is CRC-valid, for its address, and re-encodes to bytes that occur in the input; after the
-// t3.5 signal a clean frame fed in any chunks is delivered exactly once, unchanged.
+// is CRC-valid, for its address, and re-encodes to bytes that occur in the input; put() byte by
+// byte reports what feed() in chunks does (stream_oracle.hpp); after the t3.5 signal a clean
+// frame fed in any chunks is delivered exactly once, unchanged.
 #include <motionbus/modbus/framer.hpp>
 
 #include <cstring>
+#include <tuple>
+#include <vector>
 
 #include "../fuzz_check.hpp"
+#include "../stream_oracle.hpp"
 
 namespace mb = motionbus;
 namespace mo = motionbus::modbus;
@@ -19,6 +23,13 @@ bool occurs_in(const std::uint8_t* hay, std::size_t n, const std::uint8_t* needl
     }
   }
   return false;
+}
+
+// A result as the oracle compares it: status, error, evidence, and the frame's bytes.
+auto note(const mb::decode_result<mo::rtu_frame>& r) {
+  const mo::rtu_frame& f = r.value();
+  return std::make_tuple(r.status(), r.error(), r.expected(), r.received(), f.slave, f.crc,
+                         std::vector<std::uint8_t>(f.pdu.begin(), f.pdu.end()));
 }
 
 }  // namespace
@@ -35,11 +46,15 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
                                      : mo::report_id_format::standard;
   options.ends = (data[0] & 4U) != 0 ? mo::frame_end::silence : mo::frame_end::length;
   mo::rtu_framer f(options);
+  mo::rtu_framer by_byte(options);
   if (!server) {
     f.sent(address, data[0] >> 3U);
+    by_byte.sent(address, data[0] >> 3U);
   }
   const std::uint8_t* stream = data + 3;
   const std::size_t n = size - 3;
+  const auto put_results = motionbus_fuzz::results_by_put(by_byte, mb::byte_view(stream, n), note);
+  std::vector<decltype(note(f.result()))> feed_results;
   for (std::size_t at = 0; at < n; at += chunk) {
     mb::byte_view in(stream + at, chunk < n - at ? chunk : n - at);
     for (int guard = 0;; ++guard) {
@@ -51,6 +66,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       }
       MOTIONBUS_FUZZ_CHECK(r.consumed() <= in.size());
       in = in.subspan(r.consumed());
+      feed_results.push_back(note(r));
       if (r.is_complete()) {
         std::uint8_t out[mo::max_rtu_size] = {};
         const auto k = mo::encode_rtu(r.value().slave, r.value().pdu, out);
@@ -59,6 +75,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       }
     }
   }
+  MOTIONBUS_FUZZ_CHECK(put_results == feed_results);
+  MOTIONBUS_FUZZ_CHECK(by_byte.pending() == f.pending());
   const auto last = f.idle();  // the silence ends what is held: a frame only if it is one
   if (last.is_complete()) {
     std::uint8_t out[mo::max_rtu_size] = {};

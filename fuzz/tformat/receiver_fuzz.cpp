@@ -1,12 +1,16 @@
 // T-format stream receiver. Oracles: bounded work and buffer; every frame it reports
-// re-encodes to bytes that occur in the input; after idle(), a valid frame fed in random
-// chunks is reported exactly once and unchanged.
+// re-encodes to bytes that occur in the input; put() byte by byte reports what feed() in
+// chunks does (stream_oracle.hpp); after idle(), a valid frame fed in random chunks is reported
+// exactly once and unchanged.
 #include <motionbus/tformat/codec.hpp>
 #include <motionbus/tformat/receiver.hpp>
 
 #include <cstring>
+#include <tuple>
+#include <vector>
 
 #include "../fuzz_check.hpp"
+#include "../stream_oracle.hpp"
 
 namespace mb = motionbus;
 namespace tf = motionbus::tformat;
@@ -23,6 +27,16 @@ bool occurs_in(const std::uint8_t* hay, std::size_t hay_size, const std::uint8_t
   return false;
 }
 
+// A result as the oracle compares it: status, error, evidence, and the frame re-encoded.
+auto note(const mb::decode_result<tf::response>& r) {
+  std::vector<std::uint8_t> bytes(tf::max_response_size);
+  if (r.is_complete()) {
+    bytes.resize(tf::encode_response(r.value(), mb::mutable_byte_view(bytes.data(), bytes.size()))
+                     .value_or(0));
+  }
+  return std::make_tuple(r.status(), r.error(), r.expected(), r.received(), bytes);
+}
+
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
@@ -33,12 +47,17 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   opt.echo_mode = (data[0] & 1U) != 0 ? tf::echo::expected : tf::echo::none;
   opt.check_against_request = (data[0] & 2U) != 0;
   tf::receiver rx(opt);
+  tf::receiver by_byte(opt);
   const std::size_t chunk = 1U + data[1] % 16U;
   const std::uint8_t* stream = data + 2;
   const std::size_t stream_size = size - 2;
   if ((data[0] & 4U) != 0 && stream_size > 0) {
     rx.sent(mb::byte_view(stream, stream_size < 4 ? stream_size : 4));
+    by_byte.sent(mb::byte_view(stream, stream_size < 4 ? stream_size : 4));
   }
+  const auto put_results =
+      motionbus_fuzz::results_by_put(by_byte, mb::byte_view(stream, stream_size), note);
+  std::vector<decltype(note(rx.result()))> feed_results;
   std::size_t events = 0;
   for (std::size_t at = 0; at < stream_size; at += chunk) {
     mb::byte_view in(stream + at, chunk < stream_size - at ? chunk : stream_size - at);
@@ -50,6 +69,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       }
       MOTIONBUS_FUZZ_CHECK(r.consumed() <= in.size());
       in = in.subspan(r.consumed());
+      feed_results.push_back(note(r));
       MOTIONBUS_FUZZ_CHECK(++events <= 2 * stream_size + 2);  // no endless events
       if (r.is_complete()) {
         std::uint8_t out[tf::max_response_size] = {};
@@ -61,6 +81,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       }
     }
   }
+  MOTIONBUS_FUZZ_CHECK(put_results == feed_results);
+  MOTIONBUS_FUZZ_CHECK(by_byte.pending() == rx.pending());
   // After the line goes idle, the same receiver finds the next transaction whatever came
   // before: the request is sent (and echoed when the line echoes), then the response arrives
   // in chunks and is reported exactly once, unchanged.

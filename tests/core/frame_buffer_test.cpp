@@ -53,102 +53,98 @@ TEST_CASE("frame_buffer: a default one is all zeros (a static one is in .bss)") 
 
 TEST_CASE("frame_buffer: push_before takes bytes until the owner's decision point") {
   frame_buffer<8> b;
-  std::size_t at_least = 99;
-  CHECK(!b.push_before(1, at_least));  // want 0: every byte is a decision
+  CHECK(!b.push_before(1));  // want 0: every byte is a decision
   CHECK(b.empty());
   b.want(3);
   CHECK(b.wanted() == 3);
-  CHECK(b.push_before(1, at_least));
-  CHECK(at_least == 2);
-  CHECK(b.push_before(2, at_least));
-  CHECK(at_least == 1);
-  CHECK(!b.push_before(3, at_least));  // the third byte makes 3 held: a decision
+  CHECK(b.push_before(1));
+  CHECK(b.wanted() - b.size() == 2U);
+  CHECK(b.push_before(2));
+  CHECK(b.wanted() - b.size() == 1U);
+  CHECK(!b.push_before(3));  // the third byte makes 3 held: a decision
   CHECK(b.size() == 2);
-  CHECK(b.completes_want());
+  CHECK(b.size() + 1U == b.wanted());  // refused for the last byte wanted only
   b.put_last(3);
   CHECK(b.size() == 3);
   CHECK(b[2] == 3);
   b.drop(1);  // the bytes wanted count from the new front: 2 held, 3 wanted
   CHECK(b.wanted() == 3);
-  CHECK(b.completes_want());
-  CHECK(!b.push_before(4, at_least));  // 3 held with it: a decision
+  CHECK(!b.push_before(4));  // 3 held with it: a decision
   b.want(5);
-  CHECK(!b.completes_want());
-  CHECK(b.push_before(4, at_least));
-  CHECK(at_least == 2);
+  CHECK(b.push_before(4));
+  CHECK(b.wanted() - b.size() == 2U);
   CHECK(b.size() == 3);
 }
 
-TEST_CASE("frame_buffer: push_before stops at the capacity, a push makes room") {
+TEST_CASE("frame_buffer: want() makes room, so that only the last byte wanted is refused") {
   frame_buffer<4> b;
   b.want(4);
-  std::size_t at_least = 0;
-  CHECK(b.push_before(1, at_least));
-  CHECK(b.push_before(2, at_least));
-  CHECK(b.push_before(3, at_least));
-  b.drop(2);  // two held at the end of the storage
-  b.want(4);  // 4 wanted from index 2: the decision point is capped at the capacity
-  CHECK(!b.push_before(4, at_least));  // index 3 is free, but the end would reach capacity
-  CHECK(!b.completes_want());          // not because 4 are held: room is made out of line
-  CHECK(b.push(4));
-  CHECK(b.push(5));  // moves the held bytes to the front, then appends
-  CHECK(b.size() == 3);
+  CHECK(b.push_before(1));
+  CHECK(b.push_before(2));
+  CHECK(b.push_before(3));
+  b.drop(2);  // one held, at index 2 of 4
+  b.want(4);  // 4 wanted from index 2 would not fit: the byte held moves to the front
+  CHECK(b.size() == 1);
   CHECK(b[0] == 3);
-  CHECK(b[2] == 5);
-  CHECK(!b.push_before(6, at_least));  // with it 4 would be held: a decision
-  CHECK(b.completes_want());
+  CHECK(b.push_before(4));
+  CHECK(b.wanted() - b.size() == 2U);
+  CHECK(b.push_before(5));
+  CHECK(!b.push_before(6));  // with it 4 would be held: a decision
+  CHECK(b.size() + 1U == b.wanted());
+  b.put_last(6);  // room for it: the frame fits from the front
+  CHECK(b.size() == 4);
+  CHECK(b[0] == 3);
+  CHECK(b[3] == 6);
 }
 
-TEST_CASE("frame_buffer: a byte completing wanted() at the capacity is not put_last's") {
-  // 4 wanted from index 2 of 4: the end reaches the capacity with 2 held; the byte that would
-  // make 3 held still leaves one to want, and the one after that completes wanted() where there
-  // is no room at the end: room must be made first (the fuzz targets found this case).
+TEST_CASE("frame_buffer: drop(n) keeps wanted() from the new front, moving what is held") {
+  // 3 wanted from index 1 of 4 fits; after a drop of 1, 3 wanted from index 2 does not: the
+  // bytes held move to the front (the fuzz targets once found a refused byte with no room).
   frame_buffer<4> b;
-  std::size_t at_least = 0;
   b.want(4);
-  CHECK(b.push_before(1, at_least));
-  CHECK(b.push_before(2, at_least));
-  b.drop(1);
-  b.want(3);                           // 1 held, at index 1: stop at index 4, the capacity
-  CHECK(b.push_before(3, at_least));   // index 2
-  CHECK(!b.push_before(4, at_least));  // index 3 would reach the capacity: refused
-  CHECK(b.completes_want());           // with it, 3 held, and index 3 is free
-  CHECK(b.push(4));                    // the slow path stores it
-  b.want(4);                           // 3 held from index 1: the next byte completes 4
-  CHECK(!b.push_before(5, at_least));
-  CHECK(!b.completes_want());  // but the end is at the capacity: no put_last
-  CHECK(b.push(5));            // push makes room (moves the held bytes to the front)
+  CHECK(b.push_before(1));
+  CHECK(b.push_before(2));
+  CHECK(b.push_before(3));
+  b.drop(1, 3);              // 2 held from index 1: 3 wanted
+  CHECK(!b.push_before(4));  // 3 held with it: a decision
+  b.put_last(4);
+  b.drop(1);  // 2 held from index 2, still 3 wanted: moved to the front
+  CHECK(b.size() == 2);
+  CHECK(b[0] == 3);
+  CHECK(b[1] == 4);
+  CHECK(!b.push_before(5));
+  b.put_last(5);
+  CHECK(b.size() == 3);
+  CHECK(b[2] == 5);
+  CHECK(b.push(6));  // a push beyond wanted() still fits
   CHECK(b.size() == 4);
-  CHECK(b[0] == 2);
-  CHECK(b[3] == 5);
+  CHECK(!b.push(7));  // full
 }
 
 TEST_CASE("frame_buffer: start_with begins a frame at the front, drop(n, want) ends it") {
   frame_buffer<11> b;
-  std::size_t at_least = 0;
   b.start_with(0x1A, 11);  // an empty buffer: the first byte at index 0, 11 wanted
   CHECK(b.size() == 1);
   CHECK(b[0] == 0x1A);
   CHECK(b.wanted() == 11);
   for (std::uint8_t i = 1; i < 10; ++i) {
-    CHECK(b.push_before(i, at_least));
+    CHECK(b.push_before(i));
   }
-  CHECK(at_least == 1);                 // one more before the decision
-  CHECK(!b.push_before(10, at_least));  // the 11th byte is the decision
-  CHECK(b.completes_want());
+  CHECK(b.wanted() - b.size() == 1U);  // one more: the decision
+  CHECK(!b.push_before(10));           // the 11th byte is the decision
   b.put_last(10);
   CHECK(b.size() == 11);
   b.drop(11, 0);  // the whole frame: empty again, and back to its front
   CHECK(b.empty());
   CHECK(b.wanted() == 0);
-  CHECK(!b.push_before(0x02, at_least));  // wanted() 0: every byte is a decision
+  CHECK(!b.push_before(0x02));  // wanted() 0: every byte is a decision
   b.start_with(0x02, 6);
   CHECK(b.push(0x40));
   b.drop(1, 3);  // a rejected frame: rescan from its second byte, 3 wanted from there
   CHECK(b.size() == 1);
   CHECK(b[0] == 0x40);
   CHECK(b.wanted() == 3);
-  CHECK(b.push_before(0x41, at_least));
-  CHECK(at_least == 1);
-  CHECK(!b.push_before(0x42, at_least));
+  CHECK(b.push_before(0x41));
+  CHECK(b.wanted() - b.size() == 1U);
+  CHECK(!b.push_before(0x42));
 }

@@ -331,7 +331,7 @@ def rng(seed):
 
 # --- the operations ------------------------------------------------------------------------------
 
-STATUS_COMPLETE, STATUS_INCOMPLETE = 0, 1
+STATUS_INCOMPLETE, STATUS_COMPLETE = 0, 1
 
 
 def expect(name, got, want):
@@ -344,16 +344,17 @@ def stream_per_byte(m, op, prefix, report, first, first_out, frame, frame_out):
     byte (its report must begin with `first_out`), then `frame`, measured: incomplete before
     its last byte, `frame_out` after it. Returns the instructions in all and the worst stack."""
     m.call(prefix + "_start")
+    ready = 0
     for b in first:
-        m.call(prefix + "_byte", b)
-    m.call(report)
+        ready, _, _ = m.call(prefix + "_byte", b)
+    m.call(report, ready & 0xFF)
     expect(op + " (the first frame)", m.out(len(first_out)), first_out)
     m.clear_out()
     total, worst = 0, 0
     for i, b in enumerate(frame):
-        _, n, s = m.call(prefix + "_byte", b)
+        ready, n, s = m.call(prefix + "_byte", b)
         total, worst = total + n, max(worst, s)
-        m.call(report)
+        m.call(report, ready & 0xFF)
         if i < len(frame) - 1:
             expect(op + " (before the last byte)", m.out(1)[0], STATUS_INCOMPLETE)
     expect(op, m.out(len(frame_out)), frame_out)
@@ -395,7 +396,7 @@ def measure(m):
 
     # The receiver in its steady state: a first response, then the measured one.
     n, s = stream_per_byte(m, "tformat.receiver.id3_per_byte", "op_tformat_receiver",
-                           "op_report_tformat", tformat_id3(1, 0x17, 2), [STATUS_COMPLETE, 0, 1],
+                           "op_report_receiver", tformat_id3(1, 0x17, 2), [STATUS_COMPLETE, 0, 1],
                            id3, [STATUS_COMPLETE, 0, 123456, 3898, 0, 0x17])
     record("tformat.receiver.id3_per_byte", round(n / len(id3), 1), s, per="byte",
            units=len(id3), total=n)
@@ -432,13 +433,20 @@ def measure(m):
         expect(op, m.out(1)[0], crc16_modbus(block))
         record(op, round(n / len(block), 1), s, per="byte", units=len(block), total=n)
 
-    # The framer in its steady state: a first frame, then the measured one.
+    # The server's framer in its steady state (a first frame, then the measured one), and the
+    # framer whose role is chosen at run time.
     request = rtu(1, [0x03, 0x00, 0x05, 0x00, 0x0A])
-    n, s = stream_per_byte(m, "modbus.framer.per_byte", "op_modbus_framer", "op_report_rtu",
+    n, s = stream_per_byte(m, "modbus.framer.per_byte", "op_modbus_framer", "op_report_framer",
                            rtu(1, [0x06, 0x00, 0x01, 0x00, 0x03]), [STATUS_COMPLETE, 0, 1, 5],
                            request, [STATUS_COMPLETE, 0, 1, 5, 3,
                                      request[-2] | (request[-1] << 8)])
     record("modbus.framer.per_byte", round(n / len(request), 1), s, per="byte",
+           units=len(request), total=n)
+    n, s = stream_per_byte(m, "modbus.framer.per_byte.either_role", "op_modbus_either_framer",
+                           "op_report_either_framer", rtu(1, [0x06, 0x00, 0x01, 0x00, 0x03]),
+                           [STATUS_COMPLETE, 0, 1, 5], request,
+                           [STATUS_COMPLETE, 0, 1, 5, 3, request[-2] | (request[-1] << 8)])
+    record("modbus.framer.per_byte.either_role", round(n / len(request), 1), s, per="byte",
            units=len(request), total=n)
 
     m.write("meter_in", request)

@@ -87,7 +87,10 @@ motionbus::devices::ts5700n8500::emulator encoder;
 motionbus::devices::ts5700n8500::reply encoder_reply;
 
 // --- Modbus -------------------------------------------------------------------------------------
-md::rtu_framer framer({md::framer_role::server, 1});
+// The server's framer (a server's firmware links no client code), and the framer whose role is
+// chosen at run time, measured beside it.
+md::rtu_server_framer framer({md::framer_role::server, 1});
+md::rtu_framer either_framer({md::framer_role::server, 1});
 
 struct holding_registers {
   std::uint8_t read_registers(std::uint8_t, std::uint16_t address, mb::span<std::uint16_t> out) {
@@ -178,8 +181,18 @@ METER_OP void op_tformat_receiver_start() {
   const std::uint8_t request[1] = {tf::control_field(tf::data_id::read_all)};
   rx.sent(mb::byte_view(request, 1));
 }
-METER_OP void op_tformat_receiver_byte(unsigned byte) {
-  keep(tformat_result, [&] { return rx.feed(static_cast<std::uint8_t>(byte)); });
+// The receive interrupt's call: put() one byte; the meter passes what it returned to the
+// report, which reads the receiver's result() when it was true.
+METER_OP bool op_tformat_receiver_byte(unsigned byte) {
+  return rx.put(static_cast<std::uint8_t>(byte));
+}
+METER_OP void op_report_receiver(unsigned ready) {
+  if (ready != 0U) {
+    tformat_result = rx.result();
+  } else {
+    tformat_result = mb::need_input{};
+  }
+  put_response(tformat_result);
 }
 METER_OP void op_tformat_line_decode() {
   keep(line_result, [] {
@@ -224,12 +237,35 @@ METER_OP void op_modbus_crc16_byte() {
   meter_out[0] = mb::crc16_modbus<mb::crc_table_size::byte>::compute(input());
 }
 METER_OP void op_modbus_framer_start() {
-  framer = md::rtu_framer({md::framer_role::server, 1});
+  framer = md::rtu_server_framer({md::framer_role::server, 1});
   rtu_result = mb::need_input{};
 }
-METER_OP void op_modbus_framer_byte(unsigned byte) {
-  const std::uint8_t b[1] = {static_cast<std::uint8_t>(byte)};
-  keep(rtu_result, [&] { return framer.feed(mb::byte_view(b, 1)); });
+METER_OP bool op_modbus_framer_byte(unsigned byte) {
+  return framer.put(static_cast<std::uint8_t>(byte));
+}
+METER_OP void op_modbus_either_framer_start() {
+  either_framer = md::rtu_framer({md::framer_role::server, 1});
+  rtu_result = mb::need_input{};
+}
+METER_OP bool op_modbus_either_framer_byte(unsigned byte) {
+  return either_framer.put(static_cast<std::uint8_t>(byte));
+}
+METER_OP void op_report_rtu();
+METER_OP void op_report_either_framer(unsigned ready) {
+  if (ready != 0U) {
+    rtu_result = either_framer.result();
+  } else {
+    rtu_result = mb::need_input{};
+  }
+  op_report_rtu();
+}
+METER_OP void op_report_framer(unsigned ready) {
+  if (ready != 0U) {
+    rtu_result = framer.result();
+  } else {
+    rtu_result = mb::need_input{};
+  }
+  op_report_rtu();
 }
 METER_OP void op_report_rtu() {
   const auto& r = rtu_result;

@@ -41,7 +41,115 @@ std::vector<event> run(rtu_framer& f, const bytes& stream, std::size_t chunk) {
   return out;
 }
 
+// The same stream one byte at a time through put(), each true followed by the rescan of the
+// bytes held (put_each: feed() of an empty chunk until incomplete).
+template <class Framer>
+std::vector<event> run_put(Framer& f, const bytes& stream) {
+  std::vector<event> out;
+  for (const std::uint8_t b : stream) {
+    put_each(f, b, [&](const auto& r) {
+      CHECK(!r.is_incomplete());
+      if (r) {
+        out.push_back({true, errc::ok, r->slave, bytes(r->pdu.begin(), r->pdu.end())});
+      } else {
+        out.push_back({false, r.error(), 0, {}});
+      }
+      return true;
+    });
+  }
+  return out;
+}
+
+bool operator==(const event& a, const event& b) {
+  return a.ok == b.ok && a.error == b.error && a.slave == b.slave && a.pdu == b.pdu;
+}
+
 }  // namespace
+
+TEST_CASE("framer put(): byte by byte, the results of feed() in chunks (random streams)") {
+  // Requests and responses for this node and others, corrupted copies, cut-short frames and
+  // noise, in both roles and both frame ends: put() takes the inline paths (a byte inside a
+  // frame, a server's function code, a frame's last byte) where feed() decides in scan().
+  splitmix64 rng(0x5eed);
+  const std::vector<bytes> pdus = {{0x03, 0x00, 0x6B, 0x00, 0x03},
+                                   {0x06, 0x00, 0x01, 0x00, 0x03},
+                                   {0x10, 0x00, 0x01, 0x00, 0x02, 0x04, 0x00, 0x0A, 0x01, 0x02},
+                                   {0x03, 0x06, 0x02, 0x2B, 0x00, 0x00, 0x00, 0x64},
+                                   {0x08, 0x00, 0x00, 0x12, 0x34, 0x56, 0x78},
+                                   {0x11},
+                                   {0x83, 0x02},
+                                   {0x07},
+                                   {0x41, 0x01},
+                                   {0x2B, 0x0E, 0x01, 0x00}};
+  std::size_t frames = 0;
+  for (int round = 0; round < 400; ++round) {
+    bytes stream;
+    while (stream.size() < 300U) {
+      const std::uint64_t kind = rng.below(10);
+      if (kind < 7U) {
+        bytes f = rtu(static_cast<std::uint8_t>(rng.below(4)), pdus[rng.below(pdus.size())]);
+        if (kind == 6U) {
+          f[rng.below(f.size())] ^= static_cast<std::uint8_t>(1U + rng.below(255));
+        } else if (kind == 5U) {
+          f.resize(rng.below(f.size()));
+        }
+        stream.insert(stream.end(), f.begin(), f.end());
+      } else {
+        for (std::uint64_t i = rng.below(6); i > 0; --i) {
+          stream.push_back(rng.byte());
+        }
+      }
+    }
+    framer_options options{rng.below(2) == 0 ? framer_role::server : framer_role::client,
+                           static_cast<std::uint8_t>(rng.below(3))};
+    options.ends = rng.below(2) == 0 ? frame_end::silence : frame_end::length;
+    const auto function = static_cast<std::uint8_t>(rng.below(2) == 0 ? 0x03 : 0x10);
+    rtu_framer chunked(options);
+    rtu_framer by_byte(options);
+    rtu_server_framer server(options);
+    if (options.role == framer_role::client) {
+      chunked.sent(options.address, function);
+      by_byte.sent(options.address, function);
+    }
+    const auto expected = run(chunked, stream, 1U + rng.below(40));
+    CAPTURE(round);
+    CHECK(run_put(by_byte, stream) == expected);
+    CHECK(by_byte.pending() == chunked.pending());
+    if (options.role == framer_role::server) {
+      CHECK(run_put(server, stream) == expected);
+    }
+    for (const auto& e : expected) {
+      frames += e.ok ? 1U : 0U;
+    }
+  }
+  CHECK(frames > 1000U);  // the streams held frames for the node, not only rejects
+}
+
+TEST_CASE("framer put(): result() holds what the last true settled") {
+  framer_options options{framer_role::server, 0x11};
+  options.ends = frame_end::length;  // a bad CRC fails at once (not held for the silence)
+  rtu_server_framer f(options);
+  CHECK(f.result().is_incomplete());  // before any: a default result
+  const bytes a = rtu(0x11, {0x03, 0x00, 0x6B, 0x00, 0x03});
+  for (std::size_t i = 0; i + 1 < a.size(); ++i) {
+    CHECK(!f.put(a[i]));
+  }
+  REQUIRE(f.put(a.back()));  // the frame at its last byte
+  REQUIRE(f.result().is_complete());
+  CHECK(f.result()->slave == 0x11);
+  CHECK(bytes(f.result()->pdu.begin(), f.result()->pdu.end()) ==
+        bytes{0x03, 0x00, 0x6B, 0x00, 0x03});
+  CHECK(f.result().consumed() == 1);
+  CHECK(f.pending() == 0);
+  const bytes bad = {0x11, 0x03, 0x00, 0x6C, 0x00, 0x03, a[6], a[7]};  // a's CRC, not its own
+  for (std::size_t i = 0; i + 1 < bad.size(); ++i) {
+    CHECK(!f.put(bad[i]));
+    CHECK(f.result().is_complete());  // still the last one
+  }
+  REQUIRE(f.put(bad.back()));
+  CHECK(f.result().error() == errc::crc_mismatch);
+  CHECK(f.result().expected() != f.result().received());
+}
 
 TEST_CASE("server framer: lengths from function codes and counts, any chunking") {
   const bytes a = rtu(0x11, {0x03, 0x00, 0x6B, 0x00, 0x03});

@@ -117,9 +117,10 @@ TEST_CASE("the size form of decode_response agrees with the speed form on every 
            a.abm == b.abm && a.almc == b.almc && a.crc == b.crc && a.address == b.address &&
            a.busy == b.busy && a.edf == b.edf));
   }
-  CHECK(outcomes[0] > 10000);  // complete, incomplete and failed all well represented
-  CHECK(outcomes[1] > 3000);
-  CHECK(outcomes[2] > 10000);
+  // complete, incomplete and failed all well represented
+  CHECK(outcomes[static_cast<int>(decode_status::complete)] > 10000);
+  CHECK(outcomes[static_cast<int>(decode_status::incomplete)] > 3000);
+  CHECK(outcomes[static_cast<int>(decode_status::failed)] > 10000);
   // decode_response is the form the build selected.
   const auto r = decode_response(view(good[3]));
   CHECK(r.is_complete());

@@ -3,6 +3,7 @@
 // bits LSB first, delimiter 1, idle 1), independently of encode_line.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -274,6 +275,87 @@ TEST_CASE("receiver: responses checked against the request") {
   CHECK(r.error() == errc::tformat_communication_alarm);
 }
 
+TEST_CASE("receiver put(): byte by byte, the results of feed() in chunks (random streams)") {
+  // Responses of every layout, their echoes, corrupted and cut-short copies and noise, with
+  // and without an echoing line and the check against the request: put() takes the inline
+  // paths (a first byte, a byte inside a frame, a frame's last byte) where feed() decides in
+  // its scan; both must report the same results in the same order.
+  testutil::splitmix64 rng(7);
+  const std::vector<std::vector<std::uint8_t>> frames = {
+      with_crc({0x1A, 0x00, 0x21, 0x43, 0x01, 0x11, 0x02, 0x00, 0x00, 0x00}),   // ID3
+      with_crc({0x02, 0x00, 0x21, 0x43, 0x01}),                                 // ID0
+      with_crc({0x92, 0x00, 0x17}),                                             // ID2
+      with_crc({0x8A, 0x00, 0x05, 0x00, 0x00}),                                 // ID1
+      with_crc({0x32, 0x05, 0x5A}),                                             // ID6 (ADF EDF)
+      with_crc({0x1A, 0x40, 0x21, 0x43, 0x01, 0x11, 0x02, 0x00, 0x00, 0x00})};  // ca0 set
+  using note = std::vector<std::uint32_t>;
+  const auto record = [](const decode_result<response>& r) {
+    return note{static_cast<std::uint32_t>(r.status()),
+                static_cast<std::uint32_t>(r.error()),
+                r.expected(),
+                r.received(),
+                r.value().abs,
+                r.value().cf};
+  };
+  int complete = 0;
+  for (int round = 0; round < 400; ++round) {
+    receiver_options opt;
+    opt.echo_mode = rng.below(2) == 0 ? echo::expected : echo::none;
+    opt.check_against_request = rng.below(2) == 0;
+    receiver chunked(opt);
+    receiver by_byte(opt);
+    const std::uint8_t request[3] = {0x1A, 0x05, 0x5A};
+    const std::size_t request_size = rng.below(2) == 0 ? 1U : 3U;
+    if (request_size == 3U) {
+      const std::uint8_t eeprom[3] = {0x32, 0x05, 0x5A};
+      chunked.sent(byte_view(eeprom, 3));
+      by_byte.sent(byte_view(eeprom, 3));
+    } else {
+      chunked.sent(byte_view(request, 1));
+      by_byte.sent(byte_view(request, 1));
+    }
+    std::vector<std::uint8_t> s;
+    while (s.size() < 120U) {
+      const std::uint64_t kind = rng.below(8);
+      if (kind == 0U) {
+        s.insert(s.end(), request, request + request_size);  // an echo
+      } else if (kind < 6U) {
+        auto f = frames[rng.below(frames.size())];
+        if (kind == 4U) {
+          f[rng.below(f.size())] ^= static_cast<std::uint8_t>(1U + rng.below(255));
+        } else if (kind == 5U) {
+          f.resize(rng.below(f.size()));
+        }
+        s.insert(s.end(), f.begin(), f.end());
+      } else {
+        s.push_back(rng.byte());
+      }
+    }
+    std::vector<note> expected;
+    const std::size_t chunk = 1U + rng.below(20);
+    for (std::size_t at = 0; at < s.size(); at += chunk) {
+      feed_all(chunked, byte_view(s.data() + at, std::min(chunk, s.size() - at)),
+               [&](const auto& r) {
+                 expected.push_back(record(r));
+                 complete += r.is_complete() ? 1 : 0;
+                 return true;
+               });
+    }
+    std::vector<note> got;
+    for (const std::uint8_t b : s) {
+      put_each(by_byte, b, [&](const auto& r) {
+        got.push_back(record(r));
+        return true;
+      });
+    }
+    CAPTURE(round);
+    CHECK(got == expected);
+    CHECK(by_byte.pending() == chunked.pending());
+    CHECK(by_byte.dropped() == chunked.dropped());
+  }
+  CHECK(complete > 1000);
+}
+
 TEST_CASE("receiver: random garbage between valid frames never loses a frame") {
   testutil::splitmix64 rng(42);
   const auto good = with_crc({0x1A, 0x00, 0x21, 0x43, 0x01, 0x11, 0x02, 0x00, 0x00, 0x00});
@@ -311,9 +393,13 @@ TEST_CASE(
   stream.insert(stream.end(), bad.begin(), bad.end());
   stream.insert(stream.end(), a.begin(), a.end());
   receiver rx;
+  CHECK(rx.result().is_incomplete());  // before any
   std::vector<errc> outcomes;
   for (const std::uint8_t byte : stream) {
-    auto r = rx.feed(byte);
+    if (!rx.put(byte)) {
+      continue;
+    }
+    auto r = rx.result();
     while (!r.is_incomplete()) {
       outcomes.push_back(r.error());
       CHECK(r.consumed() == 1);
@@ -336,8 +422,9 @@ TEST_CASE(
   line.insert(line.end(), a.begin(), a.end());
   int complete = 0;
   for (const std::uint8_t byte : line) {
-    const auto r = echoing.feed(byte);
-    complete += r.is_complete() ? 1 : 0;
+    if (echoing.put(byte)) {
+      complete += echoing.result().is_complete() ? 1 : 0;
+    }
   }
   CHECK(complete == 1);
   CHECK(echoing.echoes_skipped() == 1);

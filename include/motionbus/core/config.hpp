@@ -85,6 +85,17 @@
 #endif
 #endif
 
+/// True while a constant expression is evaluated, where the compiler can tell (GCC 9, Clang 9,
+/// MSVC 19.25 and later); else true, so that code taking the constexpr-friendly branch on it
+/// stays correct everywhere.
+#ifndef MOTIONBUS_CONSTANT_EVALUATED
+#if defined(__GNUC__) || defined(__clang__) || (defined(_MSC_VER) && _MSC_VER >= 1925)
+#define MOTIONBUS_CONSTANT_EVALUATED() __builtin_is_constant_evaluated()
+#else
+#define MOTIONBUS_CONSTANT_EVALUATED() true
+#endif
+#endif
+
 /// Selects the smallest form of the decoders that have two (the T-format response decoder,
 /// the BiSS-C frame decoder): 1 for size (one table-driven path for every layout), 0 for
 /// speed (hot layouts inlined and unrolled). Both forms return identical results, which the

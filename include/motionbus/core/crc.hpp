@@ -355,9 +355,17 @@ class crc {
 
  private:
   // The register after feeding `data` to `reg_in` (a static function: a one-shot CRC keeps
-  // its register in a register, no object on the stack).
-  MOTIONBUS_SPEED_INLINE static constexpr std::uint32_t feed_bytes(std::uint32_t reg_in,
-                                                                   byte_view data) noexcept {
+  // its register in a register, no object on the stack). The loop takes a pointer and a
+  // count: where it is not inlined (-Os), its arguments then travel in registers (a view
+  // passed by value is stored to the stack and read back by some compilers).
+  MOTIONBUS_INLINE static constexpr std::uint32_t feed_bytes(std::uint32_t reg_in,
+                                                             byte_view data) noexcept {
+    return feed_range(reg_in, data.data(), data.size());
+  }
+  MOTIONBUS_SPEED_INLINE static constexpr std::uint32_t feed_range(std::uint32_t reg_in,
+                                                                   const std::uint8_t* bytes,
+                                                                   std::size_t size) noexcept {
+    const byte_view data(bytes, size);
     std::uint32_t reg_out = reg_in;
     if constexpr (chunk_bits == 8U && kernel::reg_bits == 8U &&
                   kernel::template identity_table<8>()) {
@@ -391,8 +399,35 @@ class crc {
       }
       reg_out = reg;
     } else {
-      for (std::size_t i = 0; i < data.size(); ++i) {
-        reg_out = kernel::template feed<chunk_bits>(reg_out, data[i], 8U);
+      const std::uint8_t* at = bytes;
+      std::size_t left = size;
+#if MOTIONBUS_DIRECT_LOADS && (defined(__ARM_FEATURE_UNALIGNED) || defined(__x86_64__) || \
+                               defined(__i386__) || defined(__aarch64__))
+      if constexpr (chunk_bits == 8U) {
+        // Two bytes a step where a halfword load may be unaligned (Cortex-M3/M4/M7, x86,
+        // AArch64): one load and one loop test for two table steps.
+        if (!MOTIONBUS_CONSTANT_EVALUATED() && left >= 2U) {
+          std::size_t pairs = left / 2U;
+          left &= 1U;
+          do {
+            std::uint16_t w = 0;
+            __builtin_memcpy(&w, at, 2);  // little-endian (MOTIONBUS_DIRECT_LOADS)
+            at += 2;
+            reg_out = kernel::template step_chunk<8>(reg_out, w & 0xFFU);
+            reg_out = kernel::template step_chunk<8>(reg_out, static_cast<std::uint32_t>(w) >> 8U);
+          } while (--pairs != 0U);
+        }
+      }
+#endif
+      // a loop whose test is at its end: one branch a byte (-Os does not rotate loops)
+      if (left != 0U) {
+        do {
+          if constexpr (chunk_bits == 8U) {
+            reg_out = kernel::template step_chunk<8>(reg_out, *at++);  // one table step
+          } else {
+            reg_out = kernel::template feed<chunk_bits>(reg_out, *at++, 8U);
+          }
+        } while (--left != 0U);
       }
     }
     return reg_out;
@@ -453,10 +488,12 @@ class crc {
   }
 
   /// The CRC of everything fed so far (reflection and final XOR applied). Feeding may go on.
-  constexpr value_type value() const noexcept { return value_of(reg_); }
+  constexpr value_type value() const noexcept {
+    return value_of(reg_);
+  }
 
   /// One-shot CRC of `data`.
-  static constexpr value_type compute(byte_view data) noexcept {
+  MOTIONBUS_INLINE static constexpr value_type compute(byte_view data) noexcept {
     return value_of(feed_bytes(initial_register(), data));
   }
 

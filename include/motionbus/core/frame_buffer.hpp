@@ -1,14 +1,16 @@
 // motionbus — the bounded frame buffer under the stream objects (the T-format receiver, the
 // Modbus RTU framer): bytes are appended at the end and dropped from the front by moving an
 // index, never by shifting what is held; the held bytes are moved to the front only when the
-// end reaches the capacity (at most once per `N` bytes appended). The bytes held are always
-// contiguous, so a frame is handed over as a view into the buffer.
+// end reaches the capacity, or when the bytes wanted would not fit (at most once per frame).
+// The bytes held are always contiguous, so a frame is handed over as a view into the buffer.
 //
 // The buffer also keeps its owner's decision point: want(n) says that the owner decides
 // nothing until `n` bytes are held. push_before() is the per-byte step of a stream object
-// (a byte inside a frame whose length is known): two loads, a compare, two stores. The bytes
-// are the first member, so that the store is one instruction from the object's address when
-// the buffer is the owner's first member too (the receiver and the framer put it first).
+// (a byte inside a frame whose length is known): two loads, a compare, two stores; it refuses
+// exactly the byte that makes `n` held, so an owner that wanted a whole frame may take a
+// refusal for the frame's last byte. The bytes are the first member, so that the store is one
+// instruction from the object's address when the buffer is the owner's first member too (the
+// receiver and the framer put it first).
 //
 // A default-constructed buffer is all zeros: a stream object that holds one can be a `static`
 // in .bss. No heap, no I/O.
@@ -58,41 +60,53 @@ class frame_buffer {
     bytes_[end] = b;
     return true;
   }
-  /// Appends one byte where completes_want() said it completes wanted() with room at the end.
+  /// Appends the byte push_before() refused where, with it, wanted() bytes are held (there is
+  /// room for it at the end: see want()).
   MOTIONBUS_INLINE constexpr void put_last(std::uint8_t b) noexcept {
-    const index end = end_;
-    bytes_[end] = b;
-    end_ = static_cast<index>(end + 1U);
+    place_last(b);
+    end_ = static_cast<index>(end_ + 1U);
   }
-  /// True when the next byte makes wanted() held and there is room for it at the end (put_last
-  /// may store it). False at the capacity, even when the next byte completes wanted(): room
-  /// must be made first (push or append do).
-  MOTIONBUS_INLINE constexpr bool completes_want() const noexcept {
-    return end_ < N && end_ + 1U == static_cast<std::size_t>(start_) + want_;
-  }
+  /// put_last() in two steps: the byte stored, then (unless the owner drops everything held
+  /// with restart()) counted.
+  MOTIONBUS_INLINE constexpr void place_last(std::uint8_t b) noexcept { bytes_[end_] = b; }
+  MOTIONBUS_INLINE constexpr void count_last() noexcept { end_ = static_cast<index>(end_ + 1U); }
   /// The owner decides when `n` (<= N) bytes are held: push_before() refuses the byte that
-  /// would make `n` (or more) held.
+  /// would make `n` (or more) held, and no earlier byte (room is made at the end first where
+  /// `n` bytes from the front would not fit), so that the owner may take a refusal inside a
+  /// frame of `n` bytes for its last byte.
   MOTIONBUS_INLINE constexpr void want(std::size_t n) noexcept {
     want_ = static_cast<index>(n);
     set_stop();
   }
+  /// want(n) where room for `n` bytes from the front was made already (reserve(n) or more,
+  /// with nothing dropped since): no room check.
+  MOTIONBUS_INLINE constexpr void want_within(std::size_t n) noexcept {
+    want_ = static_cast<index>(n);
+    const std::size_t stop = static_cast<std::size_t>(start_) + n;
+    stop_ = static_cast<index>(stop - (stop != 0U ? 1U : 0U));
+  }
+  /// Makes room for `n` (<= N) bytes from the front: moves the bytes held there if needed.
+  MOTIONBUS_INLINE constexpr void reserve(std::size_t n) noexcept {
+    if (static_cast<std::size_t>(start_) + n > N) {
+      make_room();
+    }
+  }
   /// The `n` of the last want() (0: decide at every byte).
   MOTIONBUS_INLINE constexpr std::size_t wanted() const noexcept { return want_; }
   /// The per-byte step of a stream object: appends `b` when, with it, fewer than wanted()
-  /// bytes are held and there is room at the end, sets `at_least` to how many more bytes
-  /// arrive before the next decision (a lower bound of those still wanted), and returns true.
-  /// False (nothing appended) otherwise: a decision is due, or room must be made first.
-  MOTIONBUS_INLINE constexpr bool push_before(std::uint8_t b, std::size_t& at_least) noexcept {
+  /// bytes are held, and returns true. False (nothing appended) when a decision is due: the
+  /// byte would make wanted() held (or more).
+  MOTIONBUS_INLINE constexpr bool push_before(std::uint8_t b) noexcept {
     const index end = end_;
-    const std::size_t next = end + 1U;
-    if (next >= stop_) {
+    if (end >= stop_) {
       return false;
     }
     bytes_[end] = b;
-    end_ = static_cast<index>(next);
-    at_least = stop_ - next;
+    end_ = static_cast<index>(end + 1U);
     return true;
   }
+  /// The bytes held, from the front (size() of them).
+  MOTIONBUS_INLINE constexpr const std::uint8_t* data() const noexcept { return bytes_ + start_; }
   /// The first byte of a frame of `n` (1..N) bytes, into an empty buffer: held at the front,
   /// and want(n).
   MOTIONBUS_INLINE constexpr void start_with(std::uint8_t b, std::size_t n) noexcept {
@@ -100,7 +114,7 @@ class frame_buffer {
     start_ = 0;
     end_ = 1;
     want_ = static_cast<index>(n);
-    stop_ = static_cast<index>(n);
+    stop_ = static_cast<index>(n - 1U);
   }
   /// Appends up to `n` bytes of `in` (as many as fit); returns how many.
   constexpr std::size_t append(byte_view in, std::size_t n) noexcept {
@@ -123,13 +137,22 @@ class frame_buffer {
   constexpr void drop(std::size_t n) noexcept { drop(n, want_); }
   /// drop(n) and want(next_want) in one step.
   MOTIONBUS_INLINE constexpr void drop(std::size_t n, std::size_t next_want) noexcept {
-    want_ = static_cast<index>(next_want);
-    start_ = static_cast<index>(start_ + n);
-    if (start_ == end_) {
-      start_ = 0;
-      end_ = 0;
+    const auto start = static_cast<index>(start_ + n);
+    if (start == end_) {  // all of it: back to the front
+      restart(next_want);
+      return;
     }
+    start_ = start;
+    want_ = static_cast<index>(next_want);
     set_stop();
+  }
+  /// Drops everything held, whose bytes stay readable until the next append (a frame handed
+  /// over), and want(n) from the front.
+  MOTIONBUS_INLINE constexpr void restart(std::size_t n) noexcept {
+    start_ = 0;
+    end_ = 0;
+    want_ = static_cast<index>(n);
+    stop_ = static_cast<index>(n - (n != 0U ? 1U : 0U));
   }
   /// Drops everything held; wanted() is kept.
   constexpr void clear() noexcept {
@@ -159,21 +182,25 @@ class frame_buffer {
     }
     start_ = 0;
     end_ = static_cast<index>(n);
-    set_stop();
+    stop_ = static_cast<index>(want_ - (want_ != 0U ? 1U : 0U));
     return true;
   }
 
-  // The end index at which push_before() refuses: where wanted() bytes are held, or the
-  // capacity (room is made, and the stop moved, out of line when the end reaches it).
+  // The end index at which push_before() refuses: where wanted() bytes are held (at most N:
+  // the bytes held are moved to the front first where they would not fit).
   MOTIONBUS_INLINE constexpr void set_stop() noexcept {
     const std::size_t stop = static_cast<std::size_t>(start_) + want_;
-    stop_ = static_cast<index>(stop < N ? stop : N);
+    if (stop > N) {
+      make_room();  // sets the stop from the front
+      return;
+    }
+    stop_ = static_cast<index>(stop - (stop != 0U ? 1U : 0U));
   }
 
   std::uint8_t bytes_[N] = {};  // first: see the comment at the top
   index start_ = 0;
   index end_ = 0;
-  index stop_ = 0;  // start_ + want_, at most N
+  index stop_ = 0;  // start_ + want_ - 1 (0 for none): push_before() refuses at end_ >= stop_
   index want_ = 0;
 };
 

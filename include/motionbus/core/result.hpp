@@ -13,6 +13,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <new>
 #include <type_traits>
 
 #include "motionbus/core/config.hpp"
@@ -51,7 +52,8 @@ class [[nodiscard]] result {
 };
 
 /// The three outcomes of a decoder.
-enum class decode_status : std::uint8_t { complete = 0, incomplete = 1, failed = 2 };
+/// (Incomplete is 0: a default-constructed result, all zeros, is incomplete.)
+enum class decode_status : std::uint8_t { incomplete = 0, complete = 1, failed = 2 };
 
 /// Returned (converted) by a decoder that needs more input: at least `at_least` more units.
 struct need_input {
@@ -160,6 +162,10 @@ class [[nodiscard]] decode_result {
     steps(outcome(r));
     return r;
   }
+  /// Incomplete, at least 1 unit needed: all zeros, so that an object holding one (a stream
+  /// object's last result) can be a `static` in .bss.
+  MOTIONBUS_INLINE constexpr decode_result() noexcept
+      : count_(0), status_(decode_status::incomplete) {}
   // NOLINTNEXTLINE(google-explicit-constructor): `return need_input{n};` from a decoder
   MOTIONBUS_INLINE constexpr decode_result(need_input n) noexcept
       : count_(n.at_least == 0 ? 1 : n.at_least), status_(decode_status::incomplete) {}
@@ -191,7 +197,9 @@ class [[nodiscard]] decode_result {
     }
   }
   /// Incomplete: lower bound on the further units needed. Else 0.
-  constexpr std::size_t needed() const noexcept { return is_incomplete() ? count_ : 0U; }
+  constexpr std::size_t needed() const noexcept {
+    return is_incomplete() ? (count_ == 0U ? 1U : count_) : 0U;  // 0: default-constructed
+  }
   /// Failed: the error. Else errc::ok.
   constexpr errc error() const noexcept { return is_failed() ? u_.failure.code : errc::ok; }
   /// Failed: the evidence (e.g. the CRC computed and the CRC received), 0 where the error has
@@ -227,6 +235,18 @@ class [[nodiscard]] decode_result {
   std::size_t count_;  ///< consumed (complete, failed) or needed (incomplete): one word
   decode_status status_;
 };
+
+/// Sets `slot` to what `make()` returns, built in the slot itself: C++17's guaranteed copy
+/// elision constructs the returned result there (no temporary, no copy), which an assignment
+/// from a call does not promise. In constant evaluation, an assignment.
+template <class T, class Make>
+MOTIONBUS_INLINE constexpr void emplace_result(decode_result<T>& slot, Make&& make) noexcept {
+  if (MOTIONBUS_CONSTANT_EVALUATED()) {
+    slot = make();
+  } else {
+    ::new (static_cast<void*>(&slot)) decode_result<T>(make());  // trivially destructible
+  }
+}
 
 }  // namespace motionbus
 

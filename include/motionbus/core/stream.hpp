@@ -1,14 +1,18 @@
-// motionbus — the feed loop of the stream objects (tformat::receiver, modbus::rtu_framer and
-// its fixed-role forms), written once: every result they report for a chunk of input, in order.
+// motionbus — the feed loops of the stream objects (tformat::receiver, modbus::rtu_framer and
+// its fixed-role forms), written once: every result they report for a chunk of input, or for
+// one byte, in order.
 //
 //   feed_all(rx, in, [&](const auto& r) {   // r: a decode_result, complete or failed
 //     if (r) handle(r.value()); else log(r.error());
 //     return true;                           // false: stop here, the rest of `in` is returned
 //   });
+//   put_each(rx, byte, same_lambda);         // one byte, from a receive interrupt
 //
 // No heap, no I/O.
 #ifndef MOTIONBUS_CORE_STREAM_HPP
 #define MOTIONBUS_CORE_STREAM_HPP
+
+#include <cstdint>
 
 #include "motionbus/core/span.hpp"
 
@@ -30,6 +34,16 @@ constexpr byte_view feed_all(Stream& stream, byte_view in, Each&& each) {
     if (!each(r)) {
       return in;
     }
+  }
+}
+
+/// The loop of the per-byte step (a receive interrupt's): `stream.put(byte)`, then `each(result)`
+/// for what it settled and for every result the rescan of the bytes held then finds (feed_all
+/// of an empty chunk), until one is incomplete or `each` returns false.
+template <class Stream, class Each>
+constexpr void put_each(Stream& stream, std::uint8_t byte, Each&& each) {
+  if (stream.put(byte) && each(stream.result())) {
+    (void)feed_all(stream, byte_view{}, each);
   }
 }
 

@@ -11,32 +11,39 @@
 // outstanding request. After garbage or a bad CRC the framer drops one byte at a time and
 // rescans (at most 256 bytes are ever held, in a frame_buffer: a dropped byte moves an index,
 // nothing is shifted; a frame is handed over as a view into it, not copied). The same shape as
-// the T-format receiver: built from an options struct, fed by feed() (a chunk, or one byte
-// from a UART interrupt, stored inline), told of the line's silence by idle(), each returning
-// a decode_result. `Table` selects the CRC table. No heap, no I/O.
+// the T-format receiver: built from an options struct, given bytes by put() (one byte, from a
+// UART interrupt) and feed() (a chunk), told of the line's silence by idle(). `Table` selects
+// the CRC table. No heap, no I/O.
 //
-//   rtu_framer rx({framer_role::server, 0x11});
-//   on_bytes(in):                       // from the UART (core/stream.hpp: the feed loop)
+//   rtu_server_framer rx({framer_role::server, 0x11});
+//   on_rx_interrupt(b):                 // one byte: true when something is settled
+//     if (rx.put(b) && rx.result()) handle(rx.result().value());
+//   on_bytes(in):                       // or a chunk (core/stream.hpp: the feed loop)
 //     feed_all(rx, in, [](const auto& r) {
-//       if (r) handle(r.value());       // r->pdu points into rx: use it before the next feed()
+//       if (r) handle(r.value());       // r->pdu points into rx: use it before the next call
 //       return true;
 //     });
-//   on_byte(b):                         // or from a receive interrupt, byte by byte
-//     if (auto r = rx.feed(b)) handle(r.value());
 //   on_t35():                           // the UART's idle-line timer
 //     if (auto r = rx.idle()) handle(r.value());
 //
+// Both forms report the same results in the same order (the fuzz target and the tests check
+// it), put() with one proviso: after a failure, a frame found among the bytes held is reported
+// by the next put() or idle() (put_each() in core/stream.hpp, or feed() of an empty chunk,
+// reports it at once).
+//
 // Firmware contract (Cortex-M4; sizes checked by the test command, stack and instructions by
 // the meter at -Os: docs/footprint.md):
-//   rtu_framer size: 280 bytes (a 256-byte frame buffer and its state; the same for
-//     rtu_server_framer and rtu_client_framer). A default-constructed `static` framer is all
-//     zeros: .bss, no start-up code, no flash copied to RAM.
-//   feed(byte): 17 instructions for a byte inside a frame, the call included; 42.2 a byte over
-//     an FC03 request, CRC included; 120 bytes of stack at worst (the last byte: CRC, address).
-//   Interrupts: feed() may run in the UART receive interrupt, idle() in the t3.5 timer's;
-//     sent() (client) runs before the request's first byte goes out. None of them may run
-//     while another runs on the same framer. A frame handed over (rtu_frame::pdu) points into
-//     the framer: use it, or copy it, before the next call.
+//   rtu_framer size: 304 bytes (a 256-byte frame buffer, its state and put()'s result; the
+//     same for rtu_server_framer and rtu_client_framer). A default-constructed `static` framer
+//     is all zeros: .bss, no start-up code, no flash copied to RAM.
+//   put(byte), rtu_server_framer: 12 instructions for a byte inside a frame, the call included
+//     (inline: the byte and its index stored, nothing else written); a server's function code
+//     is sized inline too; 24.8 a byte over an FC03 request, CRC included (25.2 with the
+//     run-time role of rtu_framer); 56 bytes of stack at worst (the last byte: CRC, address).
+//   Interrupts: put() or feed() may run in the UART receive interrupt, idle() in the t3.5
+//     timer's; sent() (client) runs before the request's first byte goes out. None of them may
+//     run while another runs on the same framer. A frame handed over (rtu_frame::pdu) points
+//     into the framer: use it, or copy it, before the next call.
 #ifndef MOTIONBUS_MODBUS_FRAMER_HPP
 #define MOTIONBUS_MODBUS_FRAMER_HPP
 
@@ -65,22 +72,21 @@ inline constexpr std::size_t unknown_length = static_cast<std::size_t>(-1);
 namespace detail {
 // The request size that the function code alone gives (address, function, fields, CRC); 0: a
 // count tells (0F, 10, 17), the sub-function does (08: 8 bytes but for Return Query Data, see
-// basic_rtu_framer::query_data), or no length rule here. One bit per function code 0x00-0x1F
-// for each size: a few instructions and no table.
-constexpr std::size_t fixed_request_size(std::uint8_t function) noexcept {
-  constexpr std::uint32_t size8 = 0x07EU;    // 01-06
+// basic_rtu_framer::query_data), or no length rule here. 01-06 (8 bytes) first, the common
+// requests: one compare; then one bit per function code 0x00-0x1F for each other size: a few
+// instructions and no table.
+MOTIONBUS_INLINE constexpr std::size_t fixed_request_size(std::uint8_t function) noexcept {
   constexpr std::uint32_t size4 = 0x21880U;  // 07, 0B, 0C, 11
   constexpr std::uint32_t size10 = std::uint32_t{1} << 0x16U;
   constexpr std::uint32_t size6 = std::uint32_t{1} << 0x18U;
+  if (function - 1U < 6U) {
+    return 8U;
+  }
   if (function >= 32U) {
     return 0;
   }
   const std::uint32_t bit = std::uint32_t{1} << function;
-  return (bit & size8) != 0U    ? 8U
-         : (bit & size4) != 0U  ? 4U
-         : (bit & size10) != 0U ? 10U
-         : (bit & size6) != 0U  ? 6U
-                                : 0U;
+  return (bit & size4) != 0U ? 4U : (bit & size10) != 0U ? 10U : (bit & size6) != 0U ? 6U : 0U;
 }
 }  // namespace detail
 
@@ -190,7 +196,7 @@ class basic_rtu_framer {
     buf_.want(0);
     buf_.clear();
     waiting_ = false;
-    framing_ = false;
+    phase_ = phase::scanning;
   }
 
   /// Takes bytes from `in` until a frame or an error. Complete: a CRC-checked frame for this
@@ -200,21 +206,37 @@ class basic_rtu_framer {
   /// was taken. Frames for other addresses are skipped silently (skipped()).
   /// With frame_end::silence, bytes the length rule cannot frame are held (never more than
   /// 256) until idle() instead of failing here.
-  MOTIONBUS_INLINE constexpr decode_result<rtu_frame> feed(byte_view in) noexcept {
-    if (in.size() == 1U) {
-      return feed(in[0]);
+  constexpr decode_result<rtu_frame> feed(byte_view in) noexcept { return decide(in, 0); }
+
+  /// The per-byte step (a UART receive interrupt's call): takes `byte`; true when it settles
+  /// something, which result() then holds: a frame for this node (complete) or a failure, as
+  /// feed() would report them. False: nothing to report yet. A byte inside a frame is stored
+  /// here, inline at the call site, with nothing written but the byte and its index.
+  /// After a failure the bytes held are rescanned by the next put() (which then reports at most
+  /// one result: a frame found among the bytes held is reported before the byte's own), by
+  /// idle(), or at once by feed() with an empty `in`.
+  MOTIONBUS_INLINE constexpr bool put(std::uint8_t byte) noexcept {
+    if (buf_.push_before(byte)) {
+      return false;
     }
-    return decide(in, 0);
-  }
-  /// feed() of one byte (a UART interrupt handler's call). A byte inside a frame whose length
-  /// is known is stored here, inline at the call site; everything else is decided out of line.
-  MOTIONBUS_INLINE constexpr decode_result<rtu_frame> feed(std::uint8_t byte) noexcept {
-    std::size_t at_least = 0;
-    if (buf_.push_before(byte, at_least)) {
-      return need_input{at_least};
+    const phase ph = phase_;
+    if (ph == phase::framing) {  // push_before() refuses a frame's last byte only (see want())
+      return last_byte(byte);
     }
-    return decide_byte(byte);
+    if (ph == phase::function_code) {  // a server's request: the function code gives its size
+      const std::size_t total = detail::fixed_request_size(byte);
+      if (total != 0U) {
+        buf_.put_last(byte);      // the second byte of two wanted: it fits
+        buf_.want_within(total);  // room for 10 bytes was made with the first (put_other)
+        phase_ = phase::framing;
+        return false;
+      }
+    }
+    return put_other(byte);
   }
+  /// What the last put() that returned true settled (complete or failed); incomplete before
+  /// any. Valid until the next put() that returns true; a frame's pdu until the next call.
+  constexpr const decode_result<rtu_frame>& result() const noexcept { return result_; }
 
   /// The user's t3.5 timer expired: the bytes held end a frame. Complete: the bytes held as
   /// one CRC-valid frame for this node (frame_end::silence), else the first frame the length
@@ -263,7 +285,7 @@ class basic_rtu_framer {
     buf_.want(0);
     buf_.clear();
     waiting_ = false;
-    framing_ = false;
+    phase_ = phase::scanning;
     return r;
   }
 
@@ -273,61 +295,72 @@ class basic_rtu_framer {
   constexpr std::size_t pending() const noexcept { return buf_.size(); }
 
  private:
-  // feed() of one byte that decides something. The common cases of a clean line take a short
-  // path: the last byte of a frame for this node whose CRC matches (end_frame(), a tail call),
-  // the first byte, and the function code (the length rule gives the frame's size). Anything
-  // else goes through scan().
-  MOTIONBUS_NOINLINE constexpr decode_result<rtu_frame> decide_byte(std::uint8_t byte) noexcept {
-    if (framing_ && buf_.completes_want()) {
-      buf_.put_last(byte);
-      return end_frame();
-    }
-    return decide_start(byte);
+  // put() of the last byte of a frame whose size the length rule gave: a frame for this node
+  // whose CRC matches is handed over; anything else goes to scan().
+  MOTIONBUS_NOINLINE constexpr bool last_byte(std::uint8_t byte) noexcept {
+    buf_.place_last(byte);                  // counted by end_frame() unless handed over
+    return end_frame(result_) || settle();  // else a bad CRC or another address
   }
 
-  // feed() of one byte that is not the last of a frame: the first byte, the function code, or
-  // anything scan() must sort out.
-  MOTIONBUS_NOINLINE constexpr decode_result<rtu_frame> decide_start(std::uint8_t byte) noexcept {
+  // put() of a byte that decides something but is not the last of a frame: the first byte, the
+  // function code (the length rule gives the frame's size), or anything scan() must sort out.
+  MOTIONBUS_NOINLINE constexpr bool put_other(std::uint8_t byte) noexcept {
     const std::size_t size = buf_.size();
     if (!waiting_ && size < 2U) {
-      buf_.push(byte);
+      buf_.push(byte);  // fewer than 2 held: it fits
       if (size == 0U) {
         buf_.want(2);
-        return need_input{1};
+        if (server()) {
+          buf_.reserve(max_fixed_request);  // for put()'s function code path
+          phase_ = phase::function_code;
+        }
+        return false;
       }
       // a request whose function code alone gives its size (4 to 10 bytes: a valid PDU): a
       // few bit tests; else the rule
       const std::size_t total = server() ? detail::fixed_request_size(byte) : predict(buf_.view());
       if (server() ? total != 0U : (total >= 3U && pdu_size_ok(total - 3U) && byte != 0x08U)) {
         buf_.want(total);
-        framing_ = true;
-        return need_input{total - 2U};
+        phase_ = phase::framing;
+        return false;
       }
-      return decide_one(byte, true);  // no plain length: scan() decides
+      return settle();  // no plain length: scan() decides
     }
-    return decide_one(byte, false);
+    return put_held(byte);
+  }
+  // put() of a byte that scan() must sort out with the bytes held. Fewer than 256 bytes are
+  // held after every decision (scan() drops one of a full buffer), so the byte fits, and is
+  // taken first.
+  MOTIONBUS_NOINLINE constexpr bool put_held(std::uint8_t byte) noexcept {
+    buf_.push(byte);
+    return settle();
+  }
+  // put()'s decision on the bytes held (the byte taken): scan() decides.
+  MOTIONBUS_NOINLINE constexpr bool settle() noexcept {
+    emplace_result(result_, [&] { return decide(byte_view(), 1); });
+    return !result_.is_incomplete();
   }
 
-  // decide() of one byte (`taken`: already appended), out of line: decide_byte() then needs
-  // no stack frame.
-  MOTIONBUS_NOINLINE constexpr decode_result<rtu_frame> decide_one(std::uint8_t byte,
-                                                                   bool taken) noexcept {
-    return taken ? decide(byte_view(), 1) : decide(byte_view(&byte, 1), 0);
-  }
-
-  // The last byte of a frame whose size the length rule gave (wanted(), all held) was taken: a
-  // frame for this node whose CRC matches is handed over; anything else goes to scan().
-  constexpr decode_result<rtu_frame> end_frame() noexcept {
-    framing_ = false;
+  // The last byte of a frame whose size the length rule gave (wanted(), all held) was taken:
+  // true, and `out` complete, for a frame for this node whose CRC matches; else false.
+  constexpr bool end_frame(decode_result<rtu_frame>& out) noexcept {
     const std::size_t total = buf_.wanted();
-    const byte_view frame = buf_.first(total);
-    const std::uint16_t received = load_le16(frame, total - 2U);
+    const std::uint8_t* const frame = buf_.data();
+    const std::uint16_t received = load_le16(byte_view(frame, total), total - 2U);
     const std::uint8_t slave = frame[0];
-    if (crc16_modbus<Table>::compute(frame.first(total - 2U)) == received &&
-        slave <= max_unicast_address && for_us(slave)) {
-      return hand_over(rtu_frame{slave, frame.subspan(1, total - 3U), received}, total, 1);
+    if (crc16_modbus<Table>::compute(byte_view(frame, total - 2U)) != received ||
+        slave > max_unicast_address || !for_us(slave)) {
+      buf_.count_last();
+      phase_ = phase::scanning;
+      return false;
     }
-    return decide(byte_view(), 1);  // a bad CRC or another address: scan() decides
+    typename decode_result<rtu_frame>::outcome(out).complete_value(
+        1, rtu_frame{slave, byte_view(frame + 1, total - 3U), received});
+    // The frame was all that was held (put() decides at its last byte), and the framer was
+    // not waiting for a silence (it would not be framing): hand_over() for this case.
+    buf_.restart(2);
+    phase_ = server() ? phase::function_code : phase::scanning;
+    return true;
   }
 
   // feed() beyond a byte inside a frame: takes bytes from `in` and decides as often as needed.
@@ -404,9 +437,19 @@ class basic_rtu_framer {
   // the inline path.
   constexpr decode_result<rtu_frame> hand_over(const rtu_frame& frame, std::size_t total,
                                                std::size_t used) noexcept {
+    hand_over_bytes(total);
+    return decode_result<rtu_frame>::complete(frame, used);
+  }
+  MOTIONBUS_INLINE constexpr void hand_over_bytes(std::size_t total) noexcept {
     buf_.drop(total, 2);
     waiting_ = false;
-    return decode_result<rtu_frame>::complete(frame, used);
+    // a server's next function code takes put()'s inline path when it is the next byte but one
+    if (server() && buf_.size() < 2U) {
+      buf_.reserve(max_fixed_request);
+      phase_ = phase::function_code;
+    } else {
+      phase_ = phase::scanning;
+    }
   }
 
   // The length rule cannot frame the bytes held. With frame_end::silence (and room to hold
@@ -426,7 +469,7 @@ class basic_rtu_framer {
   // Decides on the bytes held. Incomplete: wanted() (> size) is how many to hold before the
   // next decision.
   constexpr decode_result<rtu_frame> scan(std::size_t used, bool at_end) noexcept {
-    framing_ = false;
+    phase_ = phase::scanning;
     if (waiting_) {
       if (!at_end && buf_.size() < max_rtu_size) {
         buf_.want(buf_.size() + 1U);
@@ -495,13 +538,22 @@ class basic_rtu_framer {
     }
   }
 
-  frame_buffer<max_rtu_size> buf_;  // first: feed(byte) stores at the object's address
+  frame_buffer<max_rtu_size> buf_;  // first: put() stores at the object's address
   framer_options options_;
   std::uint8_t function_ = 0;
   bool waiting_ = false;  // the length rule failed on the bytes held: only idle() decides
-  bool framing_ = false;  // wanted() is the size of the frame held, from its function code
+  // The largest request the function code alone sizes (fixed_request_size).
+  static constexpr std::size_t max_fixed_request = 10;
+  // What put() decides at the next byte push_before() refuses.
+  enum class phase : std::uint8_t {
+    scanning = 0,       // put_other(): anything
+    function_code = 1,  // a server's function code (one byte held, two wanted)
+    framing = 2,        // the last byte of a frame whose size the length rule gave (wanted())
+  };
+  phase phase_ = phase::scanning;
   std::size_t dropped_ = 0;
   std::size_t skipped_ = 0;
+  decode_result<rtu_frame> result_;  // put()'s
 };
 
 /// The framer with the default CRC table, either role (framer_options::role).

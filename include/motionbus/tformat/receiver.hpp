@@ -1,32 +1,42 @@
 // motionbus — T-format stream receiver for UART-style byte streams (master side).
 //
-// Feed it bytes as they arrive, one at a time or in chunks. It knows each response's length
-// from its CF, skips the echo of the master's own request on half-duplex adapters whose
-// receiver is always on, drops garbage until a valid CF, and after a corrupted frame rescans
-// from the next byte so that no valid frame behind it is lost. Holds at most one frame
-// (11 bytes, in a frame_buffer: garbage is dropped by moving an index); no heap, no I/O.
-// The same shape as the Modbus RTU framer: built from an options struct, fed by feed(),
-// told of the line's silence by idle(), each returning a decode_result.
+// Give it bytes as they arrive: one at a time with put() (a receive interrupt), or in chunks
+// with feed(). It knows each response's length from its CF, skips the echo of the master's own
+// request on half-duplex adapters whose receiver is always on, drops garbage until a valid CF,
+// and after a corrupted frame rescans from the next byte so that no valid frame behind it is
+// lost. Holds at most one frame (11 bytes, in a frame_buffer: garbage is dropped by moving an
+// index); no heap, no I/O. The same shape as the Modbus RTU framer: built from an options
+// struct, given bytes by put() and feed(), told of the line's silence by idle().
 //
 //   receiver rx({echo::expected});
 //   rx.sent(request);                         // after writing the request to the UART
-//   feed_all(rx, in, [](const auto& r) {      // every result for the bytes `in`
-//     if (r) use(r.value()); else log(r.error());
-//     return true;
-//   });                                       // (core/stream.hpp: the loop on feed() below)
+//   on_rx_interrupt(byte):                    // one byte: true when something is settled
+//     if (rx.put(byte)) {
+//       const auto& r = rx.result();          // a response, or a rejected frame
+//       if (r) use(r.value()); else log(r.error());
+//     }
+//   on_chunk(in):                             // or a DMA buffer: every result for `in`
+//     feed_all(rx, in, [](const auto& r) { ...; return true; });   // (core/stream.hpp)
 //   on_idle():                                // the line went quiet: a cut-short frame?
 //     if (rx.idle().is_failed()) log_truncated();
 //
+// Both forms report the same results in the same order (the fuzz target and the tests check
+// it), put() with one proviso: after a rejected frame, a frame found among the bytes held is
+// reported by the next put() (put_each() in core/stream.hpp, or feed() of an empty chunk,
+// reports it at once).
+//
 // Firmware contract (Cortex-M4; sizes checked by the test command, stack and instructions by
 // the meter at -Os: docs/footprint.md):
-//   receiver size: 40 bytes. A default-constructed `static` receiver is all zeros: .bss, no
-//     start-up code, no flash copied to RAM.
-//   feed(byte): 17 instructions for a byte inside a frame, the call included; 30.9 a byte over
-//     an ID3 response; 92 bytes of stack at worst (the last byte: decode and check).
-//   Interrupts: feed() may run in the UART receive interrupt, idle() in the idle-line timer's;
-//     sent() runs before the request's first byte goes out. None of them may run while
-//     another runs on the same receiver (one interrupt priority for both, or mask one).
-//   The returned response is a copy: it stays valid whatever the receiver does next.
+//   receiver size: 68 bytes (the frame buffer, the request, the options and put()'s result).
+//     A default-constructed `static` receiver is all zeros: .bss, no start-up code, no flash
+//     copied to RAM.
+//   put(byte): 12 instructions for a byte inside a frame, the call included (inline: the byte
+//     and its index stored, nothing else written); 24.8 a byte over an ID3 response, decode
+//     and check included; 64 bytes of stack at worst (the last byte: decode and check).
+//   Interrupts: put() or feed() may run in the UART receive interrupt, idle() in the
+//     idle-line timer's; sent() runs before the request's first byte goes out. None of them
+//     may run while another runs on the same receiver (one interrupt priority, or mask one).
+//   feed() returns a copy; result() is valid until the next put() that returns true.
 #ifndef MOTIONBUS_TFORMAT_RECEIVER_HPP
 #define MOTIONBUS_TFORMAT_RECEIVER_HPP
 
@@ -104,21 +114,27 @@ class receiver {
   /// taken; the receiver rescans from the frame's second byte on the next call (call again,
   /// even with an empty `in`, until it reports incomplete). Incomplete: all of `in` was taken.
   /// Each byte is copied once; a frame is decoded only when its last byte has arrived.
-  MOTIONBUS_INLINE constexpr decode_result<response> feed(byte_view in) noexcept {
-    if (in.size() == 1U) {
-      return feed(in[0]);
+  constexpr decode_result<response> feed(byte_view in) noexcept { return decide(in, 0); }
+
+  /// The per-byte step (a UART receive interrupt's call): takes `byte`; true when it settles
+  /// something, which result() then holds: a response (complete) or a rejected frame (failed,
+  /// as feed() would report it). False: nothing to report yet. A byte inside a frame is stored
+  /// here, inline at the call site, with nothing written but the byte and its index.
+  /// After a failure the bytes held are rescanned by the next put() (which then reports at most
+  /// one result: a frame found among the bytes held is reported before the byte's own), or at
+  /// once by feed() with an empty `in`.
+  MOTIONBUS_INLINE constexpr bool put(std::uint8_t byte) noexcept {
+    if (buf_.push_before(byte)) {
+      return false;
     }
-    return decide(in);
-  }
-  /// feed() of one byte (a UART interrupt handler's call). A byte inside a frame whose length
-  /// is known is stored here, inline at the call site; everything else is decided out of line.
-  MOTIONBUS_INLINE constexpr decode_result<response> feed(std::uint8_t byte) noexcept {
-    std::size_t at_least = 0;
-    if (buf_.push_before(byte, at_least)) {
-      return need_input{at_least};
+    if (framing_) {  // push_before() refuses a frame's last byte only (frame_buffer::want)
+      return last_byte(byte);
     }
-    return decide_byte(byte);
+    return put_other(byte);
   }
+  /// What the last put() that returned true settled (complete or failed); incomplete before
+  /// any. Valid until the next put() that returns true.
+  constexpr const decode_result<response>& result() const noexcept { return result_; }
 
   /// The line went idle (end of frame): what is held is dropped. Failed (truncated, with the
   /// bytes dropped as consumed()) when part of a frame was held; else incomplete (nothing to
@@ -144,40 +160,48 @@ class receiver {
   constexpr std::size_t pending() const noexcept { return buf_.size(); }
 
  private:
-  // feed() of one byte that completes something: the last byte of a frame (decoded without a
-  // stack frame of its own here: a tail call), or else a first byte.
-  MOTIONBUS_NOINLINE constexpr decode_result<response> decide_byte(std::uint8_t byte) noexcept {
-    if (framing_) {
-      if (buf_.completes_want()) {  // the last byte of a frame whose CF was checked
-        buf_.put_last(byte);
-        return finish(1);
-      }
-    } else if (buf_.empty() && !echo_pending_) {  // the first byte: a CF, or garbage
+  // put() of the last byte of a frame whose CF was checked: decoded and checked in place.
+  MOTIONBUS_NOINLINE constexpr bool last_byte(std::uint8_t byte) noexcept {
+    buf_.put_last(byte);
+    finish(1, result_);
+    return true;
+  }
+
+  // put() of a byte that decides something but is not the last of a frame: a first byte (a CF
+  // or garbage), or anything decide() must sort out, with the byte taken first.
+  MOTIONBUS_NOINLINE constexpr bool put_other(std::uint8_t byte) noexcept {
+    if (buf_.empty() && !echo_pending_) {  // the first byte: a CF, or garbage
       const std::uint8_t code = data_id_code(byte);
       if (byte != valid_control_fields[code]) {
         ++dropped_;
-        return need_input{1};
+        return false;
       }
       const std::uint8_t frame_size = response_layouts[code].size;
       buf_.start_with(byte, frame_size);  // an empty buffer starts at its front
       framing_ = true;
-      return need_input{frame_size - 1U};
+      return false;
     }
-    return decide_one(byte);
+    return put_held(byte);
   }
 
-  // decide() of one byte, out of line: decide_byte() then needs no stack frame.
-  MOTIONBUS_NOINLINE constexpr decode_result<response> decide_one(std::uint8_t byte) noexcept {
-    return decide(byte_view(&byte, 1));
+  // put() of a byte that decide() must sort out with the bytes held. Fewer than 11 bytes are
+  // held after every decision (a frame is decided when complete, a rejected one drops its first
+  // byte), so the byte fits, and is taken first.
+  MOTIONBUS_NOINLINE constexpr bool put_held(std::uint8_t byte) noexcept {
+    buf_.push(byte);
+    emplace_result(result_, [&] { return decide(byte_view(), 1); });
+    return !result_.is_incomplete();
   }
 
   // feed() of anything else: takes bytes from `in` and decides as often as needed.
-  constexpr decode_result<response> decide(byte_view in) noexcept {
-    std::size_t used = 0;
+  // `used`: bytes of the caller's input already taken.
+  constexpr decode_result<response> decide(byte_view in, std::size_t used) noexcept {
     for (;;) {
       if (buf_.size() >= buf_.wanted()) {  // enough held to decide something
         if (framing_) {
-          return finish(used);
+          decode_result<response> r;
+          finish(used, r);
+          return r;
         }
         const decode_result<response> r = scan(used);
         if (!r.is_incomplete()) {
@@ -231,35 +255,36 @@ class receiver {
       if (held < frame_size) {
         return need_input{frame_size - held};
       }
-      return finish(used);
+      decode_result<response> r;
+      finish(used, r);
+      return r;
     }
   }
 
-  // The frame held at the front (wanted() bytes, its CF checked) is complete: decodes it, and
-  // checks it against the request. A rejected frame is rescanned from its second byte.
-  constexpr decode_result<response> finish(std::size_t used) noexcept {
+  // The frame held at the front (wanted() bytes, its CF checked) is complete: decodes it into
+  // `r`, and checks it against the request. A rejected frame is rescanned from its second byte.
+  constexpr void finish(std::size_t used, decode_result<response>& r) noexcept {
     const std::size_t n = buf_.wanted();
     framing_ = false;
-    // One result, returned from one place (built in the caller's slot: no copy).
     // The default options are constants here (the common case: no options to rebuild).
-    decode_result<response> r = custom_decode_ ? decode_response(buf_.first(n), decode_opts())
-                                               : decode_response(buf_.first(n), decode_options{});
-    if (r.is_failed()) {
+    emplace_result(r, [&] {
+      return custom_decode_ ? decode_response(buf_.first(n), decode_opts())
+                            : decode_response(buf_.first(n), decode_options{});
+    });
+    r.set_consumed(used);
+    // (n bytes: complete or failed; r is read before the buffer is written, which could alias)
+    if (r.is_complete()) {
+      std::uint32_t want = 0;
+      std::uint32_t got = 0;
+      const errc e = check_ ? detail::check_against(request_, r.value(), want, got) : errc::ok;
+      buf_.drop(n, 0);
+      if (e != errc::ok) {
+        r = decode_failure{e, used, want, got};
+      }
+    } else {
       buf_.drop(1, 0);  // rescan from the next byte: a valid frame may start inside
       ++dropped_;
-    } else {
-      buf_.drop(n, 0);
-      if (check_) {
-        std::uint32_t want = 0;
-        std::uint32_t got = 0;
-        const errc e = detail::check_against(request_, r.value(), want, got);
-        if (e != errc::ok) {
-          r = decode_failure{e, 0, want, got};
-        }
-      }
     }
-    r.set_consumed(used);
-    return r;
   }
 
   constexpr decode_options decode_opts() const noexcept {
@@ -272,7 +297,7 @@ class receiver {
     return d;
   }
 
-  frame_buffer<max_response_size> buf_;  // first: feed(byte) stores at the object's address
+  frame_buffer<max_response_size> buf_;  // first: put() stores at the object's address
   // The options, each stored so that its default is 0 (a default receiver is all zeros).
   bool echo_ = false;
   bool skip_check_ = false;
@@ -288,6 +313,7 @@ class receiver {
   bool check_ = false;    // check responses against request_ (a valid request, and the option)
   std::size_t dropped_ = 0;
   std::size_t echoes_ = 0;
+  decode_result<response> result_;  // put()'s
 };
 
 }  // namespace tformat

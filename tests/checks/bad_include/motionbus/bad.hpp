@@ -4,3 +4,6 @@ static int counter = 0;
 inline void* grab() {
   return new int(counter++);
 }
+inline void rebuild(int& slot) {
+  ::new (static_cast<void*>(&slot)) int(*new int(1));  // placement, then the heap
+}
