@@ -251,21 +251,21 @@ METER_OP bool op_modbus_either_framer_byte(unsigned byte) {
   return either_framer.put(static_cast<std::uint8_t>(byte));
 }
 METER_OP void op_report_rtu();
-METER_OP void op_report_either_framer(unsigned ready) {
+// What the last put() settled (`ready`: what it returned), reported as op_report_rtu does.
+template <class Framer>
+void report_put(const Framer& f, unsigned ready) {
   if (ready != 0U) {
-    rtu_result = either_framer.result();
+    rtu_result = f.result();
   } else {
     rtu_result = mb::need_input{};
   }
   op_report_rtu();
 }
+METER_OP void op_report_either_framer(unsigned ready) {
+  report_put(either_framer, ready);
+}
 METER_OP void op_report_framer(unsigned ready) {
-  if (ready != 0U) {
-    rtu_result = framer.result();
-  } else {
-    rtu_result = mb::need_input{};
-  }
-  op_report_rtu();
+  report_put(framer, ready);
 }
 METER_OP void op_report_rtu() {
   const auto& r = rtu_result;

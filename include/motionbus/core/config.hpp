@@ -129,6 +129,16 @@
 #define MOTIONBUS_SPEED_INLINE MOTIONBUS_INLINE
 #endif
 
+/// Forces inlining in the size form only (MOTIONBUS_SMALL_CODE 1): a thin wrapper around an
+/// out-of-line loop (a one-shot CRC), so that a size-optimised caller calls the loop with its
+/// arguments in registers; in the speed form the compiler chooses (forcing it there can keep
+/// a host's optimiser from vectorising the loop at the call site).
+#if MOTIONBUS_SMALL_CODE
+#define MOTIONBUS_SIZE_INLINE MOTIONBUS_INLINE
+#else
+#define MOTIONBUS_SIZE_INLINE inline
+#endif
+
 /// 1 where the core counts leading zeros in one instruction (Cortex-M3 and up, x86, AArch64,
 /// RISC-V with Zbb): code may then prefer 32-bit counts to 64-bit ones. Cores without it
 /// (Cortex-M0+, rv32imc) call a library routine either way.

@@ -401,11 +401,12 @@ class crc {
     } else {
       const std::uint8_t* at = bytes;
       std::size_t left = size;
-#if MOTIONBUS_DIRECT_LOADS && (defined(__ARM_FEATURE_UNALIGNED) || defined(__x86_64__) || \
-                               defined(__i386__) || defined(__aarch64__))
+#if MOTIONBUS_DIRECT_LOADS && defined(__ARM_FEATURE_UNALIGNED)
       if constexpr (chunk_bits == 8U) {
-        // Two bytes a step where a halfword load may be unaligned (Cortex-M3/M4/M7, x86,
-        // AArch64): one load and one loop test for two table steps.
+        // Two bytes a step on Arm cores whose halfword loads may be unaligned (Cortex-M3, M4,
+        // M7; A-profile): one load and one loop test for two table steps, 5.6 instructions a
+        // byte on Cortex-M4 against 7 (docs/footprint.md). Not on x86, where the byte loop is
+        // faster (bench/RESULTS.md, session 9).
         if (!MOTIONBUS_CONSTANT_EVALUATED() && left >= 2U) {
           std::size_t pairs = left / 2U;
           left &= 1U;
@@ -493,7 +494,7 @@ class crc {
   }
 
   /// One-shot CRC of `data`.
-  MOTIONBUS_INLINE static constexpr value_type compute(byte_view data) noexcept {
+  MOTIONBUS_SIZE_INLINE static constexpr value_type compute(byte_view data) noexcept {
     return value_of(feed_bytes(initial_register(), data));
   }
 
