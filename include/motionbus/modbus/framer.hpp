@@ -467,8 +467,10 @@ class basic_rtu_framer {
   }
 
   // Decides on the bytes held. Incomplete: wanted() (> size) is how many to hold before the
-  // next decision.
-  constexpr decode_result<rtu_frame> scan(std::size_t used, bool at_end) noexcept {
+  // next decision. Out of line: inlined into the chunk loop, it made that loop 8 % slower on
+  // x86-64 (bench/RESULTS.md, session 9).
+  MOTIONBUS_NOINLINE constexpr decode_result<rtu_frame> scan(std::size_t used,
+                                                             bool at_end) noexcept {
     phase_ = phase::scanning;
     if (waiting_) {
       if (!at_end && buf_.size() < max_rtu_size) {
