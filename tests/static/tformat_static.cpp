@@ -134,6 +134,22 @@ constexpr bool layout_sizes_count_their_fields() {
 }
 static_assert(layout_sizes_count_their_fields(), "response_layouts");
 
+// The receiver's per-byte step in a constant expression: a request, its echo, garbage, an ID0
+// response byte by byte through put(); the response settles at its last byte.
+constexpr bool receiver_put_settles_at_the_last_byte() {
+  tf::receiver rx(tf::receiver_options{tf::echo::expected});
+  const std::uint8_t request[1] = {0x02};
+  rx.sent(motionbus::byte_view(request, 1));
+  const std::uint8_t line[] = {0x02, 0xFF, 0x02, 0x00, 0x21, 0x43, 0x01, 0x61};  // CRC: XOR
+  int settled = 0;
+  for (const std::uint8_t b : line) {
+    settled += rx.put(b) ? 1 : 0;
+  }
+  return settled == 1 && rx.result().is_complete() && rx.result()->abs == 0x014321 &&
+         rx.echoes_skipped() == 1 && rx.dropped() == 1;
+}
+static_assert(receiver_put_settles_at_the_last_byte(), "receiver::put");
+
 // TS5700N8500 helpers.
 static_assert(ts::encode_overheat_threshold(90).value() == 0xDA, "90 °C");
 static_assert(ts::decode_temperature(0x3C) == 60 && ts::decode_temperature(0xFF) == -1, "temp");
