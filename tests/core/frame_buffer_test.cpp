@@ -148,3 +148,37 @@ TEST_CASE("frame_buffer: start_with begins a frame at the front, drop(n, want) e
   CHECK(b.wanted() - b.size() == 1U);
   CHECK(!b.push_before(0x42));
 }
+
+TEST_CASE("frame_buffer: reserve, want_within, restart, and the last byte in two steps") {
+  frame_buffer<8> b;
+  b.want(8);
+  for (std::uint8_t i = 1; i <= 7; ++i) {
+    CHECK(b.push_before(i));
+  }
+  b.drop(6);     // one held (7), at index 6
+  b.reserve(2);  // two from index 6 fit: nothing moves
+  CHECK(b.data()[0] == 7);
+  CHECK(b[0] == 7);
+  b.reserve(4);  // four from index 6 would not: the byte held moves to the front
+  CHECK(b.size() == 1);
+  CHECK(b.data()[0] == 7);
+  b.want_within(4);  // room was made: 4 wanted from the front, no check
+  CHECK(b.wanted() == 4);
+  CHECK(b.push_before(8));
+  CHECK(b.push_before(9));
+  CHECK(!b.push_before(10));  // the fourth: a decision
+  b.place_last(10);           // stored, not yet counted
+  CHECK(b.size() == 3);
+  CHECK(b.data()[3] == 10);
+  b.count_last();
+  CHECK(b.size() == 4);
+  CHECK(b[3] == 10);
+  b.restart(2);  // everything dropped: 2 wanted from the front, the bytes still readable
+  CHECK(b.empty());
+  CHECK(b.wanted() == 2);
+  CHECK(b.data()[0] == 7);
+  CHECK(b.push_before(0x11));
+  CHECK(!b.push_before(0x12));
+  b.restart(0);
+  CHECK(!b.push_before(0x13));  // nothing wanted: every byte is a decision
+}

@@ -171,8 +171,9 @@ class frame_buffer {
     return true;
   }
 
-  // Moves the bytes held to the front; false when there is no room to make.
-  constexpr bool make_room() noexcept {
+  // Moves the bytes held to the front; false when there is no room to make. Out of line: the
+  // rare path (at most once per frame) of the inline steps.
+  MOTIONBUS_NOINLINE constexpr bool make_room() noexcept {
     if (start_ == 0U) {
       return false;
     }

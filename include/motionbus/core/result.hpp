@@ -242,7 +242,7 @@ class [[nodiscard]] decode_result {
 template <class T, class Make>
 MOTIONBUS_INLINE constexpr void emplace_result(decode_result<T>& slot, Make&& make) noexcept {
   if (MOTIONBUS_CONSTANT_EVALUATED()) {
-    slot = make();
+    slot = make();  // coverage: constant evaluation only (tests/static/tformat_static.cpp)
   } else {
     ::new (static_cast<void*>(&slot)) decode_result<T>(make());  // trivially destructible
   }
