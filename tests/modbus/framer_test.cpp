@@ -87,11 +87,12 @@ TEST_CASE("framer put(): byte by byte, the results of feed() in chunks (random s
       const std::uint64_t kind = rng.below(10);
       if (kind < 7U) {
         const auto slave = static_cast<std::uint8_t>(rng.below(4));  // (one order everywhere)
-        bytes f = rtu(slave, pdus[rng.below(pdus.size())]);
+        bytes f = rtu(slave, pdus[static_cast<std::size_t>(rng.below(pdus.size()))]);
         if (kind == 6U) {
-          f[rng.below(f.size())] ^= static_cast<std::uint8_t>(1U + rng.below(255));
+          f[static_cast<std::size_t>(rng.below(f.size()))] ^=
+              static_cast<std::uint8_t>(1U + rng.below(255));
         } else if (kind == 5U) {
-          f.resize(rng.below(f.size()));
+          f.resize(static_cast<std::size_t>(rng.below(f.size())));
         }
         stream.insert(stream.end(), f.begin(), f.end());
       } else {
@@ -111,7 +112,7 @@ TEST_CASE("framer put(): byte by byte, the results of feed() in chunks (random s
       chunked.sent(options.address, function);
       by_byte.sent(options.address, function);
     }
-    const auto expected = run(chunked, stream, 1U + rng.below(40));
+    const auto expected = run(chunked, stream, 1U + static_cast<std::size_t>(rng.below(40)));
     CAPTURE(round);
     CHECK(run_put(by_byte, stream) == expected);
     CHECK(by_byte.pending() == chunked.pending());

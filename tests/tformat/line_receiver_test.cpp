@@ -320,11 +320,12 @@ TEST_CASE("receiver put(): byte by byte, the results of feed() in chunks (random
       if (kind == 0U) {
         s.insert(s.end(), request, request + request_size);  // an echo
       } else if (kind < 6U) {
-        auto f = frames[rng.below(frames.size())];
+        auto f = frames[static_cast<std::size_t>(rng.below(frames.size()))];
         if (kind == 4U) {
-          f[rng.below(f.size())] ^= static_cast<std::uint8_t>(1U + rng.below(255));
+          f[static_cast<std::size_t>(rng.below(f.size()))] ^=
+              static_cast<std::uint8_t>(1U + rng.below(255));
         } else if (kind == 5U) {
-          f.resize(rng.below(f.size()));
+          f.resize(static_cast<std::size_t>(rng.below(f.size())));
         }
         s.insert(s.end(), f.begin(), f.end());
       } else {
@@ -332,7 +333,7 @@ TEST_CASE("receiver put(): byte by byte, the results of feed() in chunks (random
       }
     }
     std::vector<note> expected;
-    const std::size_t chunk = 1U + rng.below(20);
+    const std::size_t chunk = 1U + static_cast<std::size_t>(rng.below(20));
     for (std::size_t at = 0; at < s.size(); at += chunk) {
       feed_all(chunked, byte_view(s.data() + at, std::min(chunk, s.size() - at)),
                [&](const auto& r) {
