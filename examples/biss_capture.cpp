@@ -91,7 +91,7 @@ void decode(const std::string& text, const bs::slave_layout& layout) {
     std::printf("\n");
   } else {
     std::printf("position %llu  line delay %zu bits  Ack %zu  CDS %d  %s%s  CRC 0x%02X ok\n",
-                static_cast<unsigned long long>(d.single_turn), r->start, r->ack_bits(),
+                static_cast<unsigned long long>(d.single_turn), r->line_delay, r->ack_bits(),
                 r->cds ? 1 : 0, d.error() ? "ERROR " : "", d.warning() ? "WARNING" : "",
                 static_cast<unsigned>(d.crc));
   }

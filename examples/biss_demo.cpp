@@ -22,12 +22,12 @@ class session {
   // One frame; returns false when the capture does not decode.
   bool frame() {
     std::uint32_t words[2] = {0xFFFFFFFFU, 0xFFFFFFFFU};
-    const auto n = enc_.frame(mb::span<std::uint32_t>(words, 2), 2, 1);
-    const auto r = bs::decode_frame(mb::span<const std::uint32_t>(words, 2), 64, ab::layout, last_);
+    const auto n = enc_.frame(words, 2, 1);  // a line delay of 2 bits, Ack 1
+    const auto r = bs::decode_frame(words, 64, ab::layout, last_);
     if (!n.ok() || !r.is_complete()) {
       return false;
     }
-    start_ = r->start;
+    line_delay_ = r->line_delay;
     enc_.control(master_.step(r->cds));
     ++frames_;
     return true;
@@ -61,14 +61,14 @@ class session {
   }
   const bs::slave_data& last() const { return last_; }
   std::size_t frames() const { return frames_; }
-  std::size_t start() const { return start_; }
+  std::size_t line_delay() const { return line_delay_; }
 
  private:
   ab::emulator& enc_;
   bs::control_master master_;
   bs::slave_data last_{};
   std::size_t frames_ = 0;
-  std::size_t start_ = 0;
+  std::size_t line_delay_ = 0;
 };
 
 void check(mb::errc e, const char* what) {
@@ -91,31 +91,30 @@ int main() {
     std::printf("  position %u pulses = %.3f deg, nE %d, nW %d, line delay %zu bits\n",
                 static_cast<unsigned>(s.last().single_turn),
                 360.0 * static_cast<double>(s.last().single_turn) / pulses, s.last().ne ? 1 : 0,
-                s.last().nw ? 1 : 0, s.start());
+                s.last().nw ? 1 : 0, s.line_delay());
   }
 
   std::uint8_t id[2] = {};
   std::uint8_t mfr[2] = {};
-  std::uint8_t serial[8] = {};
-  std::uint8_t device[8] = {};
+  std::uint8_t serial[ab::serial_number_size] = {};
+  std::uint8_t device[ab::device_id_size] = {};
   std::uint8_t rev = 0;
   check(s.read(ab::reg::manufacturer_id, mfr, 2), "manufacturer");
   check(s.read(ab::reg::revision, &rev, 1), "revision");
   check(s.read(ab::reg::profile_id, id, 2), "profile ID");
-  check(s.read(ab::reg::serial_number, serial, 8), "serial number");
-  check(s.read(ab::reg::device_id, device, 8), "device ID");
-  // Serial number and device ID: two ASCII bytes, a 32-bit number (big-endian), two ASCII bytes.
-  const auto be32 = [](const std::uint8_t* p) {
-    return (static_cast<unsigned>(p[0]) << 24U) | (static_cast<unsigned>(p[1]) << 16U) |
-           (static_cast<unsigned>(p[2]) << 8U) | static_cast<unsigned>(p[3]);
-  };
-  const unsigned sn = be32(serial + 2);
-  const unsigned dev = be32(device + 2);
-  std::printf(
-      "  identity: manufacturer \"%c%c\", slave revision 0x%02X, profile 0x%02X%02X "
-      "(BP3, %u-bit data), serial %c%c %u %c%c, device ID %u\n",
-      mfr[0], mfr[1], rev, id[0], id[1], id[1], serial[0], serial[1], sn, serial[6], serial[7],
-      dev);
+  check(s.read(ab::reg::serial_number, serial, sizeof serial), "serial number");
+  check(s.read(ab::reg::device_id, device, sizeof device), "device ID");
+  // Serial number: three ASCII bytes, the number (big-endian), one ASCII byte (§2.4); device
+  // ID: two ASCII bytes, the number, two ASCII bytes (§2.5).
+  const auto sn = ab::decode_serial_number(serial);
+  const auto dev = ab::decode_device_id(device);
+  if (sn.ok() && dev.ok()) {
+    std::printf(
+        "  identity: manufacturer \"%c%c\", slave revision 0x%02X, profile 0x%02X%02X "
+        "(BP3, %u-bit data), serial %.3s %u %c, device ID %u\n",
+        mfr[0], mfr[1], rev, id[0], id[1], id[1], sn->prefix, static_cast<unsigned>(sn->number),
+        sn->suffix, static_cast<unsigned>(dev->number));
+  }
 
   std::uint8_t bank[bs::bank_size] = {};
   check(s.read(0x00, bank, bs::bank_size), "EDS common part");  // bank 0x80 after power-on
@@ -135,13 +134,22 @@ int main() {
         crc.width, (1U << crc.width) | crc.poly, static_cast<unsigned>(crc.start));
   }
 
-  std::uint8_t status = 0;
-  check(s.read(ab::reg::error_status, &status, 1), "error status");
+  // Error status 0x6B: nE and nW latched, active low as in the frame (0x03: no error).
+  std::uint8_t status[3] = {};
+  check(s.read(ab::reg::error_status, &status[0], 1), "error status");
+  enc.set_error(ab::sensor_error::in_operation);  // synchronisation lost for one frame ...
+  s.frame();
+  const bool ne_low = !s.last().ne;
+  enc.set_error(ab::sensor_error::none);  // ... and regained: nE high again, 0x6B keeps it
+  check(s.read(ab::reg::error_status, &status[1], 1), "error status");
   check(s.write(ab::reg::command, static_cast<std::uint8_t>(ab::command::reset_errors)),
         "reset errors");
-  std::uint8_t cleared = 0;
-  check(s.read(ab::reg::error_status, &cleared, 1), "error status");
-  std::printf("  error status 0x%02X at power-on, 0x%02X after command 06\n", status, cleared);
+  check(s.read(ab::reg::error_status, &status[2], 1), "error status");
+  std::printf(
+      "  error status 0x%02X at power-on; an error in operation (nE %d) latches 0x%02X (error "
+      "%s), command 06 returns 0x%02X\n",
+      status[0], ne_low ? 0 : 1, status[1],
+      ab::decode_error_status(status[1]).error ? "latched" : "none", status[2]);
 
   const std::size_t before = s.frames();
   check(s.write(ab::reg::command, static_cast<std::uint8_t>(ab::command::set_offset_to_position)),

@@ -87,7 +87,7 @@ std::vector<std::uint32_t> captures(std::size_t slaves, std::size_t words) {
       v[k].ne = (i % 7U) != 0U;
     }
     bs::line_options line;
-    line.idle_bits = 1U + i % 8U;
+    line.line_delay = 1U + i % 8U;
     line.ack_bits = 1U + i % 4U;
     line.cds = (i & 1U) != 0U;
     (void)bs::encode_frame(mb::span<const bs::slave_layout>(chain.data(), chain.size()),

@@ -28,12 +28,12 @@ std::size_t line_delay = 0;
 // One frame: the encoder's samples decoded, the CDS bit to the master, its CDM bit back.
 bool frame() {
   std::uint32_t words[2] = {0xFFFFFFFFU, 0xFFFFFFFFU};
-  const auto n = encoder.frame(mb::span<std::uint32_t>(words, 2), 2, 1);
-  const auto r = bs::decode_frame(mb::span<const std::uint32_t>(words, 2), 64, ab::layout, last);
+  const auto n = encoder.frame(words, 2, 1);  // a line delay of 2 bits, Ack 1
+  const auto r = bs::decode_frame(words, 64, ab::layout, last);
   if (!n.ok() || !r.is_complete()) {
     return false;
   }
-  line_delay = r->start;
+  line_delay = r->line_delay;
   encoder.control(master.step(r->cds));
   return true;
 }
@@ -130,14 +130,22 @@ int main() {
     report::text("\n");
   }
 
+  // Error status 0x6B: the frame's nE and nW latched, active low (0x03: no error).
   std::uint8_t status = 0;
   result("status", read(ab::reg::error_status, &status, 1));
+  encoder.set_error(ab::sensor_error::in_operation);  // one frame with nE low, then regained
+  (void)frame();
+  encoder.set_error(ab::sensor_error::none);
+  std::uint8_t latched = 0;
+  result("status", read(ab::reg::error_status, &latched, 1));
   result("reset errors",
          write(ab::reg::command, static_cast<std::uint8_t>(ab::command::reset_errors)));
   std::uint8_t cleared = 0;
   result("status", read(ab::reg::error_status, &cleared, 1));
   report::text("status ");
   report::hex(status, 2);
+  report::text(" error ");
+  report::hex(latched, 2);
   report::text(" after reset ");
   report::hex(cleared, 2);
   report::text("\n");

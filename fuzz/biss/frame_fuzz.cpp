@@ -59,7 +59,7 @@ void run(const std::uint8_t* data, std::size_t size, std::size_t chain_len, std:
     return;
   }
   const bs::frame_info& f = r.value();
-  MOTIONBUS_FUZZ_CHECK(f.ack <= opt.max_idle_bits && f.ack_bits() >= 1U &&
+  MOTIONBUS_FUZZ_CHECK(f.line_delay <= opt.max_line_delay && f.ack_bits() >= 1U &&
                        f.ack_bits() <= opt.max_ack_bits);
   std::vector<bs::slave_values> values;
   bool filler_set = false;  // alignment bits are filler: the encoder writes them as 0
@@ -71,7 +71,7 @@ void run(const std::uint8_t* data, std::size_t size, std::size_t chain_len, std:
     filler_set = filler_set || (d.data & ((std::uint64_t{1} << a) - 1U)) != 0U;
   }
   bs::line_options line;
-  line.idle_bits = f.ack;
+  line.line_delay = f.line_delay;
   line.ack_bits = f.ack_bits();
   line.cds = f.cds;
   std::vector<Word> copy(words);
@@ -91,7 +91,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const std::size_t chain_len = 1U + data[0] % 3U;
   const std::size_t pick = data[1];
   bs::decode_options opt;
-  opt.max_idle_bits = 1U + (data[2] & 0x3FU);
+  opt.max_line_delay = 1U + (data[2] & 0x3FU);
   opt.max_ack_bits = 1U + (data[2] >> 6U) * 40U;
   switch ((data[0] >> 2U) % 3U) {
     case 0: run<std::uint8_t>(data + 3, size - 3, chain_len, pick, opt); break;

@@ -169,7 +169,7 @@ TEST_CASE("ABSYS frame: encoder output equals the frame built from the notes, de
     const auto r = decode_string<std::uint32_t>(want, chain, out);
     REQUIRE(r.is_complete());
     CHECK(r->start == ack);
-    CHECK(r->ack == 0);
+    CHECK(r->line_delay == 0);
     CHECK(r->cds == cds);
     CHECK(r.consumed() == want.size());
     CHECK(out[0].single_turn == v.st);
@@ -201,7 +201,7 @@ TEST_CASE("start search at every line delay and Ack length, CDS 0 and 1, 8/16/32
         REQUIRE(r16.is_complete());
         REQUIRE(r32.is_complete());
         CHECK(r8->start == idle + ack);
-        CHECK(r8->ack == idle);
+        CHECK(r8->line_delay == idle);
         CHECK(r8->ack_bits() == ack);
         CHECK(r16->start == idle + ack);
         CHECK(r32->start == idle + ack);
@@ -254,7 +254,7 @@ void samples_past_the_count_are_ignored(testutil::splitmix64& rng) {
       CHECK(a.consumed() == b.consumed());
       CHECK(a.needed() == b.needed());
       CHECK(a->start == b->start);
-      CHECK(a->ack == b->ack);
+      CHECK(a->line_delay == b->line_delay);
       CHECK(a->cds == b->cds);
       CHECK(clean[0].data == noisy[0].data);
       CHECK(clean[0].crc == noisy[0].crc);
@@ -297,7 +297,7 @@ TEST_CASE("no Ack, no Start, truncated: distinct outcomes") {
   const std::vector<slave_layout> chain{absys_layout};
   std::vector<slave_data> out;
   decode_options opt;
-  opt.max_idle_bits = 16;
+  opt.max_line_delay = 16;
   opt.max_ack_bits = 20;
   // only ones: need more input up to the bound, then no_ack
   CHECK(decode_string<std::uint8_t>(std::string(16, '1'), chain, out, opt).is_incomplete());
@@ -400,7 +400,7 @@ TEST_CASE("chains of 1 to 3 slaves with different layouts") {
       // the encoder writes the same bits
       std::vector<std::uint16_t> words(20, 0);
       line_options line;
-      line.idle_bits = idle;
+      line.line_delay = idle;
       line.ack_bits = ack;
       line.cds = rep % 2 == 0;
       const auto w = encode_frame(span<const slave_layout>(chain.data(), chain.size()),
@@ -472,7 +472,7 @@ decode_result<frame_info> round_trip(const slave_layout& layout, const slave_val
                                      slave_data& d) {
   std::uint32_t words[6] = {};
   line_options line;
-  line.idle_bits = 3;
+  line.line_delay = 3;
   line.ack_bits = 2;
   const auto n = encode_frame(layout, values, span<std::uint32_t>(words, 6), line);
   REQUIRE(n.ok());

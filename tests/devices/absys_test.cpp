@@ -168,12 +168,21 @@ TEST_CASE("ABSYS emulator: sensor data and identity through the BiSS master") {
   REQUIRE(b.read(ab::reg::profile_id, id, 2) == errc::ok);
   CHECK(id[0] == 0x63);
   CHECK(id[1] == 0x20);
+  // §2.4: ASCII at 0x44..0x46, the serial number 0x00BC614E at 0x47..0x4A, ASCII at 0x4B
   std::uint8_t sn[8] = {};
   REQUIRE(b.read(ab::reg::serial_number, sn, 8) == errc::ok);
-  CHECK(sn[2] == 0x00);
-  CHECK(sn[3] == 0xBC);
-  CHECK(sn[4] == 0x61);
-  CHECK(sn[5] == 0x4E);
+  CHECK(sn[0] == 'A');
+  CHECK(sn[1] == 'T');
+  CHECK(sn[2] >= 0x20);  // printable ASCII
+  CHECK(sn[2] <= 0x7E);
+  CHECK(sn[3] == 0x00);
+  CHECK(sn[4] == 0xBC);
+  CHECK(sn[5] == 0x61);
+  CHECK(sn[6] == 0x4E);
+  CHECK(sn[7] >= 0x20);
+  CHECK(sn[7] <= 0x7E);
+  CHECK(b.read1(0x47) == 0x00);
+  CHECK(b.read1(0x4A) == 0x4E);
   // the EDS through the bank window
   CHECK(b.read1(ab::reg::bank_select) == 0x80);
   std::uint8_t bank[64] = {};
@@ -286,25 +295,31 @@ TEST_CASE("ABSYS emulator: linear encoder offset is signed") {
   CHECK(static_cast<std::int32_t>(b.last.single_turn - 0x100000000ULL) == -10);
 }
 
-TEST_CASE("ABSYS emulator: errors latch in 0x6B until command 06; nE follows the condition") {
+TEST_CASE("ABSYS emulator: 0x6B latches nE/nW active low, 0x03 healthy; command 06 -> 0x03") {
+  // ABSYS document §2.1 (default 0x03), §2.7 (bit 0 warning, bit 1 error, latched until command
+  // 06), §1 (nE/nW "Active on Low (0)"; the warning "is always inactive and it is set to '1'")
   ab::emulator enc;
   bench b(enc);
-  CHECK(b.read1(ab::reg::error_status) == 0x03);  // power-on default
+  CHECK(b.read1(ab::reg::error_status) == 0x03);  // power-on default: no error, no warning
   REQUIRE(b.write(ab::reg::command, {0x06}) == errc::ok);
-  CHECK(b.read1(ab::reg::error_status) == 0x00);
+  CHECK(b.read1(ab::reg::error_status) == 0x03);  // reset: healthy, not 0x00
   enc.set_error(ab::sensor_error::in_operation);
   b.frame();
-  CHECK(b.last.error());
+  CHECK(b.last.error());                          // nE low in the frame ...
+  CHECK(b.read1(ab::reg::error_status) == 0x01);  // ... bit 1 low in the register
   enc.set_error(ab::sensor_error::none);
   b.frame();
-  CHECK(!b.last.error());                                     // regained during operation
-  CHECK(b.read1(ab::reg::error_status) == ab::status_error);  // but latched
+  CHECK(!b.last.error());                         // regained during operation
+  CHECK(b.read1(ab::reg::error_status) == 0x01);  // but latched; the warning bit stays 1
   REQUIRE(b.write(ab::reg::command, {0x06}) == errc::ok);
-  CHECK(b.read1(ab::reg::error_status) == 0x00);
+  CHECK(b.read1(ab::reg::error_status) == 0x03);
   enc.set_error(ab::sensor_error::at_power_on);  // stays
   enc.set_error(ab::sensor_error::none);
   b.frame();
   CHECK(b.last.error());
+  REQUIRE(b.write(ab::reg::command, {0x06}) == errc::ok);
+  CHECK(b.read1(ab::reg::error_status) == 0x01);  // an error still present latches again
+  CHECK(enc.error_status() == 0x01);
   // the user bank is free to write and read
   REQUIRE(b.write(ab::reg::bank_select, {0x84}) == errc::ok);
   REQUIRE(b.write(0x10, {1, 2, 3}) == errc::ok);
@@ -331,4 +346,103 @@ TEST_CASE("ABSYS emulator registers: banks, command, preset, reserve, undefined 
   CHECK(regs.read(0x50) == 0);         // no register there
   regs.write(ab::reg::command, 0x77);  // no such command: nothing happens
   CHECK(e.offset() == 0);
+}
+
+TEST_CASE("ABSYS error status decoder: active low, undefined bits kept apart") {
+  CHECK(ab::status_healthy == 0x03);
+  const auto healthy = ab::decode_error_status(0x03);
+  CHECK(!healthy.error);
+  CHECK(!healthy.warning);
+  CHECK(healthy.undefined == 0);
+  const auto err = ab::decode_error_status(0x01);
+  CHECK(err.error);
+  CHECK(!err.warning);
+  const auto warn = ab::decode_error_status(0x02);
+  CHECK(!warn.error);
+  CHECK(warn.warning);
+  const auto both = ab::decode_error_status(0x00);
+  CHECK(both.error);
+  CHECK(both.warning);
+  const auto odd = ab::decode_error_status(0xA7);
+  CHECK(!odd.error);
+  CHECK(!odd.warning);
+  CHECK(odd.undefined == 0xA4);
+  CHECK(ab::status_of(true, true) == ab::status_healthy);
+  CHECK(ab::status_of(false, true) == 0x01);
+  CHECK(ab::status_of(true, false) == 0x02);
+  // the emulator's register and the frame it sends agree through the decoder
+  ab::emulator enc;
+  CHECK(ab::decode_error_status(enc.error_status()).error == !enc.values().ne);
+  enc.set_error(ab::sensor_error::in_operation);
+  CHECK(ab::decode_error_status(enc.error_status()).error);
+  CHECK(!enc.values().ne);
+  CHECK(!ab::decode_error_status(enc.error_status()).warning);  // never on the ABSYS
+}
+
+TEST_CASE("ABSYS serial number and device ID decoders (§2.4, §2.5)") {
+  // the text's example: 0x00BC614E between ASCII bytes
+  const std::uint8_t regs[] = {'A', 'T', 'J', 0x00, 0xBC, 0x61, 0x4E, 'C'};
+  const auto sn = ab::decode_serial_number(regs);
+  REQUIRE(sn.ok());
+  CHECK(sn->prefix[0] == 'A');
+  CHECK(sn->prefix[1] == 'T');
+  CHECK(sn->prefix[2] == 'J');
+  CHECK(sn->number == 0x00BC614EU);
+  CHECK(sn->number == 12345678U);
+  CHECK(sn->suffix == 'C');
+  const std::uint8_t msb[] = {'x', 'y', 'z', 0xFE, 0x01, 0x02, 0x03, '9', 0xFF};  // 9th ignored
+  const auto m = ab::decode_serial_number(msb);
+  REQUIRE(m.ok());
+  CHECK(m->number == 0xFE010203U);
+  CHECK(m->suffix == '9');
+  CHECK(ab::decode_serial_number(byte_view(regs, 7)).error() == errc::truncated);
+  CHECK(ab::decode_serial_number(byte_view{}).error() == errc::truncated);
+  const std::size_t ascii_at[] = {0, 1, 2, 7};
+  for (const std::size_t at : ascii_at) {  // the ASCII positions refuse bytes above 0x7F
+    std::uint8_t bad[8] = {'A', 'T', 'J', 0x00, 0xBC, 0x61, 0x4E, 'C'};
+    bad[at] = 0x80;
+    CAPTURE(at);
+    CHECK(ab::decode_serial_number(bad).error() == errc::out_of_range);
+  }
+  const std::uint8_t dev[] = {'X', 'X', 0x00, 0x11, 0xF5, 0x8E, '0', '1'};
+  const auto d = ab::decode_device_id(dev);
+  REQUIRE(d.ok());
+  CHECK(d->prefix[0] == 'X');
+  CHECK(d->number == 0x0011F58EU);
+  CHECK(d->suffix[0] == '0');
+  CHECK(d->suffix[1] == '1');
+  CHECK(ab::decode_device_id(byte_view(dev, 7)).error() == errc::truncated);
+  std::uint8_t bad_dev[8] = {'X', 'X', 0x00, 0x11, 0xF5, 0x8E, '0', 0xC1};
+  CHECK(ab::decode_device_id(bad_dev).error() == errc::out_of_range);
+  bad_dev[7] = '1';
+  bad_dev[1] = 0x80;
+  CHECK(ab::decode_device_id(bad_dev).error() == errc::out_of_range);
+
+  // read from the emulator by the master, decoded by the profile
+  ab::emulator enc;
+  bench b(enc);
+  std::uint8_t raw[ab::serial_number_size] = {};
+  REQUIRE(b.read(ab::reg::serial_number, raw, sizeof raw) == errc::ok);
+  const auto e = ab::decode_serial_number(raw);
+  REQUIRE(e.ok());
+  CHECK(e->number == 0x00BC614EU);
+  std::uint8_t raw_id[ab::device_id_size] = {};
+  REQUIRE(b.read(ab::reg::device_id, raw_id, sizeof raw_id) == errc::ok);
+  CHECK(ab::decode_device_id(raw_id)->number == 0x0011F58EU);
+}
+
+TEST_CASE("ABSYS emulator: frame() into a plain array, decoded from it; the line delay") {
+  ab::emulator enc;
+  enc.set_position(0x0004CDEFU);
+  std::uint32_t words[2] = {0xFFFFFFFFU, 0xFFFFFFFFU};
+  const auto n = enc.frame(words, 4, 2);  // line delay 4, Ack 2
+  REQUIRE(n.ok());
+  CHECK(*n == 4U + 2U + 2U + 40U);
+  bs::slave_data d;
+  const auto r = bs::decode_frame(words, 64, ab::layout, d);
+  REQUIRE(r.is_complete());
+  CHECK(r->line_delay == 4);  // the idle samples alone
+  CHECK(r->ack_bits() == 2);
+  CHECK(r->start == 6);  // the Start bit after both
+  CHECK(d.single_turn == 0x0004CDEFU);
 }

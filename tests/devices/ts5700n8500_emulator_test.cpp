@@ -151,10 +151,12 @@ TEST_CASE("alarms: latched flags stay until reset, non-latched follow their cond
   for (almc_bit a : all_alarms) {
     enc.set_condition(a, false);
   }
-  CHECK(enc.almc() == ts::latched_alarms);  // FS and BA cleared with their condition
+  // FS and BA cleared with their condition; CE latched, as the shaft is still (case II)
+  const auto held = static_cast<std::uint8_t>(ts::latched_alarms | ts::speed_latched_alarms);
+  CHECK(enc.almc() == held);
   auto all = m.ask(data_id::read_all);
   REQUIRE(all.is_complete());
-  CHECK(all->almc == ts::latched_alarms);
+  CHECK(all->almc == held);
   CHECK(all->ea0());
   CHECK(all->ea1());
   // a latched alarm whose condition persists survives the reset
@@ -163,6 +165,57 @@ TEST_CASE("alarms: latched flags stay until reset, non-latched follow their cond
     (void)m.ask(data_id::reset_errors, 0, 0, 50);
   }
   CHECK(enc.almc() == static_cast<std::uint8_t>(almc_bit::be));
+}
+
+TEST_CASE("counting error: non-latched at 100 rpm or more (case I), latched below (case II)") {
+  // spec §6.5, CE: "I (Non-latched) When the shaft ... is rotated at 100 min^-1 or more ... The
+  // flag is automatically released at every 45°"; "II (Latched during main power-on) When the
+  // shaft ... is rotated at less than 100 min^-1"
+  ts::emulator enc;
+  master m{enc};
+  const auto ce = static_cast<std::uint8_t>(almc_bit::ce);
+  enc.set_speed_rpm(3000);  // case I
+  enc.set_condition(almc_bit::ce, true);
+  CHECK(enc.almc() == ce);
+  CHECK(m.ask(data_id::read_abs)->ea0());
+  enc.set_condition(almc_bit::ce, false);  // the next 45° check finds the deviation gone
+  CHECK(enc.almc() == 0);
+  CHECK(!m.ask(data_id::read_abs)->ea0());
+  CHECK(m.ask(data_id::read_all)->almc == 0);
+  enc.set_speed_rpm(100);  // 100 min^-1 is still case I
+  enc.set_condition(almc_bit::ce, true);
+  enc.set_condition(almc_bit::ce, false);
+  CHECK(enc.almc() == 0);
+
+  enc.set_speed_rpm(99);  // case II: latched until a reset
+  enc.set_condition(almc_bit::ce, true);
+  enc.set_condition(almc_bit::ce, false);
+  CHECK(enc.almc() == ce);
+  CHECK(m.ask(data_id::read_abs)->ea0());
+  for (int i = 0; i < 10; ++i) {
+    (void)m.ask(data_id::reset_errors, 0, 0, 50);
+  }
+  CHECK(enc.almc() == 0);
+
+  // raised at speed, still present when the shaft slows below 100 min^-1: now case II
+  enc.set_speed_rpm(500);
+  enc.set_condition(almc_bit::ce, true);
+  enc.set_speed_rpm(50);
+  enc.set_condition(almc_bit::ce, false);
+  CHECK(enc.almc() == ce);
+  // a reset while the error is still present at low speed leaves it latched
+  enc.set_condition(almc_bit::ce, true);
+  for (int i = 0; i < 10; ++i) {
+    (void)m.ask(data_id::reset_multi_turn, 0, 0, 50);
+  }
+  enc.set_condition(almc_bit::ce, false);
+  CHECK(enc.almc() == ce);
+  // at speed a reset releases it for good once the condition goes
+  enc.set_speed_rpm(200);
+  for (int i = 0; i < 10; ++i) {
+    (void)m.ask(data_id::reset_errors, 0, 0, 50);
+  }
+  CHECK(enc.almc() == 0);
 }
 
 TEST_CASE("resets act on the 10th request of the same ID, at least 40 us apart") {
@@ -292,8 +345,18 @@ TEST_CASE("TS5700N8500: over-heat threshold, temperature, alarms, timing") {
   CHECK(ts::decode_temperature(0x7F) == 127);
   for (almc_bit a : all_alarms) {
     CHECK(std::string(ts::info(a).symbol) == symbol(a));
-    CHECK(ts::info(a).latched == ((static_cast<std::uint8_t>(a) & ts::latched_alarms) != 0));
+    const bool always = (static_cast<std::uint8_t>(a) & ts::latched_alarms) != 0;
+    CHECK(ts::info(a).latched_at(0) == (always || a == almc_bit::ce));
+    CHECK(ts::info(a).latched_at(100) == always);
   }
+  // spec §6.5: OS, OF, OH, BE "Latched", ME "Latched during main power-on", FS, BA
+  // "Non-latched"; CE case I (100 min^-1 or more) non-latched, case II (below) latched
+  CHECK(ts::latched_alarms == 0x79);
+  CHECK(ts::speed_latched_alarms == static_cast<std::uint8_t>(almc_bit::ce));
+  CHECK(ts::alarm_mask(ts::latch_rule::none) == 0x82);
+  CHECK(ts::info(almc_bit::ce).latch == ts::latch_rule::by_speed);
+  CHECK(!ts::info(almc_bit::ce).latched_at(ts::counting_error_case_i_rpm));
+  CHECK(ts::info(almc_bit::ce).latched_at(ts::counting_error_case_i_rpm - 1U));
   // docs/tformat.md §7 (timing): ID0 28 us, ID3 48 us, IDD 28 us, ID6 32 us at 2.5 Mbps
   CHECK(ts::transaction_ns(data_id::read_abs) == 28000);
   CHECK(ts::transaction_ns(data_id::read_all) == 48000);

@@ -32,7 +32,7 @@ static_assert(bs::slave_layout{}.crc == bs::crc6_43, "the ABSYS layout is the de
 constexpr bool frame_round_trip() {
   std::uint32_t words[3] = {};
   bs::line_options line;
-  line.idle_bits = 5;
+  line.line_delay = 5;
   line.ack_bits = 3;
   line.cds = true;
   bs::slave_values v;
@@ -44,16 +44,53 @@ constexpr bool frame_round_trip() {
   }
   bs::slave_data d;
   const auto r = bs::decode_frame(mb::span<const std::uint32_t>(words, 3), *n, bs::absys_layout, d);
-  return r.is_complete() && r->start == 8 && r->ack == 5 && r->cds && d.single_turn == 0xDEADBEEF &&
-         d.ne && !d.nw && d.crc_ok() && r.consumed() == 50;
+  return r.is_complete() && r->start == 8 && r->line_delay == 5 && r->cds &&
+         d.single_turn == 0xDEADBEEF && d.ne && !d.nw && d.crc_ok() && r.consumed() == 50;
 }
 static_assert(frame_round_trip(), "encode -> decode at compile time");
+
+// decode_frame takes the capture as span<const Word>, span<Word> or a plain array, as the
+// Modbus and T-format decoders take arrays (chain and single-slave forms, 8- to 64-bit words);
+// encode_frame writes into a plain array. Each form gives the same frame.
+template <class Word>
+constexpr bool capture_forms() {
+  Word words[128 / (8 * sizeof(Word))] = {};
+  constexpr std::size_t count = sizeof words / sizeof words[0];
+  bs::line_options line;
+  line.line_delay = 3;
+  line.ack_bits = 2;
+  bs::slave_values v;
+  v.single_turn = 0x01234567;
+  const auto n = bs::encode_frame(bs::absys_layout, v, words, line);  // a plain array
+  if (!n.ok()) {
+    return false;
+  }
+  const Word(&cwords)[count] = words;
+  const bs::slave_layout chain[1] = {bs::absys_layout};
+  bs::slave_data d[6];
+  const mb::span<Word> writable(words, count);
+  const mb::span<const Word> readable(words, count);
+  const auto same = [](const mb::decode_result<bs::frame_info>& r, const bs::slave_data& x) {
+    return r.is_complete() && r->line_delay == 3 && r->ack_bits() == 2 &&
+           x.single_turn == 0x01234567 && x.crc_ok();
+  };
+  return same(bs::decode_frame(readable, *n, bs::absys_layout, d[0]), d[0]) &&
+         same(bs::decode_frame(writable, *n, bs::absys_layout, d[1]), d[1]) &&
+         same(bs::decode_frame(words, *n, bs::absys_layout, d[2]), d[2]) &&
+         same(bs::decode_frame(cwords, *n, bs::absys_layout, d[3]), d[3]) &&
+         same(bs::decode_frame(writable, *n, chain, mb::span<bs::slave_data>(&d[4], 1)), d[4]) &&
+         same(bs::decode_frame(words, *n, chain, mb::span<bs::slave_data>(&d[5], 1)), d[5]);
+}
+static_assert(capture_forms<std::uint8_t>(), "arrays and spans of 8-bit words");
+static_assert(capture_forms<std::uint16_t>(), "arrays and spans of 16-bit words");
+static_assert(capture_forms<std::uint32_t>(), "arrays and spans of 32-bit words");
+static_assert(capture_forms<std::uint64_t>(), "arrays and spans of 64-bit words");
 
 constexpr bool truncated_and_no_ack() {
   const std::uint8_t ones[4] = {0xFF, 0xFF, 0xFF, 0xFF};
   bs::slave_data d;
   bs::decode_options o;
-  o.max_idle_bits = 20;
+  o.max_line_delay = 20;
   return bs::decode_frame(mb::span<const std::uint8_t>(ones, 4), 32, bs::absys_layout, d, o)
                  .error() == mb::errc::biss_no_ack &&
          bs::decode_frame(mb::span<const std::uint8_t>(ones, 4), 16, bs::absys_layout, d, o)

@@ -192,7 +192,7 @@ int encode_csd(const cli::options& opts) {
   v.nw = option_bit(opts, "nw", true);
   bs::line_options line;
   line.ack_bits = static_cast<std::size_t>(option_number(opts, "ack", 1, 4096));
-  line.idle_bits = static_cast<std::size_t>(option_number(opts, "idle", 0, 4096));
+  line.line_delay = static_cast<std::size_t>(option_number(opts, "idle", 0, 4096));
   line.cds = option_bit(opts, "cds", false);
   if (line.ack_bits == 0) {
     throw cli::usage_error{"--ack must be at least 1"};

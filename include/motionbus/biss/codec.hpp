@@ -7,12 +7,16 @@
 // first 1 after it: it never assumes the Ack length or the CDS value and never looks for a
 // fixed pattern (docs/biss.md §5). Bits after the last CRC are ignored.
 //
+// The words are given as span<const Word>, span<Word> or a plain array (Word deduced from
+// each, as the Modbus and T-format decoders take arrays).
+//
 // Outcomes of decode_frame:
-//   complete      frame_info (start offset, Ack length, CDS), every slave's fields in `out`,
+//   complete      frame_info (line delay, Start bit index, Ack length, CDS), every slave's
+//                 fields in `out`,
 //                 consumed = bits up to the end of the last CRC
 //   need input    the capture ends before the frame does (truncated), or before a bound
 //                 was reached with no Ack / no Start yet; needed() bits more at least
-//   failed        biss_no_ack (only 1s over max_idle_bits + 1 samples), biss_no_start (only 0s
+//   failed        biss_no_ack (only 1s over max_line_delay + 1 samples), biss_no_start (only 0s
 //                 over max_ack_bits after the first 0), crc_mismatch (the first slave whose
 //                 CRC fails; `out` is still filled, each slave with its own crc_ok()),
 //                 biss_layout, invalid_argument (empty chain), buffer_too_small (`out` shorter
@@ -23,6 +27,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <type_traits>
 
 #include "motionbus/biss/frame.hpp"
 #include "motionbus/core/bits.hpp"
@@ -37,9 +42,9 @@ namespace biss {
 
 /// Search bounds of the decoder.
 struct decode_options {
-  /// Idle (1) samples accepted before the Ack's first 0.
-  std::size_t max_idle_bits = 64;
-  /// Ack (0) samples accepted before the Start bit (line delay plus processing time).
+  /// Idle (1) samples accepted before the Ack's first 0: the longest line delay, in bits.
+  std::size_t max_line_delay = 64;
+  /// Ack (0) samples accepted before the Start bit (the slave's processing time).
   /// Both bounds are in samples; a longer run fails rather than waiting for more input.
   std::size_t max_ack_bits = 256;
 };
@@ -130,21 +135,23 @@ MOTIONBUS_INLINE constexpr decode_result<frame_info> decode_frame(
   const unsigned n0 = size >= 64U ? 64U : static_cast<unsigned>(size);
   std::uint64_t win = 0;
   constexpr unsigned word_bits = basic_bit_reader<Word>::bits_per_word;
+  // (64-bit words take the last branch; `step` only keeps their dead shifts below 64.)
+  constexpr unsigned step = word_bits <= 32U ? word_bits : 32U;
   if (order == bit_order::msb_first && n0 == 64U && word_bits <= 32U) {
-    for (unsigned k = 0; k < 64U / word_bits; ++k) {  // whole words: no per-bit work
-      win = (win << word_bits) | words[k];
+    for (unsigned k = 0; k < 64U / step; ++k) {  // whole words: no per-bit work
+      win = (win << step) | words[k];
     }
   } else if (order == bit_order::msb_first && word_bits <= 32U) {  // a shorter capture
     // The samples past the capture stay in the window: every use below is bounded by n0 (an
     // Ack or Start found at or past n0 is none, fields are taken from it only when the frame
     // ends within n0).
-    for (unsigned k = 0; k < 64U / word_bits; ++k) {
-      win = (win << word_bits) | (k < words.size() ? static_cast<std::uint64_t>(words[k]) : 0U);
+    for (unsigned k = 0; k < 64U / step; ++k) {
+      win = (win << step) | (k < words.size() ? static_cast<std::uint64_t>(words[k]) : 0U);
     }
   } else if (n0 != 0U) {
     win = field(0, n0) << (64U - n0);
   }
-  // Ack: the first 0 within max_idle_bits + 1 samples.
+  // Ack: the first 0 within max_line_delay + 1 samples.
   // (The window's high word first: with a short line delay the Ack, and the Start bit after it,
   // are there, and 32-bit counts and shifts do.)
   const auto high = static_cast<std::uint32_t>(win >> 32U);
@@ -157,11 +164,11 @@ MOTIONBUS_INLINE constexpr decode_result<frame_info> decode_frame(
     ack = countl_zero64(~win);
   }
   if (ack >= n0) {  // no 0 in the window: search on past it
-    ack =
-        n0 == 64U && opt.max_idle_bits >= 64U ? r.find(false, 64, opt.max_idle_bits - 63U) : r.npos;
+    ack = n0 == 64U && opt.max_line_delay >= 64U ? r.find(false, 64, opt.max_line_delay - 63U)
+                                                 : r.npos;
   }
-  if (ack == r.npos || ack > opt.max_idle_bits) {
-    if (size > opt.max_idle_bits) {
+  if (ack == r.npos || ack > opt.max_line_delay) {
+    if (size > opt.max_line_delay) {
       return decode_failure{errc::biss_no_ack, size};
     }
     return need_input{1};
@@ -192,7 +199,7 @@ MOTIONBUS_INLINE constexpr decode_result<frame_info> decode_frame(
     return need_input{end - size};
   }
   frame_info info;
-  info.ack = ack;
+  info.line_delay = ack;
   info.start = start;
   // The window from the CDS bit on (when the CDS bit is in it): the CDS bit, then the first
   // slave's fields, from one shift.
@@ -261,6 +268,36 @@ MOTIONBUS_INLINE constexpr decode_result<frame_info> decode_frame(
                                    span<slave_data>(&out, 1), opt, order);
 }
 
+// The same over span<Word> and over plain arrays: `Word` is not deduced from span<const Word>
+// for those, so these forward (chain and single-slave forms).
+template <crc_table_size Table = default_crc_table, class Word,
+          class = std::enable_if_t<!std::is_const<Word>::value>>
+MOTIONBUS_INLINE constexpr decode_result<frame_info> decode_frame(
+    span<Word> words, std::size_t bit_count, span<const slave_layout> chain, span<slave_data> out,
+    const decode_options& opt = {}, bit_order order = bit_order::msb_first) noexcept {
+  return decode_frame<Table, Word>(span<const Word>(words), bit_count, chain, out, opt, order);
+}
+template <crc_table_size Table = default_crc_table, class Word, std::size_t N>
+MOTIONBUS_INLINE constexpr decode_result<frame_info> decode_frame(
+    const Word (&words)[N], std::size_t bit_count, span<const slave_layout> chain,
+    span<slave_data> out, const decode_options& opt = {},
+    bit_order order = bit_order::msb_first) noexcept {
+  return decode_frame<Table, Word>(span<const Word>(words, N), bit_count, chain, out, opt, order);
+}
+template <crc_table_size Table = default_crc_table, class Word,
+          class = std::enable_if_t<!std::is_const<Word>::value>>
+MOTIONBUS_INLINE constexpr decode_result<frame_info> decode_frame(
+    span<Word> words, std::size_t bit_count, const slave_layout& layout, slave_data& out,
+    const decode_options& opt = {}, bit_order order = bit_order::msb_first) noexcept {
+  return decode_frame<Table, Word>(span<const Word>(words), bit_count, layout, out, opt, order);
+}
+template <crc_table_size Table = default_crc_table, class Word, std::size_t N>
+MOTIONBUS_INLINE constexpr decode_result<frame_info> decode_frame(
+    const Word (&words)[N], std::size_t bit_count, const slave_layout& layout, slave_data& out,
+    const decode_options& opt = {}, bit_order order = bit_order::msb_first) noexcept {
+  return decode_frame<Table, Word>(span<const Word>(words, N), bit_count, layout, out, opt, order);
+}
+
 // ---------------------------------------------------------------------------------------------
 // Slave side
 
@@ -274,7 +311,7 @@ struct slave_values {
 
 /// The SL line around the frame.
 struct line_options {
-  std::size_t idle_bits = 0;     ///< 1s before the Ack (samples before the slave answers)
+  std::size_t line_delay = 0;    ///< 1s before the Ack: the line delay, in samples
   std::size_t ack_bits = 1;      ///< Ack length, at least 1
   bool cds = false;              ///< the CDS bit
   std::size_t timeout_bits = 0;  ///< 0s after the last CRC (the slave's timeout)
@@ -288,10 +325,11 @@ constexpr std::size_t encoded_bits(span<const slave_layout> chain,
   if (e != errc::ok) {
     return 0;
   }
-  return line.idle_bits + line.ack_bits + 2U + bits + line.timeout_bits;
+  return line.line_delay + line.ack_bits + 2U + bits + line.timeout_bits;
 }
 
-/// Writes the SL samples of one frame into `out` from bit `bit_offset`: idle, Ack, Start, CDS,
+/// Writes the SL samples of one frame into `out` from bit `bit_offset`: the line delay (idle
+/// 1s), Ack, Start, CDS,
 /// then each slave's data (values that do not fit their fields are errc::out_of_range), nE,
 /// nW and CRC, then the timeout. Returns the bits written. Errors write nothing:
 /// invalid_argument (empty or mismatched chain/values, Ack length 0), biss_layout,
@@ -322,14 +360,14 @@ constexpr result<std::size_t> encode_frame(span<const slave_layout> chain,
     }
   }
   basic_bit_writer<Word> w(out, order, bit_offset);
-  const std::size_t total = line.idle_bits + line.ack_bits + 2U + frame_bits + line.timeout_bits;
+  const std::size_t total = line.line_delay + line.ack_bits + 2U + frame_bits + line.timeout_bits;
   if (bit_offset > w.size() || total > w.remaining()) {
     return errc::buffer_too_small;
   }
   const auto put = [&w, order](std::uint64_t v, unsigned n) {
     (void)w.write(order == bit_order::msb_first ? v : reverse_bits(v, n), n);
   };
-  (void)w.fill(true, line.idle_bits);
+  (void)w.fill(true, line.line_delay);
   (void)w.fill(false, line.ack_bits);
   put(line.cds ? 0x3U : 0x2U, 2);  // Start 1, CDS
   for (std::size_t i = 0; i < chain.size(); ++i) {
@@ -366,6 +404,23 @@ constexpr result<std::size_t> encode_frame(const slave_layout& layout, const sla
   return encode_frame<Table, Word>(span<const slave_layout>(&layout, 1),
                                    span<const slave_values>(&values, 1), out, line, order,
                                    bit_offset);
+}
+
+/// The same into a plain array of words (chain and single-slave forms).
+template <crc_table_size Table = default_crc_table, class Word, std::size_t N>
+constexpr result<std::size_t> encode_frame(span<const slave_layout> chain,
+                                           span<const slave_values> values, Word (&out)[N],
+                                           const line_options& line = {},
+                                           bit_order order = bit_order::msb_first,
+                                           std::size_t bit_offset = 0) noexcept {
+  return encode_frame<Table, Word>(chain, values, span<Word>(out, N), line, order, bit_offset);
+}
+template <crc_table_size Table = default_crc_table, class Word, std::size_t N>
+constexpr result<std::size_t> encode_frame(const slave_layout& layout, const slave_values& values,
+                                           Word (&out)[N], const line_options& line = {},
+                                           bit_order order = bit_order::msb_first,
+                                           std::size_t bit_offset = 0) noexcept {
+  return encode_frame<Table, Word>(layout, values, span<Word>(out, N), line, order, bit_offset);
 }
 
 }  // namespace biss

@@ -4,14 +4,18 @@
 // §5):
 //
 //   idle 1…1 | Ack 0…0 | Start 1 | CDS | slave 1: data, nE, nW, CRC | slave 2: … | timeout 0…
+//   \_ line delay  \_ processing time
 //
-// Ack lasts a variable number of clocks (line delay plus processing time); CDS is the slave's
-// control-data bit and may be 1. Data goes MSB first, multi-turn bits before single-turn bits
-// before alignment bits; nE and nW are active low; each slave's CRC covers its data, nE and nW
-// (not Ack, Start or CDS), MSB first, and is sent inverted (the usual BiSS choice, a parameter
-// here). A chain of slaves shares one Ack, Start and CDS (the CDS is the first bit after the
-// Start bit; the chain addresses slaves by ID during control communication), then carries each
-// slave's fields in chain order, slave 1 (nearest the master) first.
+// The idle samples before the Ack are the line delay in whole bits (the clocks before the
+// slave's answer reaches the master: a master measures it from its first clock to the Ack's
+// falling edge); the Ack lasts at least one clock, more when the slave asks for processing
+// time (ABSYS document, Table 1 note 2: the slave "can request this by delaying the start
+// bit"). CDS is the slave's control-data bit and may be 1. Data goes MSB first, multi-turn bits
+// before single-turn bits before alignment bits; nE and nW are active low; each slave's CRC covers
+// its data, nE and nW (not Ack, Start or CDS), MSB first, and is sent inverted (the usual BiSS
+// choice, a parameter here). A chain of slaves shares one Ack, Start and CDS (the CDS is the first
+// bit after the Start bit; the chain addresses slaves by ID during control communication), then
+// carries each slave's fields in chain order, slave 1 (nearest the master) first.
 #ifndef MOTIONBUS_BISS_FRAME_HPP
 #define MOTIONBUS_BISS_FRAME_HPP
 
@@ -83,7 +87,7 @@ inline constexpr unsigned max_crc_bits = 16;
 inline constexpr std::size_t max_chain = 8;
 
 /// The fields one slave sends. Default: the AMO ABSYS layout (32-bit position, nE, nW, CRC6
-/// 0x43 inverted: 41 bits after the CDS bit; ABSYS interface text §1, Table 1).
+/// 0x43 inverted: 40 bits after the CDS bit, frame_bits(); ABSYS interface text §1, Table 1).
 struct slave_layout {
   unsigned multi_turn_bits = 0;
   unsigned single_turn_bits = 32;
@@ -140,13 +144,16 @@ struct slave_data {
 
 /// A frame found in a capture: where it lies and what the whole chain shares.
 struct frame_info {
-  std::size_t ack = 0;    ///< index of the first Ack bit (the idle bits before it)
-  std::size_t start = 0;  ///< index of the Start bit: the line delay in whole bits
-  bool cds = false;       ///< the CDS bit
+  /// The line delay in whole bits: the idle samples before the Ack, which is the index of
+  /// the first Ack bit.
+  std::size_t line_delay = 0;
+  /// Index of the Start bit: line delay + Ack length.
+  std::size_t start = 0;
+  bool cds = false;  ///< the CDS bit
   // (The end of the frame, just past the last CRC, is the decode result's consumed().)
 
-  /// Clocks of Ack (line delay plus processing time, in bits).
-  constexpr std::size_t ack_bits() const noexcept { return start - ack; }
+  /// Clocks of Ack (at least 1; more for the slave's processing time).
+  constexpr std::size_t ack_bits() const noexcept { return start - line_delay; }
 };
 
 }  // namespace biss

@@ -6,10 +6,15 @@
 #ifndef MOTIONBUS_DEVICES_ABSYS_HPP
 #define MOTIONBUS_DEVICES_ABSYS_HPP
 
+#include <cstddef>
 #include <cstdint>
 
 #include "motionbus/biss/eds.hpp"
 #include "motionbus/biss/frame.hpp"
+#include "motionbus/core/bytes.hpp"
+#include "motionbus/core/errc.hpp"
+#include "motionbus/core/result.hpp"
+#include "motionbus/core/span.hpp"
 
 namespace motionbus {
 namespace devices {
@@ -30,7 +35,7 @@ inline constexpr std::uint8_t offset = 0x4C;         ///< 0x4C..0x4F, R/W, persi
 inline constexpr std::uint8_t command = 0x60;        ///< R/W
 inline constexpr std::uint8_t position = 0x63;       ///< 0x63..0x66, R: the position as sent
 inline constexpr std::uint8_t preset_mode = 0x6A;    ///< R/W, persistent
-inline constexpr std::uint8_t error_status = 0x6B;   ///< R, latched
+inline constexpr std::uint8_t error_status = 0x6B;   ///< R, latched, active low: 0x03 healthy
 inline constexpr std::uint8_t functional_reserve = 0x6F;            ///< R, 0..254
 inline constexpr std::uint8_t functional_reserve_indicator = 0x70;  ///< R, 0 / 1
 inline constexpr std::uint8_t device_id = 0x75;                     ///< 0x75..0x7C
@@ -52,7 +57,7 @@ inline constexpr std::uint8_t not_allowed = 0xFF;
 enum class command : std::uint8_t {
   set_offset_to_position = 0x02,  ///< the actual position becomes the offset (17 ms)
   reset_offset = 0x03,            ///< offset = 0 (17 ms)
-  reset_errors = 0x06,            ///< clears the latched error status
+  reset_errors = 0x06,            ///< error status back to status_healthy (0x03)
 };
 
 /// Preset mode register (§2.3).
@@ -61,9 +66,92 @@ enum class preset_mode : std::uint8_t {
   actual = 0x01,       ///< position sent = actual position (offset ignored)
 };
 
-/// Error status register bits (§2.7).
-inline constexpr std::uint8_t status_warning = 0x01;
-inline constexpr std::uint8_t status_error = 0x02;
+/// Error status register 0x6B (§2.7): bit 0 the warning, bit 1 the error, bits 2..7 "Set to
+/// 0. To be defined."; it holds the sensor data's nW and nE latched until command 06. The text
+/// gives no polarity for the register. Read here as the frame's bits are, active low (§1,
+/// Table 1: "Error/Warning: Active on Low (0)"), so 1 = inactive: the only reading in which the
+/// default 0x03 (§2.1) and a warning that "is always inactive and it is set to '1'" (§1) agree.
+/// 0x03 is a healthy encoder; 0x01 an error latched; command 06 returns it to 0x03 (to 0x01
+/// while the error is still present, as the next frame latches it again).
+inline constexpr std::uint8_t status_nw = 0x01;       ///< bit 0: 0 = warning latched (nW low)
+inline constexpr std::uint8_t status_ne = 0x02;       ///< bit 1: 0 = error latched (nE low)
+inline constexpr std::uint8_t status_healthy = 0x03;  ///< default, no error and no warning
+
+/// The error status register read (§2.7; polarity as above).
+struct error_status {
+  bool error = false;          ///< bit 1 is 0: an error was latched since the last command 06
+  bool warning = false;        ///< bit 0 is 0: a warning was latched (never on the ABSYS)
+  std::uint8_t undefined = 0;  ///< bits 2..7 as read ("Set to 0. To be defined.")
+};
+constexpr error_status decode_error_status(std::uint8_t value) noexcept {
+  error_status s;
+  s.error = (value & status_ne) == 0U;
+  s.warning = (value & status_nw) == 0U;
+  s.undefined = static_cast<std::uint8_t>(value & ~status_healthy);
+  return s;
+}
+/// The register value that latches a frame's nE and nW line levels.
+constexpr std::uint8_t status_of(bool ne, bool nw) noexcept {
+  return static_cast<std::uint8_t>((ne ? status_ne : 0U) | (nw ? status_nw : 0U));
+}
+
+/// Serial number (§2.4, registers 0x44..0x4B): three ASCII bytes (0x44..0x46), the number
+/// (0x47..0x4A, most significant byte first), one ASCII byte (0x4B). The text's example is
+/// 0x00BC614E (12345678) between "AT" and a third and a last character garbled in the text.
+struct serial_number {
+  char prefix[3] = {};
+  std::uint32_t number = 0;
+  char suffix = 0;
+};
+/// Device ID (§2.5, registers 0x75..0x7C): two ASCII bytes, the ID (0x77..0x7A, most
+/// significant byte first), two ASCII bytes (the text's example: 0x0011F58E).
+struct device_id {
+  char prefix[2] = {};
+  std::uint32_t number = 0;
+  char suffix[2] = {};
+};
+/// Register bytes of the serial number and of the device ID.
+inline constexpr std::size_t serial_number_size = 8;
+inline constexpr std::size_t device_id_size = 8;
+
+namespace detail {
+// Copies `n` ASCII bytes from `in` at `at`; false for a byte above 0x7F (not ASCII).
+constexpr bool ascii(byte_view in, std::size_t at, std::size_t n, char* out) noexcept {
+  for (std::size_t i = 0; i < n; ++i) {
+    if (in[at + i] > 0x7FU) {
+      return false;
+    }
+    out[i] = static_cast<char>(in[at + i]);
+  }
+  return true;
+}
+}  // namespace detail
+
+/// Decodes the 8 bytes read from 0x44..0x4B (more are ignored). errc::truncated for fewer,
+/// errc::out_of_range for a byte above 0x7F where ASCII belongs.
+constexpr result<serial_number> decode_serial_number(byte_view regs) noexcept {
+  if (regs.size() < serial_number_size) {
+    return errc::truncated;
+  }
+  serial_number s;
+  if (!detail::ascii(regs, 0, 3, s.prefix) || !detail::ascii(regs, 7, 1, &s.suffix)) {
+    return errc::out_of_range;
+  }
+  s.number = static_cast<std::uint32_t>(load_be<4>(regs, 3));
+  return s;
+}
+/// Decodes the 8 bytes read from 0x75..0x7C, with the errors of decode_serial_number.
+constexpr result<device_id> decode_device_id(byte_view regs) noexcept {
+  if (regs.size() < device_id_size) {
+    return errc::truncated;
+  }
+  device_id d;
+  if (!detail::ascii(regs, 0, 2, d.prefix) || !detail::ascii(regs, 6, 2, d.suffix)) {
+    return errc::out_of_range;
+  }
+  d.number = static_cast<std::uint32_t>(load_be<4>(regs, 2));
+  return d;
+}
 
 /// Vendor values.
 inline constexpr std::uint8_t revision_03 = 0x03;

@@ -46,8 +46,10 @@ struct emulator_config {
   std::uint32_t sip_resolution = 10;
   std::uint8_t slave_id = 0;
   std::uint32_t frame_period_us = 100;
-  std::uint8_t serial_number[8] = {'A', 'T', 0x00, 0xBC, 0x61, 0x4E, 'C', '0'};
-  std::uint8_t device_id[8] = {'X', 'X', 0x00, 0x11, 0xF5, 0x8E, '0', '1'};
+  /// Registers 0x44..0x4B (§2.4): three ASCII bytes, 0x00BC614E, one ASCII byte (the text's
+  /// third and last characters are garbled: 'J' and 'C' stand in for them).
+  std::uint8_t serial_number[serial_number_size] = {'A', 'T', 'J', 0x00, 0xBC, 0x61, 0x4E, 'C'};
+  std::uint8_t device_id[device_id_size] = {'X', 'X', 0x00, 0x11, 0xF5, 0x8E, '0', '1'};
 };
 
 /// The sensor error the emulator reports (nE active).
@@ -78,10 +80,8 @@ class emulator {
   /// in operation clears when synchronisation comes back (ABSYS document, Figure 1 notes).
   constexpr void set_error(sensor_error e) noexcept {
     error_ = e != sensor_error::none;
-    if (error_) {
-      status_ |= status_error;
-      power_on_error_ = power_on_error_ || e == sensor_error::at_power_on;
-    }
+    power_on_error_ = power_on_error_ || e == sensor_error::at_power_on;
+    latch();
   }
   constexpr void set_functional_reserve(std::uint8_t value, std::uint8_t indicator) noexcept {
     reserve_ = value > 254U ? 254U : value;
@@ -112,16 +112,23 @@ class emulator {
     v.nw = true;  // warning unused (§1)
     return v;
   }
-  /// Writes this frame's SL samples into `out` (idle, Ack, Start, the CDS owed to the master,
-  /// data, nE, nW, CRC6). Returns the bits written.
+  /// Writes this frame's SL samples into `out`: `line_delay` idle samples (the line delay a
+  /// master reports as frame_info::line_delay), `ack_bits` of Ack, Start, the CDS owed to the
+  /// master, data, nE, nW, CRC6. Returns the bits written.
   template <class Word>
-  constexpr result<std::size_t> frame(span<Word> out, std::size_t idle_bits = 1,
+  constexpr result<std::size_t> frame(span<Word> out, std::size_t line_delay = 1,
                                       std::size_t ack_bits = 1) const noexcept {
     biss::line_options line;
-    line.idle_bits = idle_bits;
+    line.line_delay = line_delay;
     line.ack_bits = ack_bits;
     line.cds = cds_;
     return biss::encode_frame(layout, values(), out, line);
+  }
+  /// The same into a plain array of words.
+  template <class Word, std::size_t N>
+  constexpr result<std::size_t> frame(Word (&out)[N], std::size_t line_delay = 1,
+                                      std::size_t ack_bits = 1) const noexcept {
+    return frame(span<Word>(out, N), line_delay, ack_bits);
   }
   /// The CDS bit the next frame carries.
   constexpr bool cds() const noexcept { return cds_; }
@@ -169,6 +176,7 @@ class emulator {
   };
 
   /// Register value as a read returns it.
+  // (error status: active low, status_nw | status_ne = 0x03 healthy; absys.hpp)
   constexpr std::uint8_t read_register(std::uint8_t a) const noexcept {
     if (a < 0x40U) {
       switch (bank_) {
@@ -211,6 +219,11 @@ class emulator {
 
  private:
   constexpr void tick(std::uint32_t us) noexcept { busy_us_ = busy_us_ > us ? busy_us_ - us : 0U; }
+  // The error status register latches the frame's active-low nE and nW (§2.7): a 0 stays.
+  constexpr void latch() noexcept {
+    const biss::slave_values v = values();
+    status_ = static_cast<std::uint8_t>(status_ & status_of(v.ne, v.nw));
+  }
 
   constexpr void write_register(std::uint8_t a, std::uint8_t v) noexcept {
     if (a < 0x40U) {
@@ -237,7 +250,8 @@ class emulator {
       case static_cast<std::uint8_t>(command::set_offset_to_position): offset_ = position_; break;
       case static_cast<std::uint8_t>(command::reset_offset): offset_ = 0; break;
       case static_cast<std::uint8_t>(command::reset_errors):
-        status_ = error_ ? status_error : std::uint8_t{0};  // a present error latches again
+        status_ = status_healthy;  // 0x03; an error still present latches again at once
+        latch();
         break;
       default: break;
     }
@@ -255,8 +269,8 @@ class emulator {
   std::uint8_t eds_bank_ = bank::eds_common;
   std::uint8_t command_ = 0;
   std::uint8_t preset_ = 0;
-  std::uint8_t status_ = status_error | status_warning;  // default 0x03 (§2.1)
-  std::uint8_t reserve_ = 254;                           // until movement is detected (§2.6)
+  std::uint8_t status_ = status_healthy;  // default 0x03 (§2.1): no error, no warning
+  std::uint8_t reserve_ = 254;            // until movement is detected (§2.6)
   std::uint8_t reserve_indicator_ = 0;
   bool error_ = false;
   bool power_on_error_ = false;

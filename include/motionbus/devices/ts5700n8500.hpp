@@ -181,33 +181,64 @@ constexpr int decode_temperature(std::uint8_t value) noexcept {
 }
 
 // --- alarms (spec §6.5) ---------------------------------------------------------------------
+/// How the encoder holds an ALMC flag (spec §6.5).
+enum class latch_rule : std::uint8_t {
+  none = 0,     ///< "Non-latched": follows its condition (FS, BA)
+  latched = 1,  ///< "Latched" or "Latched during main power-on": held until a reset (ID7, IDC)
+  /// CE: two cases by the shaft speed when the error is detected. Case I, at 100 min^-1 or
+  /// more: "Non-latched", checked every 45° of mechanical angle and "automatically released at
+  /// every 45°" once the deviation is below ±22.5°. Case II, below 100 min^-1: "Latched during
+  /// main power-on" (held until a reset).
+  by_speed = 2,
+};
+/// The shaft speed from which a counting error is case I, non-latched (spec §6.5), in min^-1.
+inline constexpr std::uint32_t counting_error_case_i_rpm = 100;
+
 struct alarm_info {
   const char* symbol;
   const char* name;
   const char* action;
   tformat::almc_bit flag;
-  bool latched;
+  latch_rule latch;
+
+  /// Whether the flag is held until a reset when raised with the shaft at `rpm` (min^-1).
+  constexpr bool latched_at(std::uint32_t rpm) const noexcept {
+    return latch == latch_rule::latched ||
+           (latch == latch_rule::by_speed && rpm < counting_error_case_i_rpm);
+  }
 };
 
 inline constexpr alarm_info alarm_table[8] = {
     {"OS", "over-speed", "reset errors (ID7 or IDC); the multi-turn data may be wrong",
-     tformat::almc_bit::os, true},
+     tformat::almc_bit::os, latch_rule::latched},
     {"FS", "full absolute status",
      "slow below 100 rpm and wait: the single-turn data has only 5 bits of accuracy meanwhile",
-     tformat::almc_bit::fs, false},
-    {"CE", "counting error", "stop the servo; reset errors or cycle power", tformat::almc_bit::ce,
-     true},
-    {"OF", "counter overflow", "reset errors (ID7 or IDC)", tformat::almc_bit::of, true},
+     tformat::almc_bit::fs, latch_rule::none},
+    {"CE", "counting error",
+     "stop the servo; at 100 rpm or more it releases itself (checked every 45 degrees), below "
+     "it stays until reset errors (ID7 or IDC); or cycle power",
+     tformat::almc_bit::ce, latch_rule::by_speed},
+    {"OF", "counter overflow", "reset errors (ID7 or IDC)", tformat::almc_bit::of,
+     latch_rule::latched},
     {"OH", "over-heat", "let the encoder cool, then reset errors (ID7 or IDC)",
-     tformat::almc_bit::oh, true},
+     tformat::almc_bit::oh, latch_rule::latched},
     {"ME", "multi-turn error", "return to the origin and reset errors (ID7 or IDC)",
-     tformat::almc_bit::me, true},
+     tformat::almc_bit::me, latch_rule::latched},
     {"BE", "battery error",
      "check or replace the battery, then reset errors and multi-turn data (IDC)",
-     tformat::almc_bit::be, true},
+     tformat::almc_bit::be, latch_rule::latched},
     {"BA", "battery alarm", "check or replace the battery; clears itself when the voltage recovers",
-     tformat::almc_bit::ba, false},
+     tformat::almc_bit::ba, latch_rule::none},
 };
+
+/// The ALMC bits whose table row has rule `r`.
+constexpr std::uint8_t alarm_mask(latch_rule r) noexcept {
+  std::uint8_t m = 0;
+  for (const alarm_info& i : alarm_table) {
+    m = i.latch == r ? static_cast<std::uint8_t>(m | static_cast<std::uint8_t>(i.flag)) : m;
+  }
+  return m;
+}
 
 constexpr const alarm_info& info(tformat::almc_bit a) noexcept {
   for (const alarm_info& i : alarm_table) {

@@ -6,8 +6,11 @@
 //
 // Modelled (TS5700N8500 specification §6.1.1, §6.3, §6.5, §7–§10; docs/tformat.md §7):
 //  - position and turns, with single-turn resolution and ENID from the config;
-//  - ALMC flags: latched (OS, CE case II, OF, OH, ME, BE) until an ID7/IDC reset while their
-//    condition is gone, non-latched (FS, BA) following their condition;
+//  - ALMC flags: latched (OS, OF, OH, ME, BE) until an ID7/IDC reset while their condition is
+//    gone, non-latched (FS, BA) following their condition; CE by the shaft speed
+//    (set_speed_rpm): case I at 100 min^-1 or more follows its condition (the condition the
+//    caller clears stands for the 45° check finding the deviation gone), case II below
+//    latches, also when the shaft slows below 100 min^-1 with the error present;
 //  - abnormal requests: bad sync code → no reply; parity error → ID3 data with ca0; delimiter
 //    error (reported by the caller's UART or line decoder) → ID3 data with ca1; unknown Data ID,
 //    bad EEPROM CRC or a closed EEPROM address → ID3 data (spec Tables 5, 6);
@@ -56,8 +59,10 @@ struct reply {
   constexpr byte_view view() const noexcept { return byte_view(bytes, size); }
 };
 
-/// ALMC bits that latch until reset (CE modelled as case II, latched during power-on).
-inline constexpr std::uint8_t latched_alarms = 0x01 | 0x04 | 0x08 | 0x10 | 0x20 | 0x40;
+/// ALMC bits that latch until reset whatever the speed (OS, OF, OH, ME, BE; spec §6.5).
+inline constexpr std::uint8_t latched_alarms = alarm_mask(latch_rule::latched);
+/// ALMC bits that latch only below 100 min^-1 (CE case II; case I is non-latched).
+inline constexpr std::uint8_t speed_latched_alarms = alarm_mask(latch_rule::by_speed);
 
 /// What the UART or line decoder saw of a request's delimiter (stop) bits.
 enum class request_line : std::uint8_t {
@@ -114,14 +119,17 @@ class emulator {
     turns_ = static_cast<std::uint32_t>(((new_turns % range) + range) % range);
   }
   /// Sets whether the condition behind an alarm is present now. Latched alarms stay set after
-  /// the condition goes until a reset; non-latched ones follow it.
+  /// the condition goes until a reset; non-latched ones follow it; CE latches below 100 min^-1.
   constexpr void set_condition(tformat::almc_bit a, bool present) noexcept {
     const auto bit = static_cast<std::uint8_t>(a);
     conditions_ = present ? static_cast<std::uint8_t>(conditions_ | bit)
                           : static_cast<std::uint8_t>(conditions_ & ~bit);
-    if (present && (bit & latched_alarms) != 0U) {
-      latched_ = static_cast<std::uint8_t>(latched_ | bit);
-    }
+    latched_ = static_cast<std::uint8_t>(latched_ | (conditions_ & latching()));
+  }
+  /// The shaft speed in min^-1 (0 at construction): it decides the case of a counting error.
+  constexpr void set_speed_rpm(std::uint32_t rpm) noexcept {
+    fast_ = rpm >= counting_error_case_i_rpm;
+    latched_ = static_cast<std::uint8_t>(latched_ | (conditions_ & latching()));
   }
   /// Substrate temperature in °C (page 7 address 5); may raise over-heat.
   constexpr void set_temperature(std::int8_t celsius) noexcept {
@@ -136,7 +144,7 @@ class emulator {
   constexpr std::uint8_t almc() const noexcept {
     return static_cast<std::uint8_t>(latched_ |
                                      (conditions_ & static_cast<std::uint8_t>(~latched_alarms)));
-  }
+  }  // (a present CE shows through the second term in either case)
   constexpr std::uint8_t page() const noexcept { return page_; }
   constexpr std::uint8_t overheat_threshold() const noexcept { return threshold(); }
   /// EEPROM byte of a user page (0..5, address 0..126); 0 outside.
@@ -323,7 +331,13 @@ class emulator {
     if (id == tformat::data_id::reset_multi_turn) {
       turns_ = 0;
     }
-    latched_ = static_cast<std::uint8_t>(conditions_ & latched_alarms);  // reset what is gone
+    latched_ = static_cast<std::uint8_t>(conditions_ & latching());  // reset what is gone
+  }
+
+  // The alarms a present condition latches now: CE only below 100 min^-1 (case II).
+  constexpr std::uint8_t latching() const noexcept {
+    return fast_ ? latched_alarms
+                 : static_cast<std::uint8_t>(latched_alarms | speed_latched_alarms);
   }
 
   static constexpr std::uint8_t default_celsius = 25;
@@ -356,6 +370,7 @@ class emulator {
   std::uint8_t eeprom_[user_pages * page_size] = {};
   std::uint8_t loaded_[page_size] = {};  // the current page as last specified
   bool busy_ = false;
+  bool fast_ = false;  // shaft at 100 min^-1 or more
   std::uint32_t busy_until_ = 0;
   tformat::data_id reset_id_ = tformat::data_id::read_abs;  // meaningful while reset_count_ > 0
   unsigned reset_count_ = 0;
