@@ -4,7 +4,6 @@
 // §5):
 //
 //   idle 1…1 | Ack 0…0 | Start 1 | CDS | slave 1: data, nE, nW, CRC | slave 2: … | timeout 0…
-//   \_ line delay  \_ processing time
 //
 // The idle samples before the Ack are the line delay in whole bits (the clocks before the
 // slave's answer reaches the master: a master measures it from its first clock to the Ack's
