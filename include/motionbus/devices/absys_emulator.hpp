@@ -176,7 +176,6 @@ class emulator {
   };
 
   /// Register value as a read returns it.
-  // (error status: active low, status_nw | status_ne = 0x03 healthy; absys.hpp)
   constexpr std::uint8_t read_register(std::uint8_t a) const noexcept {
     if (a < 0x40U) {
       switch (bank_) {

@@ -124,12 +124,12 @@ class emulator {
     const auto bit = static_cast<std::uint8_t>(a);
     conditions_ = present ? static_cast<std::uint8_t>(conditions_ | bit)
                           : static_cast<std::uint8_t>(conditions_ & ~bit);
-    latched_ = static_cast<std::uint8_t>(latched_ | (conditions_ & latching()));
+    latch_present();
   }
   /// The shaft speed in min^-1 (0 at construction): it decides the case of a counting error.
   constexpr void set_speed_rpm(std::uint32_t rpm) noexcept {
     fast_ = rpm >= counting_error_case_i_rpm;
-    latched_ = static_cast<std::uint8_t>(latched_ | (conditions_ & latching()));
+    latch_present();
   }
   /// Substrate temperature in °C (page 7 address 5); may raise over-heat.
   constexpr void set_temperature(std::int8_t celsius) noexcept {
@@ -338,6 +338,9 @@ class emulator {
   constexpr std::uint8_t latching() const noexcept {
     return fast_ ? latched_alarms
                  : static_cast<std::uint8_t>(latched_alarms | speed_latched_alarms);
+  }
+  constexpr void latch_present() noexcept {
+    latched_ = static_cast<std::uint8_t>(latched_ | (conditions_ & latching()));
   }
 
   static constexpr std::uint8_t default_celsius = 25;
