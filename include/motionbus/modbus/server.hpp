@@ -122,7 +122,8 @@ using has_admit = returns_code<admit_call, D>;
 template <class D, class = void>
 struct has_function_set : std::false_type {};
 template <class D>
-struct has_function_set<D, std::void_t<decltype(function_set{D::functions})>> : std::true_type {};
+struct has_function_set<D, std::void_t<decltype(function_set{D::functions})>>
+    : std::negation<std::is_member_pointer<decltype(&D::functions)>> {};  // a static member
 
 // Members named like an accessor, whatever their signature: a member of D of one of these
 // names makes the name ambiguous in name_probe<D> (the usual member-name detector; a final
