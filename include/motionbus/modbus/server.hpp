@@ -369,9 +369,11 @@ template <class Device>
 constexpr std::size_t serve_pdu(Device& dev, const request& q, mutable_byte_view pdu_out) noexcept {
   const std::uint8_t f = q.function;
   std::uint8_t code = illegal_function_code;
+  // only the functions served are compiled (serve_frame answers the others with 01)
+  constexpr auto serves = [](unsigned c) { return ((served_functions<Device>() >> c) & 1U) != 0U; };
   auto exception = [&](std::uint8_t c) { return encode_exception(f, c, pdu_out).value_or(0); };
   if (f == 0x01 || f == 0x02) {
-    if constexpr (has_read_bits<Device>::value) {
+    if constexpr (serves(0x01) || serves(0x02)) {
       const std::size_t n = (q.quantity + 7U) / 8U;
       for (std::size_t i = 0; i < n; ++i) {
         pdu_out[2U + i] = 0;
@@ -384,14 +386,14 @@ constexpr std::size_t serve_pdu(Device& dev, const request& q, mutable_byte_view
       }
     }
   } else if (f == 0x03 || f == 0x04) {
-    if constexpr (can_read_registers<Device>) {
+    if constexpr (serves(0x03) || serves(0x04)) {
       code = read_registers_into(dev, f, q.address, q.quantity, pdu_out);
       if (code == 0U) {
         return 2U + 2U * q.quantity;
       }
     }
   } else if (f == 0x05 || f == 0x0F) {
-    if constexpr (has_write_coils<Device>::value) {
+    if constexpr (serves(0x05) || serves(0x0F)) {
       const std::uint8_t one[1] = {static_cast<std::uint8_t>(q.value == coil_on ? 1U : 0U)};
       code = f == 0x05 ? dev.write_coils(q.address, 1, byte_view(one, 1))
                        : dev.write_coils(q.address, q.quantity, q.data);
@@ -400,7 +402,7 @@ constexpr std::size_t serve_pdu(Device& dev, const request& q, mutable_byte_view
       }
     }
   } else if (f == 0x06 || f == 0x10) {
-    if constexpr (can_write_registers<Device>) {
+    if constexpr (serves(0x06) || serves(0x10)) {
       const std::uint8_t single[2] = {static_cast<std::uint8_t>(q.value >> 8U),
                                       static_cast<std::uint8_t>(q.value & 0xFFU)};
       code = write_registers_from(dev, q.address, f == 0x06 ? byte_view(single, 2) : q.data);
@@ -409,7 +411,7 @@ constexpr std::size_t serve_pdu(Device& dev, const request& q, mutable_byte_view
       }
     }
   } else if (f == 0x16) {
-    if constexpr (can_read_registers<Device> && can_write_registers<Device>) {
+    if constexpr (serves(0x16)) {
       // the register is read into the response area, which the echo then overwrites
       code = read_registers_into(dev, 0x03, q.address, 1, pdu_out);
       if (code == 0U) {
@@ -425,7 +427,7 @@ constexpr std::size_t serve_pdu(Device& dev, const request& q, mutable_byte_view
       }
     }
   } else if (f == 0x17) {
-    if constexpr (can_read_registers<Device> && can_write_registers<Device>) {
+    if constexpr (serves(0x17)) {
       // Modbus App. Protocol §6.17: both ranges are checked (02) before anything is done, then
       // the write, then the read. The read range is checked by check_registers, else by reading
       // it (a read changes nothing); the write accessor checks its own range before writing.
@@ -447,7 +449,7 @@ constexpr std::size_t serve_pdu(Device& dev, const request& q, mutable_byte_view
       }
     }
   } else if (f == 0x11) {
-    if constexpr (has_report_server_id<Device>::value) {
+    if constexpr (serves(0x11)) {
       std::size_t size = 0;
       code = dev.report_server_id(pdu_out.subspan(1, max_pdu_size - 1U), size);
       if (code == 0U && size < max_pdu_size) {  // no wrap-around of a huge size: 04
