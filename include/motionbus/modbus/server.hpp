@@ -25,14 +25,13 @@
 //                                                  // allow (e.g. not FC16/17 over registers);
 //                                                  // the others are answered with 01 and cost
 //                                                  // no code
-//   std::uint8_t admit(motionbus::byte_view pdu);  // optional: a device-specific first check
-//                                                  // of the raw request PDU (e.g. its own
-//                                                  // order of exceptions); 0 lets it through
+//   std::uint8_t admit(motionbus::byte_view pdu) const;
+//       // optional: a device-specific first check of the raw request PDU (e.g. its own order
+//       // of exceptions); 0 lets it through
 //   std::uint8_t check_registers(std::uint8_t function, std::uint16_t address,
-//                                std::uint16_t quantity);  // optional: whether FC17's read
-//                                                  // (function 03) or write (10) range may be
-//                                                  // accessed, accessing nothing; without it
-//                                                  // the read range is checked by reading it
+//                                std::uint16_t quantity) const;
+//       // optional: whether FC17's read (function 03) or write (10) range may be accessed,
+//       // accessing nothing; without it the read range is checked by reading it
 // The contract that makes an exception mean that nothing was done: an accessor that returns an
 // exception has changed nothing; read accessors, admit and check_registers change nothing (FC16
 // and FC17 read before they write). The server then calls a write accessor only after every
@@ -95,10 +94,10 @@ template <class D>
 using report_server_id_call = decltype(std::declval<D&>().report_server_id(
     mutable_byte_view{}, std::declval<std::size_t&>()));
 template <class D>
-using check_registers_call =
-    decltype(std::declval<D&>().check_registers(std::uint8_t{}, std::uint16_t{}, std::uint16_t{}));
+using check_registers_call = decltype(std::declval<const D&>().check_registers(
+    std::uint8_t{}, std::uint16_t{}, std::uint16_t{}));  // const: a check changes nothing
 template <class D>
-using admit_call = decltype(std::declval<D&>().admit(byte_view{}));
+using admit_call = decltype(std::declval<const D&>().admit(byte_view{}));  // const, as above
 
 template <class D>
 using has_read_bits = returns_code<read_bits_call, D>;
@@ -278,9 +277,10 @@ struct device_checks {
   static_assert(!names<check_registers_name, D>::value || has_check_registers<D>::value,
                 "modbus server device: check_registers must be std::uint8_t "
                 "check_registers(std::uint8_t function, std::uint16_t address, std::uint16_t "
-                "quantity)");
+                "quantity) const");
   static_assert(!names<admit_name, D>::value || has_admit<D>::value,
-                "modbus server device: admit must be std::uint8_t admit(motionbus::byte_view pdu)");
+                "modbus server device: admit must be std::uint8_t admit(motionbus::byte_view pdu) "
+                "const");
   static_assert(!names<functions_name, D>::value || has_function_set<D>::value,
                 "modbus server device: functions must be static constexpr "
                 "motionbus::modbus::function_set functions = functions_of(...)");

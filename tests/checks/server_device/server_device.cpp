@@ -61,6 +61,11 @@ struct device : registers {
 struct device : registers {
   md::function_set functions = md::functions_of(0x06);  // near miss: not static constexpr
 };
+#elif defined(CASE_admit_not_const)
+struct device : registers {
+  // near miss: a check that could change the device
+  std::uint8_t admit(mb::byte_view) { return 0; }
+};
 #else
 struct device : registers {
   static constexpr md::function_set functions = md::functions_of(0x06, 0x10);
