@@ -222,3 +222,87 @@ TEST_CASE("SM unit emulator: changing the password while logged out is a login e
   CHECK(send(sm::change_password(1, text("other-pass"), mutable_byte_view(out, sizeof out))) ==
         bytes{0x90, 0x04});
 }
+
+namespace {
+
+// What the emulator holds, as a client can see it: the settings, the login state, the warning
+// status and count, and the password (read after logging in with the default password, which
+// fails if the password changed).
+bytes state_of(sm::emulator unit) {
+  bytes s;
+  for (std::uint16_t i = 0; i < sm::holding::setting_count; ++i) {
+    s.push_back(static_cast<std::uint8_t>(unit.setting(i) >> 8U));
+    s.push_back(static_cast<std::uint8_t>(unit.setting(i) & 0xFFU));
+  }
+  s.push_back(unit.logged_in() ? 1 : 0);
+  s.push_back(static_cast<std::uint8_t>(unit.warning_status()));
+  s.push_back(static_cast<std::uint8_t>(unit.warning_count()));
+  if (!unit.logged_in()) {
+    serve_pdu(unit, 1, {0x10, 0x00, 0x64, 0x00, 0x08, 0x10, 'p', 'a', 's', 's', 'w',
+                        'o',  'r',  'd',  0,    0,    0,    0,   0,   0,   0,   0});
+  }
+  const bytes password = serve_pdu(unit, 1, {0x03, 0x00, 0xC8, 0x00, 0x08});
+  s.insert(s.end(), password.begin(), password.end());
+  return s;
+}
+
+// Write requests of every kind the unit serves, valid and not: settings within and past their
+// limits and their area, the login and password blocks with good, wrong and malformed
+// passwords, the coils.
+std::vector<bytes> sm_unit_writes() {
+  const std::uint8_t starts[] = {0, 1, 35, 36, 39, 40, 100, 200};
+  const std::uint16_t values[] = {0, 1, 800, 0xFFFF};
+  std::vector<bytes> out;
+  for (const std::uint8_t a : starts) {
+    for (const std::uint16_t v : values) {
+      out.push_back({0x06, 0x00, a, static_cast<std::uint8_t>(v >> 8U),
+                     static_cast<std::uint8_t>(v & 0xFFU)});
+    }
+    out.push_back({0x10, 0x00, a, 0x00, 0x02, 0x04, 0x00, 0x01, 0x03, 0x20});
+    out.push_back({0x10, 0x00, a, 0x00, 0x02, 0x04, 0x00, 0x01, 0xFF, 0xFF});
+    for (const char* pw : {"password", "other-pass", "short", "pass word"}) {
+      bytes q = {0x10, 0x00, a, 0x00, 0x08, 0x10};
+      for (std::size_t i = 0; i < 16U; ++i) {
+        q.push_back(i < std::strlen(pw) ? static_cast<std::uint8_t>(pw[i]) : 0U);
+      }
+      out.push_back(q);
+    }
+    out.push_back({0x05, 0x00, a, 0xFF, 0x00});
+    out.push_back({0x0F, 0x00, a, 0x00, 0x01, 0x01, 0x01});
+    out.push_back({0x0F, 0x00, a, 0x00, 0x02, 0x01, 0x03});
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("SM unit emulator: an exception leaves the unit as it was, unicast or broadcast") {
+  int exceptions = 0;
+  for (bool logged_in : {true, false}) {
+    for (const bytes& q : sm_unit_writes()) {
+      CAPTURE(logged_in);
+      CAPTURE(static_cast<int>(q[0]));
+      CAPTURE(static_cast<int>(q[2]));
+      sm::emulator start;
+      start.inject_warning(sm::warning::overheat);
+      if (!logged_in) {
+        serve_pdu(start, 1, {0x10, 0x00, 0x64, 0x00, 0x08, 0x10, 'p', 'a', 's', 's', 'w',
+                             'o',  'r',  'd',  0,    0,    0,    0,   0,   0,   0,   0});
+        REQUIRE(!start.logged_in());
+      }
+      sm::emulator unicast = start;
+      const bytes answer = serve_pdu(unicast, 1, q);
+      REQUIRE(answer.size() >= 2U);
+      sm::emulator broadcast = start;
+      CHECK(serve_adu(broadcast, 1, view(rtu(0, q))).empty());
+      if ((answer[0] & 0x80U) != 0U) {
+        ++exceptions;
+        CHECK(state_of(unicast) == state_of(start));
+        CHECK(state_of(broadcast) == state_of(start));
+      } else {
+        CHECK(state_of(broadcast) == state_of(unicast));
+      }
+    }
+  }
+  CHECK(exceptions > 50);
+}

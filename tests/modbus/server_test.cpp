@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <string>
 #include <vector>
 #include "../support/bytes.hpp"
 
@@ -80,7 +81,15 @@ struct array_device {
   }
 };
 
-struct empty_device {};
+// Registers only, written through write_registers_be: no read_bits, no report_server_id.
+struct be_only_device {
+  std::uint8_t write_registers_be(std::uint16_t, std::uint16_t, byte_view) { return 0; }
+};
+static_assert(served_functions<be_only_device>() == functions_of(0x06, 0x10),
+              "a register writer alone serves 06 and 10");
+static_assert(served_functions<array_device>() ==
+                  functions_of(0x01, 0x02, 0x03, 0x04, 0x05, 0x06, 0x0F, 0x10, 0x11, 0x16, 0x17),
+              "every accessor: every function the dispatch serves");
 
 template <class Device>
 bytes call(Device& dev, std::uint8_t slave, const bytes& pdu, std::uint8_t own = 0x11) {
@@ -140,9 +149,10 @@ TEST_CASE("server: exceptions in the spec's order, from the codec and from the d
   CHECK(call(dev, 0x11, {0x2B, 0x0E, 0x01, 0x00}) == bytes{0xAB, 0x01});        // not served
   CHECK(call(dev, 0x11, {0x10, 0x00, 0x01, 0x00, 0x02, 0x03, 0x00, 0x0A, 0x01}) ==
         bytes{0x90, 0x03});
-  empty_device none;
-  CHECK(call(none, 0x11, {0x03, 0x00, 0x00, 0x00, 0x01}) == bytes{0x83, 0x01});
-  CHECK(call(none, 0x11, {0x11}) == bytes{0x91, 0x01});
+  // a function the device's accessors do not serve (here: a device without read_bits)
+  be_only_device regs;
+  CHECK(call(regs, 0x11, {0x01, 0x00, 0x00, 0x00, 0x01}) == bytes{0x81, 0x01});
+  CHECK(call(regs, 0x11, {0x11}) == bytes{0x91, 0x01});
 }
 
 // A server built as docs/modbus.md §3 describes: bytes in chunks from the UART into a framer
@@ -323,4 +333,290 @@ TEST_CASE("server: a device's own function set narrows what its accessors allow"
   CHECK(call(dev, 0x11, {0x03, 0x00, 0x00, 0x00, 0x7E}) == bytes{0x83, 0x03});  // its own: 03
   static_assert(functions_of(0x01, 0x10) == ((function_set{1} << 1U) | (function_set{1} << 16U)),
                 "one bit per function");
+}
+
+namespace {
+
+// 16 coils and 16 holding registers at addresses 0..15, as the issue's device: an accessor
+// that answers an exception has changed nothing.
+struct table {
+  std::uint16_t regs[16] = {};
+  bool coils[16] = {};
+  static bool fits(std::uint16_t address, std::size_t quantity) {
+    return address + quantity <= 16U;
+  }
+  bool operator==(const table& o) const {
+    return std::equal(regs, regs + 16, o.regs) && std::equal(coils, coils + 16, o.coils);
+  }
+};
+
+struct u16_table : table {
+  std::uint8_t read_bits(std::uint8_t, std::uint16_t address, std::uint16_t quantity,
+                         mutable_byte_view packed) {
+    if (!fits(address, quantity)) {
+      return 0x02;
+    }
+    for (std::uint16_t i = 0; i < quantity; ++i) {
+      packed[i / 8U] = static_cast<std::uint8_t>(packed[i / 8U] | (coils[address + i] << (i % 8U)));
+    }
+    return 0;
+  }
+  std::uint8_t write_coils(std::uint16_t address, std::uint16_t quantity, byte_view packed) {
+    if (!fits(address, quantity)) {
+      return 0x02;
+    }
+    for (std::uint16_t i = 0; i < quantity; ++i) {
+      coils[address + i] = bit_at(packed, i);
+    }
+    return 0;
+  }
+  std::uint8_t read_registers(std::uint8_t, std::uint16_t address, span<std::uint16_t> out) {
+    if (!fits(address, out.size())) {
+      return 0x02;
+    }
+    std::copy(regs + address, regs + address + out.size(), out.begin());
+    return 0;
+  }
+  std::uint8_t write_registers(std::uint16_t address, span<const std::uint16_t> values) {
+    if (!fits(address, values.size())) {
+      return 0x02;
+    }
+    std::copy(values.begin(), values.end(), regs + address);
+    return 0;
+  }
+};
+
+struct be_table : table {
+  std::uint8_t read_registers_be(std::uint8_t, std::uint16_t address, std::uint16_t quantity,
+                                 mutable_byte_view out) {
+    if (!fits(address, quantity)) {
+      return 0x02;
+    }
+    for (std::size_t i = 0; i < quantity; ++i) {
+      out[2 * i] = static_cast<std::uint8_t>(regs[address + i] >> 8U);
+      out[2 * i + 1] = static_cast<std::uint8_t>(regs[address + i] & 0xFFU);
+    }
+    return 0;
+  }
+  std::uint8_t write_registers_be(std::uint16_t address, std::uint16_t quantity, byte_view data) {
+    if (!fits(address, quantity)) {
+      return 0x02;
+    }
+    for (std::size_t i = 0; i < quantity; ++i) {
+      regs[address + i] = register_at(data, i);
+    }
+    return 0;
+  }
+};
+
+// The FC17 ranges checked by the device itself: the server then reads once, after the write.
+struct checked_table : u16_table {
+  int reads = 0;
+  std::uint8_t check_registers(std::uint8_t, std::uint16_t address, std::uint16_t quantity) const {
+    return fits(address, quantity) ? 0 : 0x02;
+  }
+  std::uint8_t read_registers(std::uint8_t f, std::uint16_t address, span<std::uint16_t> out) {
+    ++reads;
+    return u16_table::read_registers(f, address, out);
+  }
+};
+
+// The response PDU to the RTU ADU `adu` through the framer and serve_frame (no second CRC
+// pass); empty when nothing is sent.
+template <class Device>
+bytes call_frame(Device& dev, const bytes& adu, std::uint8_t own = 0x11) {
+  rtu_framer rx({framer_role::server, own});
+  const auto f = rx.feed(byte_view(adu.data(), adu.size()));
+  REQUIRE(f.is_complete());
+  std::uint8_t out[256] = {};
+  const auto r = serve_frame(dev, own, f.value(), out);
+  REQUIRE(r.ok());
+  if (r.value() == 0) {
+    return {};
+  }
+  const auto d = decode_rtu(byte_view(out, r.value()));
+  REQUIRE(d.is_complete());
+  return bytes(d->pdu.begin(), d->pdu.end());
+}
+
+bytes adu_of(std::uint8_t slave, const bytes& pdu) {
+  std::uint8_t adu[256] = {};
+  const std::size_t n = encode_rtu(slave, byte_view(pdu.data(), pdu.size()), adu).value();
+  return bytes(adu, adu + n);
+}
+
+// Every write request of the functions 05, 06, 0F, 10, 16 and 17 with starts and quantities
+// about the end of a 16-entry table (inside, across the end, past it).
+std::vector<bytes> writes_about_the_end() {
+  const std::uint16_t starts[] = {0, 3, 12, 14, 15, 16, 17};
+  const std::uint16_t counts[] = {1, 2, 4, 10};
+  auto hi = [](unsigned v) { return static_cast<std::uint8_t>(v >> 8U); };
+  auto lo = [](unsigned v) { return static_cast<std::uint8_t>(v & 0xFFU); };
+  std::vector<bytes> out;
+  for (std::uint16_t a : starts) {
+    out.push_back({0x05, hi(a), lo(a), 0xFF, 0x00});
+    out.push_back({0x06, hi(a), lo(a), 0x12, 0x50});
+    out.push_back({0x16, hi(a), lo(a), 0x00, 0xF0, 0x12, 0x05});
+    for (std::uint16_t q : counts) {
+      bytes coils = {0x0F, hi(a), lo(a), hi(q), lo(q), static_cast<std::uint8_t>((q + 7U) / 8U)};
+      coils.resize(coils.size() + (q + 7U) / 8U, 0xFF);  // every coil on
+      out.push_back(coils);
+      bytes regs = {0x10, hi(a), lo(a), hi(q), lo(q), static_cast<std::uint8_t>(2U * q)};
+      for (unsigned i = 0; i < q; ++i) {
+        regs.push_back(0x12);
+        regs.push_back(static_cast<std::uint8_t>(0x50U + i));
+      }
+      out.push_back(regs);
+      for (std::uint16_t wa : starts) {
+        for (std::uint16_t wq : {std::uint16_t{1}, std::uint16_t{3}}) {
+          bytes rw = {0x17,   hi(a),  lo(a),  hi(q),  lo(q),
+                      hi(wa), lo(wa), hi(wq), lo(wq), static_cast<std::uint8_t>(2U * wq)};
+          for (unsigned i = 0; i < wq; ++i) {
+            rw.push_back(0x12);
+            rw.push_back(static_cast<std::uint8_t>(0x50U + i));
+          }
+          out.push_back(rw);
+        }
+      }
+    }
+  }
+  return out;
+}
+
+// For one device type: every request of writes_about_the_end() sent to the server's address
+// through serve_rtu and through serve_frame, and as a broadcast; an exception leaves the data
+// as they were, a normal response (or a broadcast whose unicast twin got one) has written.
+template <class Device>
+void check_exceptions_change_nothing() {
+  int exceptions = 0;
+  int normal = 0;
+  for (const bytes& q : writes_about_the_end()) {
+    std::string hex;
+    for (const std::uint8_t b : q) {
+      hex += "0123456789ABCDEF"[b >> 4U];
+      hex += "0123456789ABCDEF"[b & 15U];
+      hex += ' ';
+    }
+    CAPTURE(hex);
+    Device start;
+    for (std::uint16_t i = 0; i < 16; ++i) {
+      start.regs[i] = static_cast<std::uint16_t>(0x0100U + i);
+      start.coils[i] = false;  // the requests turn coils on: a write changes them
+    }
+    const bytes unicast = adu_of(0x11, q);
+    Device by_rtu = start;
+    const bytes answer = call(by_rtu, 0x11, q);
+    REQUIRE(answer.size() >= 2U);
+    Device by_frame = start;
+    CHECK(call_frame(by_frame, unicast) == answer);
+    Device by_broadcast = start;
+    CHECK(call_frame(by_broadcast, adu_of(0x00, q)).empty());
+    if ((answer[0] & 0x80U) != 0U) {
+      ++exceptions;
+      CHECK(static_cast<const table&>(by_rtu) == start);
+      CHECK(static_cast<const table&>(by_frame) == start);
+      CHECK(static_cast<const table&>(by_broadcast) == start);
+    } else {
+      ++normal;
+      CHECK(!(static_cast<const table&>(by_rtu) == start));  // every request here writes
+      CHECK(static_cast<const table&>(by_frame) == by_rtu);
+      CHECK(static_cast<const table&>(by_broadcast) == by_rtu);
+    }
+  }
+  CHECK(exceptions > 100);  // both outcomes are exercised
+  CHECK(normal > 100);
+}
+
+}  // namespace
+
+TEST_CASE("server: FC17 checks both ranges before it writes (Modbus App. Protocol §6.17)") {
+  // the issue's request: read 10 registers from 12 (past the end of 16), write 3 := 0x1250
+  const bytes q = {0x17, 0x00, 0x0C, 0x00, 0x0A, 0x00, 0x03, 0x00, 0x01, 0x02, 0x12, 0x50};
+  u16_table a;
+  const bytes adu = adu_of(0x11, q);
+  std::uint8_t out[256] = {};
+  const auto n = serve_rtu(a, 0x11, byte_view(adu.data(), adu.size()), out);
+  REQUIRE(n.ok());
+  CHECK(bytes(out, out + n.value()) == bytes{0x11, 0x97, 0x02, 0xCE, 0x34});  // the issue's reply
+  CHECK(a.regs[3] == 0);
+  CHECK(call(a, 0x00, q).empty());  // a broadcast is not written either
+  CHECK(a.regs[3] == 0);
+  be_table b;
+  CHECK(call(b, 0x11, q) == bytes{0x97, 0x02});
+  CHECK(call_frame(b, adu_of(0x00, q)).empty());
+  CHECK(b.regs[3] == 0);
+  checked_table c;
+  CHECK(call(c, 0x11, q) == bytes{0x97, 0x02});
+  CHECK(c.regs[3] == 0);
+  CHECK(c.reads == 0);  // check_registers answered: nothing was read
+  // the write range past the end: 02, nothing written
+  const bytes w = {0x17, 0x00, 0x00, 0x00, 0x01, 0x00, 0x0F, 0x00, 0x02, 0x04, 0, 1, 0, 2};
+  CHECK(call(a, 0x11, w) == bytes{0x97, 0x02});
+  CHECK(call(c, 0x11, w) == bytes{0x97, 0x02});
+  CHECK(a.regs[15] == 0);
+  CHECK(c.regs[15] == 0);
+  // overlapping ranges: the read sees the write, read once when the device checks
+  const bytes o = {0x17, 0x00, 0x02, 0x00, 0x03, 0x00, 0x03, 0x00, 0x01, 0x02, 0x12, 0x50};
+  CHECK(call(a, 0x11, o) == bytes{0x17, 0x06, 0x00, 0x00, 0x12, 0x50, 0x00, 0x00});
+  CHECK(call(b, 0x11, o) == bytes{0x17, 0x06, 0x00, 0x00, 0x12, 0x50, 0x00, 0x00});
+  c.reads = 0;
+  CHECK(call(c, 0x11, o) == bytes{0x17, 0x06, 0x00, 0x00, 0x12, 0x50, 0x00, 0x00});
+  CHECK(c.reads == 1);
+}
+
+TEST_CASE("server: an exception means that nothing was done, unicast or broadcast") {
+  SUBCASE("uint16_t accessors") {
+    check_exceptions_change_nothing<u16_table>();
+  }
+  SUBCASE("big-endian accessors") {
+    check_exceptions_change_nothing<be_table>();
+  }
+  SUBCASE("check_registers") {
+    check_exceptions_change_nothing<checked_table>();
+  }
+}
+
+namespace {
+
+// A device whose registers fail once written (a device failure between FC17's write and read).
+struct failing_after_write : u16_table {
+  bool broken = false;
+  std::uint8_t read_registers(std::uint8_t f, std::uint16_t address, span<std::uint16_t> out) {
+    return broken ? 0x0B : u16_table::read_registers(f, address, out);
+  }
+  std::uint8_t write_registers(std::uint16_t address, span<const std::uint16_t> values) {
+    broken = true;
+    return u16_table::write_registers(address, values);
+  }
+};
+
+// A device that reports more identification bytes than a PDU holds.
+struct huge_server_id {
+  std::size_t report = 0;
+  std::uint8_t report_server_id(mutable_byte_view, std::size_t& size) const {
+    size = report;
+    return 0;
+  }
+};
+
+}  // namespace
+
+TEST_CASE("server: failures after the checks are device failures (04)") {
+  // FC17 whose read fails after the write: §6.17's processing failure, 04
+  failing_after_write dev;
+  CHECK(call(dev, 0x11, {0x17, 0x00, 0x00, 0x00, 0x01, 0x00, 0x01, 0x00, 0x01, 0x02, 0x00, 0x07}) ==
+        bytes{0x97, 0x04});
+  // FC11 whose reported size does not fit the PDU, the largest size_t included (no wrap-around)
+  huge_server_id id;
+  for (std::size_t size : {std::size_t{252}, std::size_t{253}, ~std::size_t{0}}) {
+    CAPTURE(size);
+    id.report = size;
+    const bytes r = call(id, 0x11, {0x11});
+    if (size == 252U) {
+      CHECK(r.size() == 253U);  // the largest PDU
+      CHECK(r[0] == 0x11);
+    } else {
+      CHECK(r == bytes{0x91, 0x04});
+    }
+  }
 }

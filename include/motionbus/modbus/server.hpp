@@ -25,12 +25,26 @@
 //                                                  // allow (e.g. not FC16/17 over registers);
 //                                                  // the others are answered with 01 and cost
 //                                                  // no code
-//   std::uint8_t admit(motionbus::byte_view pdu);  // optional: a device-specific first check
-//                                                  // of the raw request PDU (e.g. its own
-//                                                  // order of exceptions); 0 lets it through
-// A function whose accessor is missing is answered with exception 01. The request's own limits
-// are checked first (decode_request: exception 01, then 03, then 02), as the spec's state
-// diagrams order them (Modbus App. Protocol §6).
+//   std::uint8_t admit(motionbus::byte_view pdu) const;
+//       // optional: a device-specific first check of the raw request PDU (e.g. its own order
+//       // of exceptions); 0 lets it through
+//   std::uint8_t check_registers(std::uint8_t function, std::uint16_t address,
+//                                std::uint16_t quantity) const;
+//       // optional: whether FC17's read (function 03) or write (10) range may be accessed,
+//       // accessing nothing; without it the read range is checked by reading it
+// The contract that makes an exception mean that nothing was done: an accessor that returns an
+// exception has changed nothing; read accessors, admit and check_registers change nothing (FC16
+// and FC17 read before they write). The server then calls a write accessor only after every
+// other check of the request, and last but for FC17's read (a read that fails after FC17's
+// write is answered 04, the specification's processing failure). FC17 (Modbus App. Protocol
+// §6.17): both ranges checked, then the write, then the read, which sees the write.
+// served_functions<Device>() says which functions a device type is served; any other is
+// answered with exception 01. The request's own limits are checked first (decode_request:
+// exception 01, then 03, then 02), as the spec's state diagrams order them (Modbus App.
+// Protocol §6). A device type that serves no function, names in `functions` one its accessors
+// cannot serve, or has a member named like an accessor (or its singular: read_register, ...)
+// that does not have the accessor's signature, fails to compile with a message that gives the
+// expected signature.
 #ifndef MOTIONBUS_MODBUS_SERVER_HPP
 #define MOTIONBUS_MODBUS_SERVER_HPP
 
@@ -50,72 +64,126 @@ namespace modbus {
 
 namespace detail {
 
-template <class D, class = void>
-struct has_read_bits : std::false_type {};
-template <class D>
-struct has_read_bits<D,
-                     std::void_t<decltype(std::declval<D&>().read_bits(
-                         std::uint8_t{}, std::uint16_t{}, std::uint16_t{}, mutable_byte_view{}))>>
-    : std::true_type {};
+// The accessors, each detected by its exact signature (the call below compiles and returns
+// std::uint8_t); a member of the same name that does not match is a compile-time error
+// (device_checks).
+template <template <class> class Call, class D, class = void>
+struct returns_code : std::false_type {};
+template <template <class> class Call, class D>
+struct returns_code<Call, D, std::void_t<Call<D>>> : std::is_same<Call<D>, std::uint8_t> {};
 
-template <class D, class = void>
-struct has_read_registers : std::false_type {};
 template <class D>
-struct has_read_registers<D, std::void_t<decltype(std::declval<D&>().read_registers(
-                                 std::uint8_t{}, std::uint16_t{}, span<std::uint16_t>{}))>>
-    : std::true_type {};
+using read_bits_call = decltype(std::declval<D&>().read_bits(std::uint8_t{}, std::uint16_t{},
+                                                             std::uint16_t{}, mutable_byte_view{}));
+template <class D>
+using read_registers_call = decltype(std::declval<D&>().read_registers(
+    std::uint8_t{}, std::uint16_t{}, span<std::uint16_t>{}));
+template <class D>
+using write_coils_call =
+    decltype(std::declval<D&>().write_coils(std::uint16_t{}, std::uint16_t{}, byte_view{}));
+template <class D>
+using write_registers_call =
+    decltype(std::declval<D&>().write_registers(std::uint16_t{}, span<const std::uint16_t>{}));
+template <class D>
+using read_registers_be_call = decltype(std::declval<D&>().read_registers_be(
+    std::uint8_t{}, std::uint16_t{}, std::uint16_t{}, mutable_byte_view{}));
+template <class D>
+using write_registers_be_call =
+    decltype(std::declval<D&>().write_registers_be(std::uint16_t{}, std::uint16_t{}, byte_view{}));
+template <class D>
+using report_server_id_call = decltype(std::declval<D&>().report_server_id(
+    mutable_byte_view{}, std::declval<std::size_t&>()));
+template <class D>
+using check_registers_call = decltype(std::declval<const D&>().check_registers(
+    std::uint8_t{}, std::uint16_t{}, std::uint16_t{}));  // const: a check changes nothing
+template <class D>
+using admit_call = decltype(std::declval<const D&>().admit(byte_view{}));  // const, as above
 
-template <class D, class = void>
-struct has_write_coils : std::false_type {};
 template <class D>
-struct has_write_coils<D, std::void_t<decltype(std::declval<D&>().write_coils(
-                              std::uint16_t{}, std::uint16_t{}, byte_view{}))>> : std::true_type {};
-
-template <class D, class = void>
-struct has_write_registers : std::false_type {};
+using has_read_bits = returns_code<read_bits_call, D>;
 template <class D>
-struct has_write_registers<D, std::void_t<decltype(std::declval<D&>().write_registers(
-                                  std::uint16_t{}, span<const std::uint16_t>{}))>>
-    : std::true_type {};
-
-template <class D, class = void>
-struct has_read_registers_be : std::false_type {};
+using has_read_registers = returns_code<read_registers_call, D>;
 template <class D>
-struct has_read_registers_be<
-    D, std::void_t<decltype(std::declval<D&>().read_registers_be(
-           std::uint8_t{}, std::uint16_t{}, std::uint16_t{}, mutable_byte_view{}))>>
-    : std::true_type {};
-
-template <class D, class = void>
-struct has_write_registers_be : std::false_type {};
+using has_write_coils = returns_code<write_coils_call, D>;
 template <class D>
-struct has_write_registers_be<D, std::void_t<decltype(std::declval<D&>().write_registers_be(
-                                     std::uint16_t{}, std::uint16_t{}, byte_view{}))>>
-    : std::true_type {};
+using has_write_registers = returns_code<write_registers_call, D>;
+template <class D>
+using has_read_registers_be = returns_code<read_registers_be_call, D>;
+template <class D>
+using has_write_registers_be = returns_code<write_registers_be_call, D>;
+template <class D>
+using has_report_server_id = returns_code<report_server_id_call, D>;
+template <class D>
+using has_check_registers = returns_code<check_registers_call, D>;
+template <class D>
+using has_admit = returns_code<admit_call, D>;
 
 template <class D, class = void>
 struct has_function_set : std::false_type {};
 template <class D>
-struct has_function_set<D, std::void_t<decltype(function_set{D::functions})>> : std::true_type {};
+struct has_function_set<D, std::void_t<decltype(function_set{D::functions})>>
+    : std::negation<std::is_member_pointer<decltype(&D::functions)>> {};  // a static member
 
-template <class D, class = void>
-struct has_admit : std::false_type {};
-template <class D>
-struct has_admit<D, std::void_t<decltype(std::declval<D&>().admit(byte_view{}))>> : std::true_type {
+// Members named like an accessor, whatever their signature: a member of D of one of these
+// names makes the name ambiguous in name_probe<D> (the usual member-name detector; a final
+// device type cannot be derived from, and is checked by signature only). The singular names
+// are the near misses of the plural ones.
+struct accessor_names {
+  int read_bits, read_registers, write_coils, write_registers, read_registers_be,
+      write_registers_be, report_server_id, check_registers, admit, functions;
+  int read_bit, read_register, write_coil, write_register, read_register_be, write_register_be,
+      report_slave_id;
 };
-
-template <class D, class = void>
-struct has_report_server_id : std::false_type {};
 template <class D>
-struct has_report_server_id<D, std::void_t<decltype(std::declval<D&>().report_server_id(
-                                   mutable_byte_view{}, std::declval<std::size_t&>()))>>
-    : std::true_type {};
+struct name_probe : D, accessor_names {};
+template <class D>
+using probe_of = std::conditional_t<std::is_class<D>::value && !std::is_final<D>::value,
+                                    name_probe<std::remove_cv_t<D>>, accessor_names>;
+
+template <class P>
+using read_bits_name = decltype(&P::read_bits);
+template <class P>
+using read_registers_name = decltype(&P::read_registers);
+template <class P>
+using write_coils_name = decltype(&P::write_coils);
+template <class P>
+using write_registers_name = decltype(&P::write_registers);
+template <class P>
+using read_registers_be_name = decltype(&P::read_registers_be);
+template <class P>
+using write_registers_be_name = decltype(&P::write_registers_be);
+template <class P>
+using report_server_id_name = decltype(&P::report_server_id);
+template <class P>
+using check_registers_name = decltype(&P::check_registers);
+template <class P>
+using admit_name = decltype(&P::admit);
+template <class P>
+using functions_name = decltype(&P::functions);
+template <class P>
+using read_bit_name = decltype(&P::read_bit);
+template <class P>
+using read_register_name = decltype(&P::read_register);
+template <class P>
+using write_coil_name = decltype(&P::write_coil);
+template <class P>
+using write_register_name = decltype(&P::write_register);
+template <class P>
+using read_register_be_name = decltype(&P::read_register_be);
+template <class P>
+using write_register_be_name = decltype(&P::write_register_be);
+template <class P>
+using report_slave_id_name = decltype(&P::report_slave_id);
+
+// Whether D has a member called as Name says (the probe's own member alone is unambiguous).
+template <template <class> class Name, class D, class = void>
+struct names : std::true_type {};
+template <template <class> class Name, class D>
+struct names<Name, D, std::void_t<Name<probe_of<D>>>> : std::false_type {};
 
 constexpr std::uint8_t illegal_function_code =
     static_cast<std::uint8_t>(exception_code::illegal_function);
 
-// Serves one decoded request; writes the response PDU into `pdu_out` (>= 253 bytes).
-// Returns its size (an exception response is 2 bytes).
 template <class Device>
 constexpr bool can_read_registers =
     has_read_registers<Device>::value || has_read_registers_be<Device>::value;
@@ -123,34 +191,137 @@ template <class Device>
 constexpr bool can_write_registers =
     has_write_registers<Device>::value || has_write_registers_be<Device>::value;
 
-// The functions serve_pdu can serve for this device (its accessors): only those are decoded.
+// The functions the device's accessors allow, before its own `functions` narrows them.
 template <class Device>
-constexpr function_set served_functions() noexcept {
-  auto bit = [](unsigned f) { return function_set{1} << f; };
+constexpr function_set accessor_functions() noexcept {
   function_set set = 0;
   if constexpr (has_read_bits<Device>::value) {
-    set |= bit(0x01) | bit(0x02);
+    set |= functions_of(0x01, 0x02);
   }
   if constexpr (can_read_registers<Device>) {
-    set |= bit(0x03) | bit(0x04);
+    set |= functions_of(0x03, 0x04);
   }
   if constexpr (has_write_coils<Device>::value) {
-    set |= bit(0x05) | bit(0x0F);
+    set |= functions_of(0x05, 0x0F);
   }
   if constexpr (can_write_registers<Device>) {
-    set |= bit(0x06) | bit(0x10);
+    set |= functions_of(0x06, 0x10);
   }
   if constexpr (can_read_registers<Device> && can_write_registers<Device>) {
-    set |= bit(0x16) | bit(0x17);
+    set |= functions_of(0x16, 0x17);
   }
   if constexpr (has_report_server_id<Device>::value) {
-    set |= bit(0x11);
-  }
-  if constexpr (has_function_set<Device>::value) {
-    set &= Device::functions;  // the device's own choice among those
+    set |= functions_of(0x11);
   }
   return set;
 }
+
+// The device's own `functions`, or none.
+template <class Device>
+constexpr function_set declared_functions() noexcept {
+  if constexpr (has_function_set<Device>::value) {
+    return Device::functions;
+  } else {
+    return 0;
+  }
+}
+
+}  // namespace detail
+
+/// The functions serve_frame and serve_rtu serve for a device type: those its accessors allow
+/// (01/02 read_bits; 03/04 read_registers or read_registers_be; 05/0F write_coils; 06/10
+/// write_registers or write_registers_be; 16/17 a register reader and a register writer; 11
+/// report_server_id), narrowed by its `functions` if it has one. Only these are decoded; any
+/// other function is answered with exception 01.
+template <class Device>
+constexpr function_set served_functions() noexcept {
+  const function_set set = detail::accessor_functions<Device>();
+  // the device's own choice among those
+  return detail::has_function_set<Device>::value ? set & detail::declared_functions<Device>() : set;
+}
+
+namespace detail {
+
+// The compile-time checks of a device type (instantiated by serve_frame): a member named like
+// an accessor must have its signature, and the device must serve at least one function and
+// name in `functions` only functions its accessors serve.
+template <class D>
+struct device_checks {
+  static_assert(!names<read_bits_name, D>::value || has_read_bits<D>::value,
+                "modbus server device: read_bits must be std::uint8_t read_bits(std::uint8_t "
+                "function, std::uint16_t address, std::uint16_t quantity, "
+                "motionbus::mutable_byte_view packed)");
+  static_assert(!names<read_registers_name, D>::value || has_read_registers<D>::value,
+                "modbus server device: read_registers must be std::uint8_t "
+                "read_registers(std::uint8_t function, std::uint16_t address, "
+                "motionbus::span<std::uint16_t> out)");
+  static_assert(!names<write_coils_name, D>::value || has_write_coils<D>::value,
+                "modbus server device: write_coils must be std::uint8_t "
+                "write_coils(std::uint16_t address, std::uint16_t quantity, motionbus::byte_view "
+                "packed)");
+  static_assert(!names<write_registers_name, D>::value || has_write_registers<D>::value,
+                "modbus server device: write_registers must be std::uint8_t "
+                "write_registers(std::uint16_t address, motionbus::span<const std::uint16_t> "
+                "values)");
+  static_assert(!names<read_registers_be_name, D>::value || has_read_registers_be<D>::value,
+                "modbus server device: read_registers_be must be std::uint8_t "
+                "read_registers_be(std::uint8_t function, std::uint16_t address, std::uint16_t "
+                "quantity, motionbus::mutable_byte_view out)");
+  static_assert(!names<write_registers_be_name, D>::value || has_write_registers_be<D>::value,
+                "modbus server device: write_registers_be must be std::uint8_t "
+                "write_registers_be(std::uint16_t address, std::uint16_t quantity, "
+                "motionbus::byte_view data)");
+  static_assert(!names<report_server_id_name, D>::value || has_report_server_id<D>::value,
+                "modbus server device: report_server_id must be std::uint8_t "
+                "report_server_id(motionbus::mutable_byte_view out, std::size_t& size)");
+  static_assert(!names<check_registers_name, D>::value || has_check_registers<D>::value,
+                "modbus server device: check_registers must be std::uint8_t "
+                "check_registers(std::uint8_t function, std::uint16_t address, std::uint16_t "
+                "quantity) const");
+  static_assert(!names<admit_name, D>::value || has_admit<D>::value,
+                "modbus server device: admit must be std::uint8_t admit(motionbus::byte_view pdu) "
+                "const");
+  static_assert(!names<functions_name, D>::value || has_function_set<D>::value,
+                "modbus server device: functions must be static constexpr "
+                "motionbus::modbus::function_set functions = functions_of(...)");
+  static_assert(!names<read_bit_name, D>::value || has_read_bits<D>::value,
+                "modbus server device: read_bit is no accessor; did you mean std::uint8_t "
+                "read_bits(std::uint8_t function, std::uint16_t address, std::uint16_t quantity, "
+                "motionbus::mutable_byte_view packed)?");
+  static_assert(!names<read_register_name, D>::value || has_read_registers<D>::value,
+                "modbus server device: read_register is no accessor; did you mean std::uint8_t "
+                "read_registers(std::uint8_t function, std::uint16_t address, "
+                "motionbus::span<std::uint16_t> out)?");
+  static_assert(!names<write_coil_name, D>::value || has_write_coils<D>::value,
+                "modbus server device: write_coil is no accessor; did you mean std::uint8_t "
+                "write_coils(std::uint16_t address, std::uint16_t quantity, motionbus::byte_view "
+                "packed)?");
+  static_assert(!names<write_register_name, D>::value || has_write_registers<D>::value,
+                "modbus server device: write_register is no accessor; did you mean std::uint8_t "
+                "write_registers(std::uint16_t address, motionbus::span<const std::uint16_t> "
+                "values)?");
+  static_assert(!names<read_register_be_name, D>::value || has_read_registers_be<D>::value,
+                "modbus server device: read_register_be is no accessor; did you mean "
+                "std::uint8_t read_registers_be(std::uint8_t function, std::uint16_t address, "
+                "std::uint16_t quantity, motionbus::mutable_byte_view out)?");
+  static_assert(!names<write_register_be_name, D>::value || has_write_registers_be<D>::value,
+                "modbus server device: write_register_be is no accessor; did you mean "
+                "std::uint8_t write_registers_be(std::uint16_t address, std::uint16_t quantity, "
+                "motionbus::byte_view data)?");
+  static_assert(!names<report_slave_id_name, D>::value || has_report_server_id<D>::value,
+                "modbus server device: report_slave_id is no accessor; did you mean std::uint8_t "
+                "report_server_id(motionbus::mutable_byte_view out, std::size_t& size)?");
+  static_assert(accessor_functions<D>() != 0U,
+                "modbus server device: no accessor the server recognises; it needs one of "
+                "read_bits, read_registers, read_registers_be, write_coils, write_registers, "
+                "write_registers_be, report_server_id (signatures in modbus/server.hpp)");
+  static_assert((declared_functions<D>() & ~accessor_functions<D>()) == 0U,
+                "modbus server device: its functions names a function its accessors cannot "
+                "serve (01/02 need read_bits; 03/04 read_registers or read_registers_be; 05/0F "
+                "write_coils; 06/10 write_registers or write_registers_be; 16/17 a register "
+                "reader and writer; 11 report_server_id)");
+  static constexpr bool value = true;
+};
 
 // Reads q.quantity registers from `address` into the response PDU `pdu_out` (function, byte
 // count, values), through whichever accessor the device has. Returns 0 or the exception code.
@@ -198,9 +369,11 @@ template <class Device>
 constexpr std::size_t serve_pdu(Device& dev, const request& q, mutable_byte_view pdu_out) noexcept {
   const std::uint8_t f = q.function;
   std::uint8_t code = illegal_function_code;
+  // only the functions served are compiled (serve_frame answers the others with 01)
+  constexpr auto serves = [](unsigned c) { return ((served_functions<Device>() >> c) & 1U) != 0U; };
   auto exception = [&](std::uint8_t c) { return encode_exception(f, c, pdu_out).value_or(0); };
   if (f == 0x01 || f == 0x02) {
-    if constexpr (has_read_bits<Device>::value) {
+    if constexpr (serves(0x01) || serves(0x02)) {
       const std::size_t n = (q.quantity + 7U) / 8U;
       for (std::size_t i = 0; i < n; ++i) {
         pdu_out[2U + i] = 0;
@@ -213,14 +386,14 @@ constexpr std::size_t serve_pdu(Device& dev, const request& q, mutable_byte_view
       }
     }
   } else if (f == 0x03 || f == 0x04) {
-    if constexpr (can_read_registers<Device>) {
+    if constexpr (serves(0x03) || serves(0x04)) {
       code = read_registers_into(dev, f, q.address, q.quantity, pdu_out);
       if (code == 0U) {
         return 2U + 2U * q.quantity;
       }
     }
   } else if (f == 0x05 || f == 0x0F) {
-    if constexpr (has_write_coils<Device>::value) {
+    if constexpr (serves(0x05) || serves(0x0F)) {
       const std::uint8_t one[1] = {static_cast<std::uint8_t>(q.value == coil_on ? 1U : 0U)};
       code = f == 0x05 ? dev.write_coils(q.address, 1, byte_view(one, 1))
                        : dev.write_coils(q.address, q.quantity, q.data);
@@ -229,7 +402,7 @@ constexpr std::size_t serve_pdu(Device& dev, const request& q, mutable_byte_view
       }
     }
   } else if (f == 0x06 || f == 0x10) {
-    if constexpr (can_write_registers<Device>) {
+    if constexpr (serves(0x06) || serves(0x10)) {
       const std::uint8_t single[2] = {static_cast<std::uint8_t>(q.value >> 8U),
                                       static_cast<std::uint8_t>(q.value & 0xFFU)};
       code = write_registers_from(dev, q.address, f == 0x06 ? byte_view(single, 2) : q.data);
@@ -238,7 +411,7 @@ constexpr std::size_t serve_pdu(Device& dev, const request& q, mutable_byte_view
       }
     }
   } else if (f == 0x16) {
-    if constexpr (can_read_registers<Device> && can_write_registers<Device>) {
+    if constexpr (serves(0x16)) {
       // the register is read into the response area, which the echo then overwrites
       code = read_registers_into(dev, 0x03, q.address, 1, pdu_out);
       if (code == 0U) {
@@ -254,22 +427,32 @@ constexpr std::size_t serve_pdu(Device& dev, const request& q, mutable_byte_view
       }
     }
   } else if (f == 0x17) {
-    if constexpr (can_read_registers<Device> && can_write_registers<Device>) {
-      // the write is performed before the read (§6.17)
-      code = write_registers_from(dev, q.write_address, q.data);
-      if (code == 0U) {
+    if constexpr (serves(0x17)) {
+      // Modbus App. Protocol §6.17: both ranges are checked (02) before anything is done, then
+      // the write, then the read. The read range is checked by check_registers, else by reading
+      // it (a read changes nothing); the write accessor checks its own range before writing.
+      if constexpr (has_check_registers<Device>::value) {
+        code = dev.check_registers(0x03, q.address, q.quantity);
+        if (code == 0U) {
+          code = dev.check_registers(0x10, q.write_address, q.write_quantity);
+        }
+      } else {
         code = read_registers_into(dev, 0x03, q.address, q.quantity, pdu_out);
       }
       if (code == 0U) {
-        pdu_out[0] = f;
-        return 2U + 2U * q.quantity;
+        code = write_registers_from(dev, q.write_address, q.data);
+        // a read that fails after the write is a processing failure (§6.17: 04), code 0 below
+        if (code == 0U && read_registers_into(dev, 0x03, q.address, q.quantity, pdu_out) == 0U) {
+          pdu_out[0] = f;
+          return 2U + 2U * q.quantity;
+        }
       }
     }
   } else if (f == 0x11) {
-    if constexpr (has_report_server_id<Device>::value) {
+    if constexpr (serves(0x11)) {
       std::size_t size = 0;
       code = dev.report_server_id(pdu_out.subspan(1, max_pdu_size - 1U), size);
-      if (code == 0U && size + 1U <= max_pdu_size) {
+      if (code == 0U && size < max_pdu_size) {  // no wrap-around of a huge size: 04
         pdu_out[0] = f;
         return size + 1U;
       }
@@ -298,13 +481,14 @@ constexpr result<std::size_t> serve_frame(Device& dev, std::uint8_t own_address,
   if (frame.pdu.empty()) {
     return std::size_t{0};
   }
+  static_assert(detail::device_checks<Device>::value, "modbus server device");
   const mutable_byte_view pdu = out.subspan(1, max_pdu_size);
   std::size_t n = 0;
   std::uint8_t admitted = 0;
   if constexpr (detail::has_admit<Device>::value) {
     admitted = dev.admit(frame.pdu);
   }
-  constexpr function_set served = detail::served_functions<Device>();
+  constexpr function_set served = served_functions<Device>();
   if (admitted != 0U) {
     n = encode_exception(frame.pdu[0], admitted, pdu).value_or(0);
   } else if (!in_function_set<served>(frame.pdu[0])) {
