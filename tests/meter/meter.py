@@ -350,7 +350,7 @@ def stream_per_byte(m, op, prefix, report, first, first_out, frame, frame_out):
     """A stream object (`prefix`_start, `prefix`_byte) in its steady state: `first` fed byte by
     byte (its report must begin with `first_out`), then `frame`, measured: incomplete before
     its last byte, `frame_out` after it. Returns the instructions in all, the worst stack and
-    the instructions of the costliest byte."""
+    the instructions of the costliest byte and of the cheapest (a byte inside the frame)."""
     m.call(prefix + "_start")
     ready = 0
     for b in first:
@@ -358,27 +358,31 @@ def stream_per_byte(m, op, prefix, report, first, first_out, frame, frame_out):
     m.call(report, ready & 0xFF)
     expect(op + " (the first frame)", m.out(len(first_out)), first_out)
     m.clear_out()
-    total, worst, costliest = 0, 0, 0
+    total, worst, costliest, cheapest = 0, 0, 0, None
     for i, b in enumerate(frame):
         ready, n, s = m.call(prefix + "_byte", b)
         total, worst, costliest = total + n, max(worst, s), max(costliest, n)
+        cheapest = n if cheapest is None else min(cheapest, n)
         m.call(report, ready & 0xFF)
         if i < len(frame) - 1:
             expect(op + " (before the last byte)", m.out(1)[0], STATUS_INCOMPLETE)
     expect(op, m.out(len(frame_out)), frame_out)
-    return total, worst, costliest
+    return total, worst, costliest, cheapest
 
 
 def measure_receiver(m, record, prefix, report, suffix):
     """The T-format receiver in its steady state (a first ID3 response, then the measured one):
     instructions a byte on average and at the costliest byte (the last: decode and check)."""
     id3 = tformat_id3(123456, 0x17, 3898, almc=0x00)
-    n, s, worst = stream_per_byte(m, "tformat.receiver.id3_per_byte" + suffix, prefix, report,
-                                  tformat_id3(1, 0x17, 2), [STATUS_COMPLETE, 0, 1], id3,
-                                  [STATUS_COMPLETE, 0, 123456, 3898, 0, 0x17])
+    n, s, worst, inside = stream_per_byte(m, "tformat.receiver.id3_per_byte" + suffix, prefix,
+                                          report, tformat_id3(1, 0x17, 2),
+                                          [STATUS_COMPLETE, 0, 1], id3,
+                                          [STATUS_COMPLETE, 0, 123456, 3898, 0, 0x17])
     record("tformat.receiver.id3_per_byte" + suffix, round(n / len(id3), 1), s, per="byte",
            units=len(id3), total=n)
     record("tformat.receiver.id3_worst_byte" + suffix, worst, s)
+    if not suffix:
+        record("tformat.receiver.id3_inside_byte", inside, s)
 
 
 def fc10_request(address, values):
@@ -411,11 +415,14 @@ def measure_server_framer(m, record, prefix, report, suffix):
     first = rtu(1, [0x06, 0x00, 0x01, 0x00, 0x03])
     for name, request in SERVER_FRAMER_REQUESTS:
         op = "modbus.framer.per_byte" + name + suffix
-        n, s, worst = stream_per_byte(m, op, prefix, report, first, [STATUS_COMPLETE, 0, 1, 5],
-                                      request, [STATUS_COMPLETE, 0, 1, len(request) - 3,
-                                                request[1], request[-2] | (request[-1] << 8)])
+        n, s, worst, inside = stream_per_byte(
+            m, op, prefix, report, first, [STATUS_COMPLETE, 0, 1, 5], request,
+            [STATUS_COMPLETE, 0, 1, len(request) - 3, request[1],
+             request[-2] | (request[-1] << 8)])
         record(op, round(n / len(request), 1), s, per="byte", units=len(request), total=n)
         record("modbus.framer.worst_byte" + (name or ".fc03") + suffix, worst, s)
+        if not name and not suffix:
+            record("modbus.framer.inside_byte.fc03", inside, s)
 
 
 def measure_alone(m):
@@ -504,7 +511,7 @@ def measure(m):
     # framer whose role is chosen at run time.
     measure_server_framer(m, record, "op_modbus_framer", "op_report_framer", "")
     request = rtu(1, [0x03, 0x00, 0x05, 0x00, 0x0A])
-    n, s, _ = stream_per_byte(m, "modbus.framer.per_byte.either_role", "op_modbus_either_framer",
+    n, s, _, _ = stream_per_byte(m, "modbus.framer.per_byte.either_role", "op_modbus_either_framer",
                               "op_report_either_framer", rtu(1, [0x06, 0x00, 0x01, 0x00, 0x03]),
                               [STATUS_COMPLETE, 0, 1, 5], request,
                               [STATUS_COMPLETE, 0, 1, 5, 3, request[-2] | (request[-1] << 8)])
