@@ -3,7 +3,7 @@
 stack depth and host speed quoted in README.md, docs/*.md and the headers' comments against the
 measurements the test command made.
 
-  figures.py --source DIR --build DIR [--fix]
+  figures.py --source DIR --build DIR [--fix | --self-test]
 
 Sources (keys of tests/footprint/figures.json):
   meter:<operation>[@<core>-<opt>]:ins|stack   <build>/footprint/meter.json (the meter),
@@ -42,12 +42,12 @@ NUM = r"(\d+(?:\.\d+)?)"
 # A figure: a number followed by a unit of size, count or time.
 FIGURE = re.compile(
     r"(?<![\w.\-/×#])(?<!\.\.)(\d+(?:\.\d+)?)(?:\*\*)?"
-    r"(?:\s(?:K?B)\b|\sbytes?\b|-byte\b|\s(?:Cortex-M4\s)?instructions?\b|-instruction\b"
-    r"|\sa\sbyte\b|\sa\sframe\b|\s?ns\b|×|\*?\*?\s/\s\d+\sB\b)")
+    r"(?:\s+(?:K?B)\b|\s+bytes?\b|-byte\b|\s+(?:Cortex-M4\s+)?instructions?\b|-instruction\b"
+    r"|\s+a\s+byte\b|\s+a\s+frame\b|\s*ns\b|×|\*?\*?\s+/\s+\d+\s+B\b)")
 # Outside the contract blocks, a header comment's measured figures only: instructions, stack.
 MEASURED = re.compile(
-    r"(?<![\w.\-/×#])(\d+(?:\.\d+)?)(?:\s(?:Cortex-M4\s)?instructions?\b|-instruction\b"
-    r"|\s(?:B|bytes)\sof\sstack\b)")
+    r"(?<![\w.\-/×#])(\d+(?:\.\d+)?)(?:\s+(?:Cortex-M4\s+)?instructions?\b|-instruction\b"
+    r"|\s+(?:B|bytes)\s+of\s+stack\b)")
 BLOCK = re.compile(r"<!-- figures:([\w-]+) -->\n(.*?)<!-- /figures -->", re.S)
 CORES = ("cortex-m0plus", "cortex-m4", "rv32imc")
 OPTS = ("Os", "O2")
@@ -318,18 +318,71 @@ def check_file(path, rel, entries, blocks, src, fix, problems):
         print(f"figures: rewrote {len(edits)} figure(s) in {rel}")
 
 
+def self_test(source, registry, src):
+    """Plants a wrong figure at every keyed figure, one at a time, and an unregistered one in
+    every file that has entries: each must be reported (the check cannot pass a stale figure)."""
+    import shutil
+    import tempfile
+    missed = []
+    planted = 0
+    with tempfile.TemporaryDirectory() as tmp:
+        for rel, entries in registry["files"].items():
+            original = open(os.path.join(source, rel)).read()
+            path = os.path.join(tmp, os.path.basename(rel))
+            plants = []
+            for e in entries:
+                m = at_pattern(e["at"]).search(original)
+                if m and e.get("keys"):
+                    wrong = str(int(float(m.group(1))) + 1) + (
+                        "." + m.group(1).split(".")[1] if "." in m.group(1) else "")
+                    plants.append((m.start(1), m.end(1), wrong, f"{e['at']!r} = {wrong}"))
+            # an unregistered figure: in a contract block for a header, in the text for docs
+            at = original.find("Firmware contract")
+            if rel.endswith(".hpp") and at >= 0:
+                end = original.index("\n", at) + 1
+                plants.append((end, end, "//   999 bytes of stack at worst.\n",
+                               "an unregistered contract figure"))
+            elif rel.endswith(".md"):
+                plants.append((0, 0, "It takes 999 B.\n\n", "an unregistered figure"))
+            problems = []
+            check_file(os.path.join(source, rel), rel, entries, registry.get("blocks", {}), src,
+                       False, problems)
+            if problems:  # a plant must be what fails
+                missed.append(f"{rel}: fails unplanted: {problems[0]}")
+                continue
+            for start, end, new, what in plants:
+                with open(path, "w") as f:
+                    f.write(original[:start] + new + original[end:])
+                problems = []
+                check_file(path, rel, entries, registry.get("blocks", {}), src, False, problems)
+                planted += 1
+                if not problems:
+                    missed.append(f"{rel}: {what} passed")
+            shutil.copy(os.path.join(source, rel), path)
+    if missed:
+        print("figures: the check missed:\n  " + "\n  ".join(missed), file=sys.stderr)
+        return 1
+    print(f"figures: each of {planted} planted figures (a wrong one at every registered "
+          f"figure, an unregistered one in every file) fails the check")
+    return 0
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     p.add_argument("--source", required=True, help="the source tree")
     p.add_argument("--build", required=True, help="the build tree the meter and probes ran in")
     p.add_argument("--registry", help="default: <source>/tests/footprint/figures.json")
     p.add_argument("--fix", action="store_true", help="rewrite the figures from the sources")
+    p.add_argument("--self-test", action="store_true",
+                   help="plant wrong and unregistered figures in copies; each must fail")
     a = p.parse_args()
     registry_path = a.registry or os.path.join(a.source, "tests", "footprint", "figures.json")
     with open(registry_path) as f:
         registry = json.load(f)
     src = Sources(a.source, a.build)
     problems = list(src.errors)
+    if a.self_test and not problems:
+        return self_test(a.source, registry, src)
     if not problems:
         files = ["README.md"] + sorted("docs/" + n for n in os.listdir(
             os.path.join(a.source, "docs")) if n.endswith(".md"))
