@@ -350,7 +350,8 @@ def stream_per_byte(m, op, prefix, report, first, first_out, frame, frame_out):
     """A stream object (`prefix`_start, `prefix`_byte) in its steady state: `first` fed byte by
     byte (its report must begin with `first_out`), then `frame`, measured: incomplete before
     its last byte, `frame_out` after it. Returns the instructions in all, the worst stack and
-    the instructions of the costliest byte and of the cheapest (a byte inside the frame)."""
+    the instructions of the costliest byte, and the instructions and stack of the cheapest (a
+    byte inside the frame)."""
     m.call(prefix + "_start")
     ready = 0
     for b in first:
@@ -362,7 +363,8 @@ def stream_per_byte(m, op, prefix, report, first, first_out, frame, frame_out):
     for i, b in enumerate(frame):
         ready, n, s = m.call(prefix + "_byte", b)
         total, worst, costliest = total + n, max(worst, s), max(costliest, n)
-        cheapest = n if cheapest is None else min(cheapest, n)
+        if cheapest is None or n < cheapest[0]:
+            cheapest = (n, s)
         m.call(report, ready & 0xFF)
         if i < len(frame) - 1:
             expect(op + " (before the last byte)", m.out(1)[0], STATUS_INCOMPLETE)
@@ -382,7 +384,7 @@ def measure_receiver(m, record, prefix, report, suffix):
            units=len(id3), total=n)
     record("tformat.receiver.id3_worst_byte" + suffix, worst, s)
     if not suffix:
-        record("tformat.receiver.id3_inside_byte", inside, s)
+        record("tformat.receiver.id3_inside_byte", *inside)
 
 
 def fc10_request(address, values):
@@ -394,16 +396,20 @@ def fc10_request(address, values):
 
 # The server framer's measured requests: (name, request ADU). FC03 is the fixed-size case (the
 # function code gives the length); FC0F, 10 and 17 carry a byte count, so the framer's rule
-# reads the bytes held until it has the count (the costliest bytes of a request).
+# reads the bytes held at each byte until it has the count (the shortest request of each has
+# the most such bytes for its length); FC08 Return Query Data has no length rule (any even
+# number of data bytes): the CRC is tried at each byte past the fixed size.
 SERVER_FRAMER_REQUESTS = (
     ("", rtu(1, [0x03, 0x00, 0x05, 0x00, 0x0A])),
     (".fc10_1", fc10_request(0x20, [0xA000])),
     (".fc10_10", fc10_request(0x20, [(0xA000 + 13 * i) & 0xFFFF for i in range(10)])),
-    # the longest request (a 255-byte ADU): its last byte's CRC is the costliest byte there is
+    # the longest request but FC08's (a 255-byte ADU): its last byte's CRC is over 253 bytes
     (".fc10_123", fc10_request(0x00, [(0x5000 + 7 * i) & 0xFFFF for i in range(123)])),
-    (".fc0f_16", rtu(1, [0x0F, 0x00, 0x13, 0x00, 0x10, 2, 0xCD, 0x01])),
-    (".fc17_3_3", rtu(1, [0x17, 0x00, 0x05, 0x00, 0x03, 0x00, 0x20, 0x00, 0x03, 6,
-                          0x12, 0x34, 0x56, 0x78, 0x9A, 0xBC])),
+    (".fc0f_1", rtu(1, [0x0F, 0x00, 0x13, 0x00, 0x01, 1, 0x01])),
+    (".fc17_1_1", rtu(1, [0x17, 0x00, 0x05, 0x00, 0x01, 0x00, 0x20, 0x00, 0x01, 2, 0x12, 0x34])),
+    (".fc08_q4", rtu(1, [0x08, 0x00, 0x00, 0xA5, 0x37])),
+    # the longest ADU there is (256 bytes): every byte past the eighth tries the CRC
+    (".fc08_q250", rtu(1, [0x08, 0x00, 0x00] + [(37 * i + 11) & 0xFF for i in range(250)])),
 )
 
 
@@ -422,7 +428,7 @@ def measure_server_framer(m, record, prefix, report, suffix):
         record(op, round(n / len(request), 1), s, per="byte", units=len(request), total=n)
         record("modbus.framer.worst_byte" + (name or ".fc03") + suffix, worst, s)
         if not name and not suffix:
-            record("modbus.framer.inside_byte.fc03", inside, s)
+            record("modbus.framer.inside_byte.fc03", *inside)
 
 
 def measure_alone(m):

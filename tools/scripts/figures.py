@@ -21,8 +21,9 @@ Sources (keys of tests/footprint/figures.json):
                                                noise)
 
 Every figure (a number followed by B, KB, bytes, -byte, instructions, "a byte", "a frame", ns
-or x, or the first of "N / M B") in the Markdown files, in the headers' firmware contract
-blocks, and every instruction or stack figure in other header comments, must be covered by an
+or x, or the first of "N / M B") in the Markdown files, every number of the headers' firmware
+contract blocks, and every instruction or stack figure in other header comments, must be
+covered by an
 entry of figures.json: "at" is the text around it, with {} for each figure, which "keys" name
 in order; or an entry with "fixed" (a constant of a specification or of the design, the reason
 given) or "history" (a figure of a past measurement, kept as such). Blocks between
@@ -48,6 +49,9 @@ FIGURE = re.compile(
 MEASURED = re.compile(
     r"(?<![\w.\-/×#])(\d+(?:\.\d+)?)(?:\s+(?:Cortex-M4\s+)?instructions?\b|-instruction\b"
     r"|\s+(?:B|bytes)\s+of\s+stack\b)")
+# Inside a firmware contract block, every number is a figure (a count without its unit, "96 at
+# its last byte", is one too), but those in words, hex, versions and ranges of bits ("64-bit").
+CONTRACT = re.compile(FIGURE.pattern + r"|(?<![\w.\-/×#+])(\d+(?:\.\d+)?)(?![\w\-])")
 BLOCK = re.compile(r"<!-- figures:([\w-]+) -->\n(.*?)<!-- /figures -->", re.S)
 CORES = ("cortex-m0plus", "cortex-m4", "rv32imc")
 OPTS = ("Os", "O2")
@@ -155,6 +159,11 @@ def shown(value, like):
     """`value` written with as many decimals as the figure `like` shows."""
     decimals = len(like.split(".")[1]) if "." in like else 0
     return f"{value:.{decimals}f}"
+
+
+def describe(key):
+    keys = key.split("|")
+    return keys[0] if len(keys) == 1 else f"the worst of {keys[0]} and {len(keys) - 1} more"
 
 
 def at_pattern(at):
@@ -269,7 +278,7 @@ def check_file(path, rel, entries, blocks, src, fix, problems):
         scanned, contracts = comment_text(text)
         pos = 0
         for start, end in contracts:
-            scan_spans += [(pos, start, MEASURED), (start, end, FIGURE)]
+            scan_spans += [(pos, start, MEASURED), (start, end, CONTRACT)]
             pos = end
         scan_spans.append((pos, len(text), MEASURED))
     for e in entries:
@@ -302,10 +311,10 @@ def check_file(path, rel, entries, blocks, src, fix, problems):
                     else:
                         problems.append(f"{rel}:{line_of(text, m.start(i))}: {written} in "
                                         f"{m.group(0).strip()[:80]!r}: measured "
-                                        f"{shown(value, written)} ({key})")
+                                        f"{shown(value, written)} ({describe(key)})")
     for start, end, regex in scan_spans:
         for m in regex.finditer(scanned, start, end):
-            at = m.start(1)
+            at = m.start(1) if m.group(1) is not None else m.start(2)
             if not any(a <= at < b for a, b in covered):
                 problems.append(f"{rel}:{line_of(text, at)}: unregistered figure "
                                 f"{m.group(0).strip()!r} (register it in "
