@@ -309,15 +309,17 @@ def check_file(path, rel, entries, blocks, src, fix, problems):
                     if fix:
                         edits.append((m.start(i), m.end(i), shown(value, written)))
                     else:
+                        context = re.sub(r"(?:\s|//+)+", " ", m.group(0)).strip()[:80]
                         problems.append(f"{rel}:{line_of(text, m.start(i))}: {written} in "
-                                        f"{m.group(0).strip()[:80]!r}: measured "
+                                        f"{context!r}: measured "
                                         f"{shown(value, written)} ({describe(key)})")
     for start, end, regex in scan_spans:
         for m in regex.finditer(scanned, start, end):
             at = m.start(1) if m.group(1) is not None else m.start(2)
             if not any(a <= at < b for a, b in covered):
+                figure = re.sub(r"\s+", " ", m.group(0).strip())
                 problems.append(f"{rel}:{line_of(text, at)}: unregistered figure "
-                                f"{m.group(0).strip()!r} (register it in "
+                                f"{figure!r} (register it in "
                                 f"tests/footprint/figures.json with its source)")
     if fix and edits:
         for start, end, new in sorted(edits, reverse=True):
