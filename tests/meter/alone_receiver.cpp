@@ -16,9 +16,9 @@ namespace {
 tf::receiver rx;
 }  // namespace
 
-METER_OP void op_alone_receiver_start() {
+METER_OP void op_alone_receiver_start(unsigned code) {
   rx = tf::receiver();
-  const std::uint8_t request[1] = {tf::control_field(tf::data_id::read_all)};
+  const std::uint8_t request[1] = {tf::control_field(static_cast<std::uint8_t>(code))};
   rx.sent(mb::byte_view(request, 1));
 }
 METER_OP bool op_alone_receiver_byte(unsigned byte) {

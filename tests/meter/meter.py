@@ -338,7 +338,7 @@ def rng(seed):
 
 # --- the operations ------------------------------------------------------------------------------
 
-STATUS_INCOMPLETE, STATUS_COMPLETE = 0, 1
+STATUS_INCOMPLETE, STATUS_COMPLETE, STATUS_FAILED = 0, 1, 2
 
 
 def expect(name, got, want):
@@ -346,13 +346,13 @@ def expect(name, got, want):
         raise MeterError(f"{name}: output {got!r}, expected {want!r}")
 
 
-def stream_per_byte(m, op, prefix, report, first, first_out, frame, frame_out):
+def stream_per_byte(m, op, prefix, report, first, first_out, frame, frame_out, start=()):
     """A stream object (`prefix`_start, `prefix`_byte) in its steady state: `first` fed byte by
     byte (its report must begin with `first_out`), then `frame`, measured: incomplete before
     its last byte, `frame_out` after it. Returns the instructions in all, the worst stack and
     the instructions of the costliest byte, and the instructions and stack of the cheapest (a
     byte inside the frame)."""
-    m.call(prefix + "_start")
+    m.call(prefix + "_start", *start)
     ready = 0
     for b in first:
         ready, _, _ = m.call(prefix + "_byte", b)
@@ -372,19 +372,62 @@ def stream_per_byte(m, op, prefix, report, first, first_out, frame, frame_out):
     return total, worst, costliest, cheapest
 
 
+def stream_hostile(m, op, prefix, report, start, seq, failed_at, last_out):
+    """A stream object from its start on `seq`, bytes that hold a rejected frame: the report
+    after byte `failed_at` must say failed, the one after the last byte begin with
+    `last_out`.
+    Returns the instructions in all, the worst stack and the instructions of the costliest
+    byte."""
+    m.call(prefix + "_start", *start)
+    m.clear_out()
+    total, worst, costliest = 0, 0, 0
+    for i, b in enumerate(seq):
+        ready, n, s = m.call(prefix + "_byte", b)
+        total, worst, costliest = total + n, max(worst, s), max(costliest, n)
+        m.call(report, ready & 0xFF)
+        if i == failed_at:
+            expect(op + f" (byte {i})", m.out(1)[0], STATUS_FAILED)
+    expect(op, m.out(len(last_out)), last_out)
+    return total, worst, costliest
+
+
 def measure_receiver(m, record, prefix, report, suffix):
     """The T-format receiver in its steady state (a first ID3 response, then the measured one):
-    instructions a byte on average and at the costliest byte (the last: decode and check)."""
+    instructions a byte on average and at the costliest byte (the last: decode and check); an
+    ID0 exchange; and two hostile lines from the start: an ID3 response with a bad CRC, then a
+    good one (the rescan of the bytes held), and an ID0 response to an ID3 request (rejected
+    at its last byte: the check against the request)."""
     id3 = tformat_id3(123456, 0x17, 3898, almc=0x00)
     n, s, worst, inside = stream_per_byte(m, "tformat.receiver.id3_per_byte" + suffix, prefix,
                                           report, tformat_id3(1, 0x17, 2),
                                           [STATUS_COMPLETE, 0, 1], id3,
-                                          [STATUS_COMPLETE, 0, 123456, 3898, 0, 0x17])
+                                          [STATUS_COMPLETE, 0, 123456, 3898, 0, 0x17], (3,))
     record("tformat.receiver.id3_per_byte" + suffix, round(n / len(id3), 1), s, per="byte",
            units=len(id3), total=n)
     record("tformat.receiver.id3_worst_byte" + suffix, worst, s)
     if not suffix:
         record("tformat.receiver.id3_inside_byte", *inside)
+    id0 = tformat_id0(98765)
+    n, s, worst, _ = stream_per_byte(m, "tformat.receiver.id0_per_byte" + suffix, prefix, report,
+                                     tformat_id0(1), [STATUS_COMPLETE, 0, 1], id0,
+                                     [STATUS_COMPLETE, 0, 98765], (0,))
+    record("tformat.receiver.id0_per_byte" + suffix, round(n / len(id0), 1), s, per="byte",
+           units=len(id0), total=n)
+    record("tformat.receiver.id0_worst_byte" + suffix, worst, s)
+    bad = id3[:-1] + [id3[-1] ^ 0xFF]
+    seq = bad + id3
+    op = "tformat.receiver.bad_crc_then_id3"
+    n, s, worst = stream_hostile(m, op + suffix, prefix, report, (3,), seq, len(bad) - 1,
+                                 [STATUS_COMPLETE, 0, 123456, 3898, 0, 0x17])
+    record(op + ".per_byte" + suffix, round(n / len(seq), 1), s, per="byte", units=len(seq),
+           total=n)
+    record(op + ".worst_byte" + suffix, worst, s)
+    op = "tformat.receiver.id0_to_id3_request"
+    n, s, worst = stream_hostile(m, op + suffix, prefix, report, (3,), id0, len(id0) - 1,
+                                 [STATUS_FAILED])
+    record(op + ".per_byte" + suffix, round(n / len(id0), 1), s, per="byte", units=len(id0),
+           total=n)
+    record(op + ".worst_byte" + suffix, worst, s)
 
 
 def fc10_request(address, values):
