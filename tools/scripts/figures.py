@@ -343,10 +343,12 @@ def self_test(source, registry, src):
             plants = []
             for e in entries:
                 m = at_pattern(e["at"]).search(original)
-                if m and e.get("keys"):
-                    wrong = str(int(float(m.group(1))) + 1) + (
-                        "." + m.group(1).split(".")[1] if "." in m.group(1) else "")
-                    plants.append((m.start(1), m.end(1), wrong, f"{e['at']!r} = {wrong}"))
+                for i in range(1, len(e.get("keys", [])) + 1 if m else 1):
+                    written = m.group(i)
+                    wrong = str(int(float(written)) + 1) + (
+                        "." + written.split(".")[1] if "." in written else "")
+                    plants.append((m.start(i), m.end(i), wrong,
+                                   f"{e['at']!r}, figure {i} = {wrong}"))
             # an unregistered figure: in a contract block for a header, in the text for docs
             at = original.find("Firmware contract")
             if rel.endswith(".hpp") and at >= 0:
