@@ -544,6 +544,15 @@ def measure(m):
     expect("tformat.encoder_model.respond_id3", list(m.out_bytes()),
            tformat_id3(0x1E240, 0x11, 77))
     record("tformat.encoder_model.respond_id3", n, s)
+    # An EEPROM write (ID6), the costliest request of the emulator's: answered with its echo
+    # (T-format specification, the ID6 frame: CF ADF EDF CRC) once the line is idle.
+    q = [tformat_cf(6), 0x05, 0x42]
+    q.append(tformat_crc(q))
+    m.write("meter_in", q)
+    m.write_u32("meter_in_size", len(q))
+    n, s = once("tformat.encoder_model.respond_id6", "op_tformat_encoder_respond", 31000)
+    expect("tformat.encoder_model.respond_id6", list(m.out_bytes()), q)
+    record("tformat.encoder_model.respond_id6", n, s)
 
     # Modbus
     r = rng(7)
