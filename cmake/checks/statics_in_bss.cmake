@@ -1,7 +1,7 @@
 # Compiles tests/footprint/statics.cpp for a target and checks with nm that every object named
 # static_* is in .bss (nm type b or B), none in .data; and that each static_* and data_* object
 # has the size its header's firmware contract states (a line "<type> size: N bytes" in the
-# header named for it in CONTRACTS).
+# header named for it in CONTRACTS). Writes each object's size to OUT/statics.txt.
 # Usage: cmake -DCXX=<compiler> -DNM=<nm> -DSOURCE=<statics.cpp> -DOUT=<dir> -DFLAGS=<f|f|...>
 #              -DCONTRACTS=<name=header=type|...> -DSOURCE_DIR=<repository>
 #              -P statics_in_bss.cmake
@@ -22,12 +22,14 @@ string(REPLACE "\n" ";" lines "${symbols}")
 set(found 0)
 set(bad "")
 set(sized 0)
+set(listing "")
 foreach(line IN LISTS lines)
   if(line MATCHES "^[0-9a-fA-F]+ ([0-9a-fA-F]+) ([A-Za-z]) ((static|data)_[A-Za-z0-9_]+)$")
     set(name "${CMAKE_MATCH_3}")
     set(type "${CMAKE_MATCH_2}")
     math(EXPR size "0x${CMAKE_MATCH_1}")
     message(STATUS "${name}: ${size} bytes, nm type ${type}")
+    string(APPEND listing "${name} ${size} ${type}\n")
     if(name MATCHES "^static_")
       math(EXPR found "${found} + 1")
       if(NOT type MATCHES "^[bB]$")
@@ -51,6 +53,8 @@ foreach(line IN LISTS lines)
     endforeach()
   endif()
 endforeach()
+# each object's size, for the figure check (tools/scripts/figures.py)
+file(WRITE "${OUT}/statics.txt" "${listing}")
 if(NOT found EQUAL 4)
   message(FATAL_ERROR "expected 4 static_* objects, found ${found}:\n${symbols}")
 endif()

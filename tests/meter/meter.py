@@ -47,9 +47,16 @@ class MeterError(Exception):
 
 # --- building ---------------------------------------------------------------------------------
 
-def build(core, opt, out, include, tools):
+# The images: the one where every operation is (ops.cpp), and the one where each stream object
+# is alone in its translation unit (measure_alone()).
+IMAGES = {"": ["ops.cpp"],
+          "-alone": ["alone_main.cpp", "alone_receiver.cpp", "alone_framer.cpp"]}
+
+
+def build(core, opt, out, include, tools, image=""):
     os.makedirs(out, exist_ok=True)
-    name = f"meter-{core}-{opt}"
+    name = f"meter-{core}-{opt}{image}"
+    sources = [os.path.join(HERE, src) for src in IMAGES[image]]
     elf = os.path.join(out, name + ".elf")
     common = ["-std=c++17", "-" + opt, "-fno-exceptions", "-fno-rtti", "-fno-threadsafe-statics",
               "-ffunction-sections", "-fdata-sections", "-Wall", "-Wextra", "-Werror",
@@ -57,8 +64,8 @@ def build(core, opt, out, include, tools):
     if core in ("cortex-m0plus", "cortex-m4"):
         cpu = ["-mcpu=" + core, "-mthumb", "-mfloat-abi=soft"]
         cmd = [tools["arm_gxx"]] + common + cpu + [
-            "-nostartfiles", "--specs=nosys.specs", "-T", os.path.join(HERE, "arm.ld"),
-            os.path.join(HERE, "ops.cpp"), "-o", elf]
+            "-nostartfiles", "--specs=nosys.specs", "-T", os.path.join(HERE, "arm.ld")] + \
+            sources + ["-o", elf]
         run(cmd)
     else:
         target = ["--target=riscv32-unknown-elf", "-march=rv32imc", "-mabi=ilp32", "-mno-relax",
@@ -67,8 +74,8 @@ def build(core, opt, out, include, tools):
         # the C runtime functions the compiler calls (the firmware examples' rv32 runtime)
         runtime = os.path.join(HERE, "..", "..", "examples", "firmware", "boards",
                                "rv32_runtime.cpp")
-        for src, extra in ((os.path.join(HERE, "ops.cpp"), []),
-                           (runtime, ["-fno-builtin", "-fno-strict-aliasing"])):
+        for src, extra in [(src, []) for src in sources] + \
+                [(runtime, ["-fno-builtin", "-fno-strict-aliasing"])]:
             obj = os.path.join(out, f"{name}.{os.path.basename(src)}.o")
             run([tools["clangxx"]] + common + target + extra + ["-c", src, "-o", obj])
             objs.append(obj)
@@ -331,7 +338,7 @@ def rng(seed):
 
 # --- the operations ------------------------------------------------------------------------------
 
-STATUS_INCOMPLETE, STATUS_COMPLETE = 0, 1
+STATUS_INCOMPLETE, STATUS_COMPLETE, STATUS_FAILED = 0, 1, 2
 
 
 def expect(name, got, want):
@@ -339,26 +346,146 @@ def expect(name, got, want):
         raise MeterError(f"{name}: output {got!r}, expected {want!r}")
 
 
-def stream_per_byte(m, op, prefix, report, first, first_out, frame, frame_out):
+def stream_per_byte(m, op, prefix, report, first, first_out, frame, frame_out, start=()):
     """A stream object (`prefix`_start, `prefix`_byte) in its steady state: `first` fed byte by
     byte (its report must begin with `first_out`), then `frame`, measured: incomplete before
-    its last byte, `frame_out` after it. Returns the instructions in all and the worst stack."""
-    m.call(prefix + "_start")
+    its last byte, `frame_out` after it. Returns the instructions in all, the worst stack and
+    the instructions of the costliest byte, and the instructions and stack of the cheapest (a
+    byte inside the frame)."""
+    m.call(prefix + "_start", *start)
     ready = 0
     for b in first:
         ready, _, _ = m.call(prefix + "_byte", b)
     m.call(report, ready & 0xFF)
     expect(op + " (the first frame)", m.out(len(first_out)), first_out)
     m.clear_out()
-    total, worst = 0, 0
+    total, worst, costliest, cheapest = 0, 0, 0, None
     for i, b in enumerate(frame):
         ready, n, s = m.call(prefix + "_byte", b)
-        total, worst = total + n, max(worst, s)
+        total, worst, costliest = total + n, max(worst, s), max(costliest, n)
+        if cheapest is None or n < cheapest[0]:
+            cheapest = (n, s)
         m.call(report, ready & 0xFF)
         if i < len(frame) - 1:
             expect(op + " (before the last byte)", m.out(1)[0], STATUS_INCOMPLETE)
     expect(op, m.out(len(frame_out)), frame_out)
-    return total, worst
+    return total, worst, costliest, cheapest
+
+
+def stream_hostile(m, op, prefix, report, start, seq, failed_at, last_out):
+    """A stream object from its start on `seq`, bytes that hold a rejected frame: the report
+    after byte `failed_at` must say failed, the one after the last byte begin with
+    `last_out`.
+    Returns the instructions in all, the worst stack and the instructions of the costliest
+    byte."""
+    m.call(prefix + "_start", *start)
+    m.clear_out()
+    total, worst, costliest = 0, 0, 0
+    for i, b in enumerate(seq):
+        ready, n, s = m.call(prefix + "_byte", b)
+        total, worst, costliest = total + n, max(worst, s), max(costliest, n)
+        m.call(report, ready & 0xFF)
+        if i == failed_at:
+            expect(op + f" (byte {i})", m.out(1)[0], STATUS_FAILED)
+    expect(op, m.out(len(last_out)), last_out)
+    return total, worst, costliest
+
+
+def measure_receiver(m, record, prefix, report, suffix):
+    """The T-format receiver in its steady state (a first ID3 response, then the measured one):
+    instructions a byte on average and at the costliest byte (the last: decode and check); an
+    ID0 exchange; and two hostile lines from the start: an ID3 response with a bad CRC, then a
+    good one (the rescan of the bytes held), and an ID0 response to an ID3 request (rejected
+    at its last byte: the check against the request)."""
+    id3 = tformat_id3(123456, 0x17, 3898, almc=0x00)
+    n, s, worst, inside = stream_per_byte(m, "tformat.receiver.id3_per_byte" + suffix, prefix,
+                                          report, tformat_id3(1, 0x17, 2),
+                                          [STATUS_COMPLETE, 0, 1], id3,
+                                          [STATUS_COMPLETE, 0, 123456, 3898, 0, 0x17], (3,))
+    record("tformat.receiver.id3_per_byte" + suffix, round(n / len(id3), 1), s, per="byte",
+           units=len(id3), total=n)
+    record("tformat.receiver.id3_worst_byte" + suffix, worst, s)
+    if not suffix:
+        record("tformat.receiver.id3_inside_byte", *inside)
+    id0 = tformat_id0(98765)
+    n, s, worst, _ = stream_per_byte(m, "tformat.receiver.id0_per_byte" + suffix, prefix, report,
+                                     tformat_id0(1), [STATUS_COMPLETE, 0, 1], id0,
+                                     [STATUS_COMPLETE, 0, 98765], (0,))
+    record("tformat.receiver.id0_per_byte" + suffix, round(n / len(id0), 1), s, per="byte",
+           units=len(id0), total=n)
+    record("tformat.receiver.id0_worst_byte" + suffix, worst, s)
+    bad = id3[:-1] + [id3[-1] ^ 0xFF]
+    seq = bad + id3
+    op = "tformat.receiver.bad_crc_then_id3"
+    n, s, worst = stream_hostile(m, op + suffix, prefix, report, (3,), seq, len(bad) - 1,
+                                 [STATUS_COMPLETE, 0, 123456, 3898, 0, 0x17])
+    record(op + ".per_byte" + suffix, round(n / len(seq), 1), s, per="byte", units=len(seq),
+           total=n)
+    record(op + ".worst_byte" + suffix, worst, s)
+    op = "tformat.receiver.id0_to_id3_request"
+    n, s, worst = stream_hostile(m, op + suffix, prefix, report, (3,), id0, len(id0) - 1,
+                                 [STATUS_FAILED])
+    record(op + ".per_byte" + suffix, round(n / len(id0), 1), s, per="byte", units=len(id0),
+           total=n)
+    record(op + ".worst_byte" + suffix, worst, s)
+
+
+def fc10_request(address, values):
+    data = []
+    for v in values:
+        data += [v >> 8, v & 0xFF]
+    return rtu(1, [0x10, address >> 8, address & 0xFF, 0, len(values), 2 * len(values)] + data)
+
+
+# The server framer's measured requests: (name, request ADU). FC03 is the fixed-size case (the
+# function code gives the length); FC0F, 10 and 17 carry a byte count, so the framer's rule
+# reads the bytes held at each byte until it has the count (the shortest request of each has
+# the most such bytes for its length); FC08 Return Query Data has no length rule (any even
+# number of data bytes): the CRC is tried at each byte past the fixed size.
+SERVER_FRAMER_REQUESTS = (
+    ("", rtu(1, [0x03, 0x00, 0x05, 0x00, 0x0A])),
+    (".fc10_1", fc10_request(0x20, [0xA000])),
+    (".fc10_10", fc10_request(0x20, [(0xA000 + 13 * i) & 0xFFFF for i in range(10)])),
+    # the longest request but FC08's (a 255-byte ADU): its last byte's CRC is over 253 bytes
+    (".fc10_123", fc10_request(0x00, [(0x5000 + 7 * i) & 0xFFFF for i in range(123)])),
+    (".fc0f_1", rtu(1, [0x0F, 0x00, 0x13, 0x00, 0x01, 1, 0x01])),
+    (".fc17_1_1", rtu(1, [0x17, 0x00, 0x05, 0x00, 0x01, 0x00, 0x20, 0x00, 0x01, 2, 0x12, 0x34])),
+    (".fc08_q4", rtu(1, [0x08, 0x00, 0x00, 0xA5, 0x37])),
+    # the longest ADU there is (256 bytes): every byte past the eighth tries the CRC
+    (".fc08_q250", rtu(1, [0x08, 0x00, 0x00] + [(37 * i + 11) & 0xFF for i in range(250)])),
+)
+
+
+def measure_server_framer(m, record, prefix, report, suffix):
+    """The server's framer (rtu_server_framer) in its steady state (an FC06 request, then the
+    measured one) on each of SERVER_FRAMER_REQUESTS: instructions a byte on average
+    (modbus.framer.per_byte<request>) and at its costliest byte (modbus.framer.worst_byte...).
+    """
+    first = rtu(1, [0x06, 0x00, 0x01, 0x00, 0x03])
+    for name, request in SERVER_FRAMER_REQUESTS:
+        op = "modbus.framer.per_byte" + name + suffix
+        n, s, worst, inside = stream_per_byte(
+            m, op, prefix, report, first, [STATUS_COMPLETE, 0, 1, 5], request,
+            [STATUS_COMPLETE, 0, 1, len(request) - 3, request[1],
+             request[-2] | (request[-1] << 8)])
+        record(op, round(n / len(request), 1), s, per="byte", units=len(request), total=n)
+        record("modbus.framer.worst_byte" + (name or ".fc03") + suffix, worst, s)
+        if not name and not suffix:
+            record("modbus.framer.inside_byte.fc03", *inside)
+
+
+def measure_alone(m):
+    """The stream objects, each alone in its translation unit (tests/meter/alone_*.cpp), as in
+    a firmware whose receive interrupt's file holds nothing else: the compiler's inlining, and
+    so the stack, differ from the image where everything is (the '.alone' operations)."""
+    results = []
+
+    def record(op, instructions, stack, **extra):
+        results.append(dict(operation=op, instructions=instructions, stack_bytes=stack, **extra))
+
+    measure_receiver(m, record, "op_alone_receiver", "op_alone_report_receiver", ".alone")
+    measure_server_framer(m, record, "op_alone_framer", "op_alone_report_framer", ".alone")
+    return results
 
 
 def measure(m):
@@ -395,11 +522,7 @@ def measure(m):
         record(op, n, s)
 
     # The receiver in its steady state: a first response, then the measured one.
-    n, s = stream_per_byte(m, "tformat.receiver.id3_per_byte", "op_tformat_receiver",
-                           "op_report_receiver", tformat_id3(1, 0x17, 2), [STATUS_COMPLETE, 0, 1],
-                           id3, [STATUS_COMPLETE, 0, 123456, 3898, 0, 0x17])
-    record("tformat.receiver.id3_per_byte", round(n / len(id3), 1), s, per="byte",
-           units=len(id3), total=n)
+    measure_receiver(m, record, "op_tformat_receiver", "op_report_receiver", "")
 
     samples = [1] * 5
     for b in id3:
@@ -421,6 +544,15 @@ def measure(m):
     expect("tformat.encoder_model.respond_id3", list(m.out_bytes()),
            tformat_id3(0x1E240, 0x11, 77))
     record("tformat.encoder_model.respond_id3", n, s)
+    # An EEPROM write (ID6), the costliest request of the emulator's: answered with its echo
+    # (T-format specification, the ID6 frame: CF ADF EDF CRC) once the line is idle.
+    q = [tformat_cf(6), 0x05, 0x42]
+    q.append(tformat_crc(q))
+    m.write("meter_in", q)
+    m.write_u32("meter_in_size", len(q))
+    n, s = once("tformat.encoder_model.respond_id6", "op_tformat_encoder_respond", 31000)
+    expect("tformat.encoder_model.respond_id6", list(m.out_bytes()), q)
+    record("tformat.encoder_model.respond_id6", n, s)
 
     # Modbus
     r = rng(7)
@@ -435,17 +567,12 @@ def measure(m):
 
     # The server's framer in its steady state (a first frame, then the measured one), and the
     # framer whose role is chosen at run time.
+    measure_server_framer(m, record, "op_modbus_framer", "op_report_framer", "")
     request = rtu(1, [0x03, 0x00, 0x05, 0x00, 0x0A])
-    n, s = stream_per_byte(m, "modbus.framer.per_byte", "op_modbus_framer", "op_report_framer",
-                           rtu(1, [0x06, 0x00, 0x01, 0x00, 0x03]), [STATUS_COMPLETE, 0, 1, 5],
-                           request, [STATUS_COMPLETE, 0, 1, 5, 3,
-                                     request[-2] | (request[-1] << 8)])
-    record("modbus.framer.per_byte", round(n / len(request), 1), s, per="byte",
-           units=len(request), total=n)
-    n, s = stream_per_byte(m, "modbus.framer.per_byte.either_role", "op_modbus_either_framer",
-                           "op_report_either_framer", rtu(1, [0x06, 0x00, 0x01, 0x00, 0x03]),
-                           [STATUS_COMPLETE, 0, 1, 5], request,
-                           [STATUS_COMPLETE, 0, 1, 5, 3, request[-2] | (request[-1] << 8)])
+    n, s, _, _ = stream_per_byte(m, "modbus.framer.per_byte.either_role", "op_modbus_either_framer",
+                              "op_report_either_framer", rtu(1, [0x06, 0x00, 0x01, 0x00, 0x03]),
+                              [STATUS_COMPLETE, 0, 1, 5], request,
+                              [STATUS_COMPLETE, 0, 1, 5, 3, request[-2] | (request[-1] << 8)])
     record("modbus.framer.per_byte.either_role", round(n / len(request), 1), s, per="byte",
            units=len(request), total=n)
 
@@ -608,16 +735,21 @@ def self_check(m):
                                  f"(want 5), result {result}")
 
 
+def load(elf):
+    image = Image(elf)
+    if ".init_array" in image.section_names:
+        raise MeterError(elf + ": the meter image needs run-time construction (.init_array)")
+    return image
+
+
 def cmd_run(a):
     tools = json.loads(a.tools)
     elf = build(a.core, a.opt, a.out, a.include, tools)
-    image = Image(elf)
-    writable = [s for s in image.section_names if s.startswith(".data") or s == ".init_array"]
-    if any(s == ".init_array" for s in writable):
-        raise MeterError("the meter image needs run-time construction (.init_array)")
-    m = Machine(a.core, image)
+    m = Machine(a.core, load(elf))
     self_check(m)
     rows = [dict(core=a.core, opt=a.opt, **r) for r in measure(m)]
+    alone = load(build(a.core, a.opt, a.out, a.include, tools, "-alone"))
+    rows += [dict(core=a.core, opt=a.opt, **r) for r in measure_alone(Machine(a.core, alone))]
     path = os.path.join(a.out, f"meter-{a.core}-{a.opt}.json")
     with open(path, "w") as f:
         json.dump(rows, f, indent=1)

@@ -175,10 +175,11 @@ METER_OP void op_tformat_decode_response() {
 METER_OP void op_report_tformat() {
   put_response(tformat_result);
 }
-METER_OP void op_tformat_receiver_start() {
+// `code`: the Data ID of the request the receiver is told was sent.
+METER_OP void op_tformat_receiver_start(unsigned code) {
   rx = tf::receiver();
   tformat_result = mb::need_input{};
-  const std::uint8_t request[1] = {tf::control_field(tf::data_id::read_all)};
+  const std::uint8_t request[1] = {tf::control_field(static_cast<std::uint8_t>(code))};
   rx.sent(mb::byte_view(request, 1));
 }
 // The receive interrupt's call: put() one byte; the meter passes what it returned to the

@@ -33,9 +33,10 @@
 // the meter at -Os: docs/footprint.md):
 //   emulator size: 932 bytes (six EEPROM pages of 127 bytes and page 7, the alarm state). A
 //     default-constructed `static` one (the TS5700N8500's settings) is all zeros: .bss.
-//   respond(): 289 instructions for an ID3 request, 272 bytes of stack at worst. It runs where
-//     the request's idle line is seen (a receive or idle interrupt); set_position(),
-//     rotate(), set_condition() and the other setters must not run while it does.
+//   respond(): 294 instructions and 288 bytes of stack for an ID3 request, 372 and 328 for an
+//     EEPROM write (ID6: the costliest request measured). It runs where the request's idle
+//     line is seen (a receive or idle interrupt); set_position(), rotate(), set_condition()
+//     and the other setters must not run while it does.
 #ifndef MOTIONBUS_DEVICES_TS5700N8500_EMULATOR_HPP
 #define MOTIONBUS_DEVICES_TS5700N8500_EMULATOR_HPP
 
