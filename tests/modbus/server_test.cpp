@@ -620,3 +620,38 @@ TEST_CASE("server: failures after the checks are device failures (04)") {
     }
   }
 }
+
+namespace {
+
+// admit and check_registers overloaded on const: the server calls the const ones (checks change
+// nothing); the others would answer 04 and count a call.
+struct const_checks : u16_table {
+  int non_const_calls = 0;
+  std::uint8_t admit(byte_view) const { return 0; }
+  std::uint8_t admit(byte_view) {
+    ++non_const_calls;
+    return 0x04;
+  }
+  std::uint8_t check_registers(std::uint8_t, std::uint16_t address, std::uint16_t quantity) const {
+    return fits(address, quantity) ? 0 : 0x02;
+  }
+  std::uint8_t check_registers(std::uint8_t, std::uint16_t, std::uint16_t) {
+    ++non_const_calls;
+    return 0x04;
+  }
+};
+
+}  // namespace
+
+TEST_CASE("server: admit and check_registers are called const, whatever the device overloads") {
+  const_checks dev;
+  dev.regs[2] = 0x0102;
+  CHECK(call(dev, 0x11, {0x03, 0x00, 0x02, 0x00, 0x01}) == bytes{0x03, 0x02, 0x01, 0x02});
+  // FC17: read 2 from 2, write 3 := 0x1250; the const check lets both ranges through
+  CHECK(call(dev, 0x11, {0x17, 0x00, 0x02, 0x00, 0x02, 0x00, 0x03, 0x00, 0x01, 0x02, 0x12, 0x50}) ==
+        bytes{0x17, 0x04, 0x01, 0x02, 0x12, 0x50});
+  CHECK(call(dev, 0x11, {0x17, 0x00, 0x0F, 0x00, 0x02, 0x00, 0x03, 0x00, 0x01, 0x02, 0x00, 0x07}) ==
+        bytes{0x97, 0x02});  // the const check's own answer
+  CHECK(dev.regs[3] == 0x1250);
+  CHECK(dev.non_const_calls == 0);
+}

@@ -31,10 +31,13 @@
 //   std::uint8_t check_registers(std::uint8_t function, std::uint16_t address,
 //                                std::uint16_t quantity) const;
 //       // optional: whether FC17's read (function 03) or write (10) range may be accessed,
-//       // accessing nothing; without it the read range is checked by reading it
+//       // accessing nothing; without it the read range is checked by reading it, so that FC17
+//       // reads it twice: a device whose reads have side effects (clear-on-read or FIFO
+//       // registers) needs check_registers
 // The contract that makes an exception mean that nothing was done: an accessor that returns an
-// exception has changed nothing; read accessors, admit and check_registers change nothing (FC16
-// and FC17 read before they write). The server then calls a write accessor only after every
+// exception has changed nothing; read accessors, admit and check_registers change nothing and
+// have no side effects (FC16 and FC17 read before they write; admit and check_registers are
+// called on the const device). The server then calls a write accessor only after every
 // other check of the request, and last but for FC17's read (a read that fails after FC17's
 // write is answered 04, the specification's processing failure). FC17 (Modbus App. Protocol
 // §6.17): both ranges checked, then the write, then the read, which sees the write.
@@ -42,9 +45,9 @@
 // answered with exception 01. The request's own limits are checked first (decode_request:
 // exception 01, then 03, then 02), as the spec's state diagrams order them (Modbus App.
 // Protocol §6). A device type that serves no function, names in `functions` one its accessors
-// cannot serve, or has a member named like an accessor (or its singular: read_register, ...)
-// that does not have the accessor's signature, fails to compile with a message that gives the
-// expected signature.
+// cannot serve, or has a member named like an accessor that does not have the accessor's
+// signature (or named like its singular, read_register, ..., with no accessor of its kind),
+// fails to compile with a message that gives the expected signature.
 #ifndef MOTIONBUS_MODBUS_SERVER_HPP
 #define MOTIONBUS_MODBUS_SERVER_HPP
 
@@ -127,7 +130,8 @@ struct has_function_set<D, std::void_t<decltype(function_set{D::functions})>>
 // Members named like an accessor, whatever their signature: a member of D of one of these
 // names makes the name ambiguous in name_probe<D> (the usual member-name detector; a final
 // device type cannot be derived from, and is checked by signature only). The singular names
-// are the near misses of the plural ones.
+// are the near misses of the plural ones where the device has no accessor of their kind (a
+// helper read_register next to read_registers_be is no mistake).
 struct accessor_names {
   int read_bits, read_registers, write_coils, write_registers, read_registers_be,
       write_registers_be, report_server_id, check_registers, admit, functions;
@@ -243,8 +247,9 @@ constexpr function_set served_functions() noexcept {
 namespace detail {
 
 // The compile-time checks of a device type (instantiated by serve_frame): a member named like
-// an accessor must have its signature, and the device must serve at least one function and
-// name in `functions` only functions its accessors serve.
+// an accessor must have its signature, and the device must serve at least one function (an
+// accessor, a `functions` not empty) and name in `functions` only functions its accessors
+// serve: its served set is never empty.
 template <class D>
 struct device_checks {
   static_assert(!names<read_bits_name, D>::value || has_read_bits<D>::value,
@@ -288,7 +293,7 @@ struct device_checks {
                 "modbus server device: read_bit is no accessor; did you mean std::uint8_t "
                 "read_bits(std::uint8_t function, std::uint16_t address, std::uint16_t quantity, "
                 "motionbus::mutable_byte_view packed)?");
-  static_assert(!names<read_register_name, D>::value || has_read_registers<D>::value,
+  static_assert(!names<read_register_name, D>::value || can_read_registers<D>,
                 "modbus server device: read_register is no accessor; did you mean std::uint8_t "
                 "read_registers(std::uint8_t function, std::uint16_t address, "
                 "motionbus::span<std::uint16_t> out)?");
@@ -296,15 +301,15 @@ struct device_checks {
                 "modbus server device: write_coil is no accessor; did you mean std::uint8_t "
                 "write_coils(std::uint16_t address, std::uint16_t quantity, motionbus::byte_view "
                 "packed)?");
-  static_assert(!names<write_register_name, D>::value || has_write_registers<D>::value,
+  static_assert(!names<write_register_name, D>::value || can_write_registers<D>,
                 "modbus server device: write_register is no accessor; did you mean std::uint8_t "
                 "write_registers(std::uint16_t address, motionbus::span<const std::uint16_t> "
                 "values)?");
-  static_assert(!names<read_register_be_name, D>::value || has_read_registers_be<D>::value,
+  static_assert(!names<read_register_be_name, D>::value || can_read_registers<D>,
                 "modbus server device: read_register_be is no accessor; did you mean "
                 "std::uint8_t read_registers_be(std::uint8_t function, std::uint16_t address, "
                 "std::uint16_t quantity, motionbus::mutable_byte_view out)?");
-  static_assert(!names<write_register_be_name, D>::value || has_write_registers_be<D>::value,
+  static_assert(!names<write_register_be_name, D>::value || can_write_registers<D>,
                 "modbus server device: write_register_be is no accessor; did you mean "
                 "std::uint8_t write_registers_be(std::uint16_t address, std::uint16_t quantity, "
                 "motionbus::byte_view data)?");
@@ -315,6 +320,9 @@ struct device_checks {
                 "modbus server device: no accessor the server recognises; it needs one of "
                 "read_bits, read_registers, read_registers_be, write_coils, write_registers, "
                 "write_registers_be, report_server_id (signatures in modbus/server.hpp)");
+  static_assert(!has_function_set<D>::value || declared_functions<D>() != 0U,
+                "modbus server device: its functions is empty; every request would be answered "
+                "with exception 01");
   static_assert((declared_functions<D>() & ~accessor_functions<D>()) == 0U,
                 "modbus server device: its functions names a function its accessors cannot "
                 "serve (01/02 need read_bits; 03/04 read_registers or read_registers_be; 05/0F "
@@ -430,11 +438,12 @@ constexpr std::size_t serve_pdu(Device& dev, const request& q, mutable_byte_view
     if constexpr (serves(0x17)) {
       // Modbus App. Protocol §6.17: both ranges are checked (02) before anything is done, then
       // the write, then the read. The read range is checked by check_registers, else by reading
-      // it (a read changes nothing); the write accessor checks its own range before writing.
+      // it (reads have no side effects: the contract above); the write accessor checks its own
+      // range before writing.
       if constexpr (has_check_registers<Device>::value) {
-        code = dev.check_registers(0x03, q.address, q.quantity);
+        code = std::as_const(dev).check_registers(0x03, q.address, q.quantity);
         if (code == 0U) {
-          code = dev.check_registers(0x10, q.write_address, q.write_quantity);
+          code = std::as_const(dev).check_registers(0x10, q.write_address, q.write_quantity);
         }
       } else {
         code = read_registers_into(dev, 0x03, q.address, q.quantity, pdu_out);
@@ -486,7 +495,7 @@ constexpr result<std::size_t> serve_frame(Device& dev, std::uint8_t own_address,
   std::size_t n = 0;
   std::uint8_t admitted = 0;
   if constexpr (detail::has_admit<Device>::value) {
-    admitted = dev.admit(frame.pdu);
+    admitted = std::as_const(dev).admit(frame.pdu);  // the const check, whatever D overloads
   }
   constexpr function_set served = served_functions<Device>();
   if (admitted != 0U) {
