@@ -103,6 +103,7 @@ class receiver {
       request_[i] = request_frame[i];
     }
     echo_pending_ = echo_ && request_size_ > 0U;
+    echo_missed_ = false;
     check_ = !skip_check_ && detail::valid_request(request_frame);
     framing_ = false;
     buf_.clear();
@@ -139,8 +140,19 @@ class receiver {
   /// The line went idle (end of frame): what is held is dropped. Failed (truncated, with the
   /// bytes dropped as consumed()) when part of a frame was held; else incomplete (nothing to
   /// report). The same signal, and the same return type, as the Modbus framer's idle().
+  /// An echo held whole (waiting to tell it from a response without echo) is skipped here.
   constexpr decode_result<response> idle() noexcept {
-    const std::size_t held = buf_.size();
+    std::size_t held = buf_.size();
+    if (echo_pending_ && held == request_size_) {
+      std::size_t match = 0;
+      while (match < held && buf_[match] == request_[match]) {
+        ++match;
+      }
+      if (match == held) {
+        echoes_ += held;
+        held = 0;
+      }
+    }
     dropped_ += held;
     buf_.want(0);
     buf_.clear();
@@ -156,6 +168,10 @@ class receiver {
   constexpr std::size_t dropped() const noexcept { return dropped_; }
   /// Echo bytes skipped since construction.
   constexpr std::size_t echoes_skipped() const noexcept { return echoes_; }
+  /// echo::expected, and the response to the last request came without the echo: it was
+  /// delivered (the line does not echo: configure echo::none). See answers_request() for how
+  /// it is told; an ID6 response cannot be told from the echo and is taken as the echo.
+  constexpr bool echo_missed() const noexcept { return echo_missed_; }
   /// Bytes held for an unfinished frame.
   constexpr std::size_t pending() const noexcept { return buf_.size(); }
 
@@ -187,10 +203,15 @@ class receiver {
   // put() of a byte that decide() must sort out with the bytes held. Fewer than 11 bytes are
   // held after every decision (a frame is decided when complete, a rejected one drops its first
   // byte), so the byte fits, and is taken first.
+  // result_ keeps the last settled result when nothing is settled (the contract of result()).
   MOTIONBUS_NOINLINE constexpr bool put_held(std::uint8_t byte) noexcept {
     buf_.push(byte);
-    emplace_result(result_, [&] { return decide(byte_view(), 1); });
-    return !result_.is_incomplete();
+    const decode_result<response> r = decide(byte_view(), 1);
+    if (r.is_incomplete()) {
+      return false;
+    }
+    emplace_result(result_, [&] { return r; });
+    return true;
   }
 
   // feed() of anything else: takes bytes from `in` and decides as often as needed.
@@ -231,7 +252,20 @@ class receiver {
         while (match < held && match < request_size_ && buf_[match] == request_[match]) {
           ++match;
         }
-        if (match == request_size_) {  // the whole echo: skip it
+        if (match == request_size_) {  // the whole echo, or the response without one
+          const std::size_t n = response_layouts[data_id_code(request_[0])].size;
+          if (n > match) {
+            if (held < n) {
+              buf_.want(n);
+              return need_input{n - held};
+            }
+            if (answers_request(n)) {  // no echo after all: the response
+              echo_pending_ = false;
+              echo_missed_ = true;
+              continue;
+            }
+          }
+          echo_missed_ = false;
           buf_.drop(match);
           echoes_ += match;
           echo_pending_ = false;
@@ -287,6 +321,22 @@ class receiver {
     }
   }
 
+  // An adapter that does not echo (echo::expected by mistake) hands over the response at once,
+  // whose CF is the request's: where the response is longer than the request, the first `n`
+  // bytes held (the response's size) decode as a response that answers the request only when
+  // no echo precedes them (an echoed CF would stand where the SF, or an EEPROM CRC, is: the SF's
+  // bits 0..3 would be set, the CRC would be 0 where the CF follows). ID6's response repeats
+  // the request: an ID6 echo and an ID6 response cannot be told apart, the echo is assumed.
+  constexpr bool answers_request(std::size_t n) const noexcept {
+    const decode_result<response> r = custom_decode_
+                                          ? decode_response(buf_.first(n), decode_opts())
+                                          : decode_response(buf_.first(n), decode_options{});
+    std::uint32_t want = 0;
+    std::uint32_t got = 0;
+    return r.is_complete() &&
+           (!check_ || detail::check_against(request_, r.value(), want, got) == errc::ok);
+  }
+
   constexpr decode_options decode_opts() const noexcept {
     decode_options d;
     d.res.single_turn_bits =
@@ -309,8 +359,9 @@ class receiver {
   std::uint8_t request_[max_request_size] = {};
   std::uint8_t request_size_ = 0;
   bool echo_pending_ = false;
-  bool framing_ = false;  // buf_ starts with a checked CF and wanted() is its frame's size
-  bool check_ = false;    // check responses against request_ (a valid request, and the option)
+  bool framing_ = false;      // buf_ starts with a checked CF and wanted() is its frame's size
+  bool check_ = false;        // check responses against request_ (a valid request, and the option)
+  bool echo_missed_ = false;  // see echo_missed() (in the padding before dropped_)
   std::size_t dropped_ = 0;
   std::size_t echoes_ = 0;
   decode_result<response> result_;  // put()'s
