@@ -233,7 +233,7 @@ class line_monitor {
     }
     e.bytes("bytes", bad.data(), bad.size());
     cli::print(cli::outcome::failure(failure_.empty() ? "garbage" : failure_, e),
-               at(time, self().rejected_run(!failure_.empty())));
+               at(time, self().rejected_run(!failure_.empty(), bad[0])));
     failure_.clear();
   }
 
@@ -272,7 +272,12 @@ class modbus_monitor : public line_monitor<modbus_monitor, mo::rtu_listener> {
 
   static std::size_t size_of(const mo::rtu_frame& f) { return f.pdu.size() + 3U; }
   // Bytes the listener dropped: a frame no rule and CRC confirmed, of either direction.
-  static const char* rejected_run(bool /*failed*/) { return "?"; }
+  const char* rejected_run(bool failed, std::uint8_t slave) {
+    if (failed) {
+      ++t_.by_key[slave].errors;
+    }
+    return "?";
+  }
 
   // A frame that failed for a UART error: the pairing follows the listener's reading of it.
   void rejected(const mo::rtu_frame& f, const std::vector<std::uint8_t>& bytes,
@@ -354,7 +359,7 @@ class tformat_monitor : public line_monitor<tformat_monitor, tf::line_listener> 
   static std::size_t size_of(const tf::heard& h) { return h.bytes.size(); }
   // Bytes the listener dropped: a rejected response (the listener rejects only responses; it
   // answers the request before it), or garbage.
-  const char* rejected_run(bool failed) {
+  const char* rejected_run(bool failed, std::uint8_t /*cf*/) {
     if (!failed) {
       return "?";
     }

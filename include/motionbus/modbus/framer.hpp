@@ -594,10 +594,9 @@ class basic_rtu_framer {
     for (;;) {
       const std::size_t size = buf_.size();
       if (size < 2U) {
-        if (at_end && size != 0U) {
+        if (at_end && size != 0U) {  // one byte starts no frame: garbage
           drop_front(size);
           dropped_ += size;
-          return decode_failure{errc::truncated, used};
         }
         buf_.want(2);
         return need_input{2U - size};

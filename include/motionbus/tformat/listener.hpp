@@ -13,10 +13,10 @@
 // (CRC, reserved bits, the EEPROM address or data not those of the request) is reported and
 // the listener rescans from the next byte for a response, so that a frame behind it is not
 // lost; until one is found or the line goes idle (idle()), the bytes of the rejected response
-// are not read as requests. Choice where the text is silent: a request whose response is
-// missing, followed by the same CF-only request, reads as a rejected response (the bytes
-// cannot tell them apart; a silence does not end the expectation, as a host sees responses
-// late). A byte whose
+// are not read as requests. The silence ends the expectation of a response (idle()). Choice
+// where the text is silent: without a silence between them, a request whose response is
+// missing followed by the same CF-only request (or by an ID3 request: 0x1A is also the CF of
+// the abnormal reply) reads as a rejected response (the bytes cannot tell them apart). A byte whose
 // sync code is wrong starts no frame (the encoder does not reply to it): dropped, counted.
 //
 // An abnormal request is handed over like any request, with heard::request_error saying why
@@ -100,11 +100,14 @@ class line_listener {
 
   /// The line went idle: what is held is settled, one result a call (call it again until it
   /// reports incomplete: the bytes held after a failure are rescanned). A frame cut short
-  /// fails (truncated, one byte dropped); a response expected and cut short is no longer
-  /// expected.
+  /// fails (truncated, one byte dropped). Once nothing is held, no response is expected any
+  /// more: the encoder answers about 3 us after the request (PROTOCOL_NOTES §1.1), so the next
+  /// frame after a silence is a request. Report a silence longer than the line's turnaround
+  /// (and, on a host, than its delivery delays: the bus monitor's --gap-us).
   constexpr decode_result<heard> idle() noexcept {
     resync_ = false;
     if (buf_.empty()) {
+      expecting_ = false;  // the encoder answers at once (about 3 us): after a silence, a request
       return need_input{1};
     }
     return scan(0, true);
