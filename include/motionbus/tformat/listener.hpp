@@ -110,7 +110,11 @@ class line_listener {
       expecting_ = false;  // the encoder answers at once (about 3 us): after a silence, a request
       return need_input{1};
     }
-    return scan(0, true);
+    const decode_result<heard> r = scan(0, true);
+    if (r.is_incomplete()) {  // all settled (the last bytes dropped as garbage)
+      expecting_ = false;
+    }
+    return r;
   }
 
   /// Bytes dropped (no sync code, or the first byte of a rejected frame).

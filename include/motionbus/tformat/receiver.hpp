@@ -248,34 +248,11 @@ class receiver {
         return need_input{1};
       }
       if (echo_pending_) {
-        std::size_t match = 0;
-        while (match < held && match < request_size_ && buf_[match] == request_[match]) {
-          ++match;
+        const std::size_t more = settle_echo(held);
+        if (more != 0U) {
+          return need_input{more};
         }
-        if (match == request_size_) {  // the whole echo, or the response without one
-          const std::size_t n = response_layouts[data_id_code(request_[0])].size;
-          if (n > match) {
-            if (held < n) {
-              buf_.want(n);
-              return need_input{n - held};
-            }
-            if (answers_request(n)) {  // no echo after all: the response
-              echo_pending_ = false;
-              echo_missed_ = true;
-              continue;
-            }
-          }
-          echo_missed_ = false;
-          buf_.drop(match);
-          echoes_ += match;
-          echo_pending_ = false;
-          continue;
-        }
-        if (match == held) {
-          buf_.want(request_size_);
-          return need_input{request_size_ - match};
-        }
-        echo_pending_ = false;  // not an echo after all: parse as a response
+        continue;  // the echo skipped, or none: parse the bytes held as a response
       }
       const std::uint8_t code = data_id_code(buf_[0]);
       if (buf_[0] != valid_control_fields[code]) {
@@ -321,20 +298,57 @@ class receiver {
     }
   }
 
+  // The echo awaited (echo_pending_) and `held` bytes: skips the whole echo; or tells that the
+  // bytes held are no echo (the response: echo_pending_ cleared, nothing dropped). Returns the
+  // bytes still needed to tell (0: told). Out of line: the
+  // rare path (only after sent() with echo::expected).
+  MOTIONBUS_NOINLINE constexpr std::size_t settle_echo(std::size_t held) noexcept {
+    std::size_t match = 0;
+    while (match < held && match < request_size_ && buf_[match] == request_[match]) {
+      ++match;
+    }
+    if (match == request_size_) {  // the whole echo, or the response without one
+      const std::size_t n = response_layouts[data_id_code(request_[0])].size;
+      if (n > match) {
+        if (held < n) {
+          buf_.want(n);
+          return n - held;
+        }
+        if (answers_request(n)) {  // no echo after all: the response
+          echo_pending_ = false;
+          echo_missed_ = true;
+          return 0;
+        }
+      }
+      echo_missed_ = false;
+      buf_.drop(match);
+      echoes_ += match;
+      echo_pending_ = false;
+      return 0;
+    }
+    if (match == held) {
+      buf_.want(request_size_);
+      return request_size_ - match;
+    }
+    echo_pending_ = false;  // not an echo after all: parse as a response
+    return 0;
+  }
+
   // An adapter that does not echo (echo::expected by mistake) hands over the response at once,
-  // whose CF is the request's: where the response is longer than the request, the first `n`
-  // bytes held (the response's size) decode as a response that answers the request only when
-  // no echo precedes them (an echoed CF would stand where the SF, or an EEPROM CRC, is: the SF's
-  // bits 0..3 would be set, the CRC would be 0 where the CF follows). ID6's response repeats
-  // the request: an ID6 echo and an ID6 response cannot be told apart, the echo is assumed.
+  // whose CF is the request's. Where the response is longer than the request, the first `n`
+  // bytes held (the response's size) tell: without an echo they are a frame whose CRC matches
+  // and whose second byte is an SF (bits 0..3 clear; T-format spec §6.3.2) or, for IDD, the
+  // request's ADF; with the echo, the echoed CF stands where the SF is (a CF's bit 1 is the
+  // sync code's 1), or for IDD the request's CRC stands where EDF is and the next CF where the
+  // CRC is (their CRC is 0, the CF is not). The response is then decoded and checked as any.
+  // ID6's response repeats the request: an ID6 echo and an ID6 response cannot be told apart,
+  // the echo is assumed.
   constexpr bool answers_request(std::size_t n) const noexcept {
-    const decode_result<response> r = custom_decode_
-                                          ? decode_response(buf_.first(n), decode_opts())
-                                          : decode_response(buf_.first(n), decode_options{});
-    std::uint32_t want = 0;
-    std::uint32_t got = 0;
-    return r.is_complete() &&
-           (!check_ || detail::check_against(request_, r.value(), want, got) == errc::ok);
+    const std::uint8_t second = buf_[1];
+    const bool eeprom = response_layouts[data_id_code(request_[0])].eeprom();
+    const bool fits = eeprom ? ((second ^ request_[1]) & adf_address_mask) == 0U
+                             : (second & sf::reserved_mask) == 0U;
+    return fits && crc_of(buf_.first(n - 1U)) == buf_[n - 1U];
   }
 
   constexpr decode_options decode_opts() const noexcept {
