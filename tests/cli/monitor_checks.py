@@ -321,6 +321,22 @@ def tformat_abnormal(cli):
           f"{kinds} {summary}")
 
 
+def tformat_echo_missing(cli):
+    """issue 23: read tformat --echo on a line that does not echo: the response, not a timeout."""
+    tap = Tap()
+    tap.start()
+    encoder = start([cli, "serve", "tformat-encoder", "--device", tap.path("device"), "--json"])
+    time.sleep(0.5)
+    out = run([cli, "read", "tformat", "--device", tap.path("client"), "--json", "--id", "3",
+               "--echo"])
+    stop_server(encoder)
+    tap.running = False
+    lines = [json.loads(l) for l in out.splitlines() if l.strip()]
+    check("tformat: read --echo on a line without echo: the response, flagged echo_missed",
+          len(lines) == 1 and lines[0].get("ok") and lines[0].get("data_id") == 3
+          and lines[0].get("echo_missed") is True, f"{lines}")
+
+
 def main():
     cli, protocol = sys.argv[1], sys.argv[2]
     if protocol == "modbus":
@@ -330,6 +346,7 @@ def main():
     else:
         tformat(cli)
         tformat_abnormal(cli)
+        tformat_echo_missing(cli)
     if failures:
         print(f"{len(failures)} check(s) failed")
         return 1

@@ -8,12 +8,13 @@
 // answers such requests with the exception the specification requires. Where no silence can be
 // observed (frame_end::length), the length rule alone frames and everything else is garbage.
 // A server keeps frames for its address and broadcasts; a client frames the response to its
-// outstanding request. After garbage or a bad CRC the framer drops one byte at a time and
-// rescans (at most 256 bytes are ever held, in a frame_buffer: a dropped byte moves an index,
-// nothing is shifted; a frame is handed over as a view into it, not copied). The same shape as
-// the T-format receiver: built from an options struct, given bytes by put() (one byte, from a
-// UART interrupt) and feed() (a chunk), told of the line's silence by idle(). `Table` selects
-// the CRC table. No heap, no I/O.
+// outstanding request; a listener (rtu_listener: a bus monitor, a capture decoder) frames both
+// directions of a tapped line (framer_roles::listener). After garbage or a bad CRC the framer drops
+// one byte at a time and rescans (at most 256 bytes are ever held, in a frame_buffer: a dropped
+// byte moves an index, nothing is shifted; a frame is handed over as a view into it, not copied).
+// The same shape as the T-format receiver: built from an options struct, given bytes by put() (one
+// byte, from a UART interrupt) and feed() (a chunk), told of the line's silence by idle(). `Table`
+// selects the CRC table. No heap, no I/O.
 //
 //   rtu_server_framer rx({framer_role::server, 0x11});
 //   on_rx_interrupt(b):                 // one byte: true when something is settled

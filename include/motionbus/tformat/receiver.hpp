@@ -2,7 +2,8 @@
 //
 // Give it bytes as they arrive: one at a time with put() (a receive interrupt), or in chunks
 // with feed(). It knows each response's length from its CF, skips the echo of the master's own
-// request on half-duplex adapters whose receiver is always on, drops garbage until a valid CF,
+// request on half-duplex adapters whose receiver is always on (and tells a response that comes
+// without the echo expected: echo_missed()), drops garbage until a valid CF,
 // and after a corrupted frame rescans from the next byte so that no valid frame behind it is
 // lost. Holds at most one frame (11 bytes, in a frame_buffer: garbage is dropped by moving an
 // index); no heap, no I/O. The same shape as the Modbus RTU framer: built from an options
