@@ -2,6 +2,11 @@
 // is CRC-valid, for its address, and re-encodes to bytes that occur in the input; put() byte by
 // byte reports what feed() in chunks does (stream_oracle.hpp); after the t3.5 signal a clean
 // frame fed in any chunks is delivered exactly once, unchanged.
+// The listener (rtu_listener, a tapped line's both directions) on the same input: put() agrees
+// with feed() (directions included); every frame is CRC-valid and is the input's bytes at the
+// place the stream's count puts it; a clean request and its response after the input, with no
+// silence between, are each reported at their place unless a frame reported overlaps them
+// (nothing valid behind a bad frame is lost); idle() drains what is held.
 #include <motionbus/modbus/framer.hpp>
 
 #include <cstring>
@@ -30,6 +35,119 @@ auto note(const mb::decode_result<mo::rtu_frame>& r) {
   const mo::rtu_frame& f = r.value();
   return std::make_tuple(r.status(), r.error(), r.expected(), r.received(), f.slave, f.crc,
                          std::vector<std::uint8_t>(f.pdu.begin(), f.pdu.end()));
+}
+
+// The listener on `line`, one byte at a time (put() and the rescan of put_each), then the
+// silence: each result with the direction of a frame and the stream index where it ends.
+struct listened {
+  mb::decode_status status;
+  mb::errc error;
+  bool response;
+  std::size_t end;
+  std::vector<std::uint8_t> frame;  // address, PDU, CRC (complete only)
+  bool operator==(const listened& o) const {
+    return status == o.status && error == o.error && response == o.response && end == o.end &&
+           frame == o.frame;
+  }
+};
+
+template <class Step>
+std::vector<listened> listen(mo::rtu_listener& l, std::size_t n, Step&& step) {
+  std::vector<listened> out;
+  std::size_t fed = 0;
+  const auto each = [&](const mb::decode_result<mo::rtu_frame>& r) {
+    MOTIONBUS_FUZZ_CHECK(l.pending() <= mo::max_rtu_size);
+    listened e{r.status(), r.error(), false, fed - l.pending(), {}};
+    if (r.is_complete()) {
+      e.response = l.heard_response();
+      std::uint8_t out_frame[mo::max_rtu_size] = {};
+      const auto k = mo::encode_rtu(r.value().slave, r.value().pdu, out_frame);
+      MOTIONBUS_FUZZ_CHECK(k.ok() && k.value() == r.value().pdu.size() + 3U);
+      e.frame.assign(out_frame, out_frame + k.value());
+    }
+    out.push_back(e);
+  };
+  step(fed, each);
+  for (int guard = 0;; ++guard) {
+    MOTIONBUS_FUZZ_CHECK(guard < 1000);
+    const auto r = l.idle();
+    if (r.is_incomplete()) {
+      break;
+    }
+    each(r);
+  }
+  MOTIONBUS_FUZZ_CHECK(l.pending() == 0);
+  (void)n;
+  return out;
+}
+
+void check_listener(const mo::framer_options& options, const std::uint8_t* stream, std::size_t n,
+                    std::size_t chunk) {
+  // the input, then a clean request and its response, back to back
+  std::vector<std::uint8_t> line(stream, stream + n);
+  std::uint8_t frame[mo::max_rtu_size] = {};
+  const std::uint8_t request[] = {0x03, 0x00, 0x6B, 0x00, 0x02};
+  const std::uint8_t response[] = {0x03, 0x04, 0x00, 0x2A, 0x01, 0x02};
+  std::size_t k = mo::encode_rtu(0x11, request, frame).value();
+  const std::size_t request_at = line.size();
+  line.insert(line.end(), frame, frame + k);
+  k = mo::encode_rtu(0x11, response, frame).value();
+  const std::size_t response_at = line.size();
+  line.insert(line.end(), frame, frame + k);
+  mo::rtu_listener by_byte(options);
+  mo::rtu_listener chunked(options);
+  const auto put = listen(by_byte, line.size(), [&](std::size_t& fed, auto& each) {
+    for (const std::uint8_t b : line) {
+      ++fed;
+      mb::put_each(by_byte, b, [&](const auto& r) {
+        each(r);
+        return true;
+      });
+    }
+  });
+  const auto fed_chunks = listen(chunked, line.size(), [&](std::size_t& fed, auto& each) {
+    for (std::size_t at = 0; at < line.size(); at += chunk) {
+      const mb::byte_view in(line.data() + at, chunk < line.size() - at ? chunk : line.size() - at);
+      std::size_t taken = 0;
+      for (int guard = 0;; ++guard) {
+        MOTIONBUS_FUZZ_CHECK(guard < 100000);
+        const auto r = chunked.feed(in.subspan(taken));
+        if (r.is_incomplete()) {
+          fed = at + in.size();
+          break;
+        }
+        taken += r.consumed();
+        fed = at + taken;
+        each(r);
+      }
+    }
+  });
+  MOTIONBUS_FUZZ_CHECK(put == fed_chunks);
+  bool request_seen = false;
+  bool response_seen = false;
+  bool request_overlapped = false;
+  bool response_overlapped = false;
+  const std::size_t request_end = response_at;
+  const std::size_t response_end = line.size();
+  for (const listened& e : put) {
+    if (e.status != mb::decode_status::complete) {
+      continue;
+    }
+    const std::size_t begin = e.end - e.frame.size();
+    MOTIONBUS_FUZZ_CHECK(e.end <= line.size() &&
+                         std::memcmp(line.data() + begin, e.frame.data(), e.frame.size()) == 0);
+    request_seen = request_seen || (begin == request_at && e.end == request_end);
+    response_seen = response_seen || (begin == response_at && e.end == response_end && e.response);
+    const bool overlaps_request = begin < request_end && e.end > request_at;
+    const bool overlaps_response = begin < response_end && e.end > response_at;
+    request_overlapped =
+        request_overlapped || (overlaps_request && !(begin == request_at && e.end == request_end));
+    response_overlapped = response_overlapped ||
+                          (overlaps_response && !(begin == response_at && e.end == response_end));
+  }
+  MOTIONBUS_FUZZ_CHECK(request_seen || request_overlapped);
+  // the response is the request's when the request was framed as one (it was not a response)
+  MOTIONBUS_FUZZ_CHECK(response_seen || response_overlapped || !request_seen);
 }
 
 }  // namespace
@@ -106,5 +224,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     }
   }
   MOTIONBUS_FUZZ_CHECK(found == 1);
+  check_listener(options, stream, n, chunk);
   return 0;
 }

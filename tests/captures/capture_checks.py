@@ -204,6 +204,171 @@ def analyzer_csv(cli, work):
           frames[3].get("received") == x if len(frames) == 4 else False, f"{frames}")
 
 
+def uart_csv(path, column, baud, frames, parity="E", end=None):
+    """A CSV (time column, one channel) of a UART line: `frames` is a list of (start seconds,
+    bytes) or (start, bytes, bad_stop): bad_stop holds the stop bit of byte 0 low (a framing
+    error, a T-format delimiter error)."""
+    rows = [f"Time [s],{column}", "0.000000000,1"]
+    level = 1
+    last = 0.0
+    for item in frames:
+        start, data = item[0], item[1]
+        bits = uart_bits(data, parity)
+        if len(item) > 2 and item[2]:
+            bits[(9 if parity == "N" else 10)] = 0
+        for i, bit in enumerate(bits):
+            if bit != level:
+                level = bit
+                rows.append(f"{start + i / baud:.9f},{level}")
+        last = start + len(bits) / baud
+        if level != 1:  # a low stop bit: the line back to idle after it
+            level = 1
+            rows.append(f"{last:.9f},1")
+    if level != 1:
+        rows.append(f"{last:.9f},1")
+        level = 1
+    rows.append(f"{(end if end is not None else last + 0.05):.9f},1")
+    with open(path, "w") as f:
+        f.write("\n".join(rows) + "\n")
+
+
+def modbus_frame(hex_text):
+    data = bytes.fromhex(hex_text)
+    return data + crc16_modbus(data)
+
+
+def modbus_lost_frames(cli, work):
+    """issue 23: a corrupted request, then 5 x t3.5 later a request, its exception reply and a
+    request, at 9600 8E1; garbage, then an FC06 exchange; --parity N on the 8E1 recording."""
+    baud = 9600
+    char = 11 / baud
+    t35 = 3.5 * char
+    bad = bytearray(modbus_frame("110300000002"))
+    bad[3] ^= 0x40
+    request = modbus_frame("110300000002")
+    exception = modbus_frame("118302")
+    third = modbus_frame("110400010001")
+    frames = []
+    t = 0.001
+    for data in (bytes(bad), request, exception, third):
+        frames.append((t, data))
+        t += len(data) * char + 5 * t35
+    path = os.path.join(work, "modbus_lost.csv")
+    uart_csv(path, "line", baud, frames)
+    got, summary, status, err = decode(cli, "modbus", "capture", path, "--line", "line")
+    got = [f for f in got if f.get("error") != "no_response"]  # the last request's, at the end
+    check("Modbus capture: a corrupted request, then request, exception, request: every one",
+          [(f.get("dir"), f.get("ok"), f.get("error")) for f in got] ==
+          [("?", False, "crc_mismatch"), ("request", True, None), ("response", True, None),
+           ("request", True, None)]
+          and got[0].get("bytes") == bytes(bad).hex()
+          and got[2].get("exception") is not None
+          and summary.get("missing_responses") == 1, f"{got} {summary} {err}")
+    # the same frames 1.5 ms apart: closer than t3.5 (4 ms) and the old monitor's 20 ms, which
+    # merged them; length rule and CRC frame them apart, whatever the gap
+    frames = []
+    t = 0.001
+    for data in (bytes(bad), request, exception, third):
+        frames.append((t, data))
+        t += len(data) * char + 0.0015
+    path = os.path.join(work, "modbus_close.csv")
+    uart_csv(path, "line", baud, frames)
+    for gap in ([], ["--gap-us", "20000"]):
+        got, summary, status, err = decode(cli, "modbus", "capture", path, "--line", "line",
+                                           *gap)
+        got = [f for f in got if f.get("error") != "no_response"]
+        check(f"Modbus capture: frames closer than the gap are framed apart {gap}",
+              [(f.get("dir"), f.get("ok"), f.get("error")) for f in got] ==
+              [("?", False, "crc_mismatch"), ("request", True, None), ("response", True, None),
+               ("request", True, None)], f"{got} {err}")
+    # garbage right before an FC06 request, then its echo
+    write = modbus_frame("010600010003")
+    garbage = bytes([0x00, 0xFF, 0x11, 0x10, 0x55])
+    frames = [(0.001, garbage + write), (0.001 + 13 * char + 5 * t35, write)]
+    path = os.path.join(work, "modbus_garbage.csv")
+    uart_csv(path, "line", baud, frames)
+    got, summary, status, err = decode(cli, "modbus", "capture", path, "--line", "line")
+    check("Modbus capture: an FC06 exchange after garbage is reported",
+          [(f.get("dir"), f.get("ok")) for f in got] ==
+          [("?", False), ("request", True), ("response", True)]
+          and got[0].get("bytes") == garbage.hex() and summary.get("missing_responses") == 0,
+          f"{got} {summary} {err}")
+    # an 8E1 recording read as 8N1: the parity bit is read as the stop bit
+    path = os.path.join(work, "modbus_lost.csv")
+    got, summary, status, err = decode(cli, "modbus", "capture", path, "--line", "line",
+                                       "--parity", "N")
+    check("Modbus capture --parity N of an 8E1 line: frames fail with the framing error",
+          got and not any(f.get("ok") for f in got) and status == 1
+          and any(f.get("error") == "framing_error" and "byte_index" in f for f in got),
+          f"{got} {err}")
+    # a parity error in a byte of a valid frame: the frame fails, with the evidence
+    bits_path = os.path.join(work, "modbus_parity.csv")
+    rows = ["Time [s],line", "0.000000000,1"]
+    level = 1
+    bits = uart_bits(request, "E")
+    bits[2 * 11 + 9] ^= 1  # byte 2's parity bit
+    for i, bit in enumerate(bits):
+        if bit != level:
+            level = bit
+            rows.append(f"{0.001 + i / baud:.9f},{level}")
+    rows.append(f"{0.001 + len(bits) / baud:.9f},1")
+    rows.append("0.050000000,1")
+    with open(bits_path, "w") as f:
+        f.write("\n".join(rows) + "\n")
+    got, summary, status, err = decode(cli, "modbus", "capture", bits_path, "--line", "line")
+    got = [f for f in got if f.get("error") != "no_response"]
+    check("Modbus capture: a parity error fails its frame, with the byte and the frame",
+          [(f.get("ok"), f.get("error"), f.get("byte_index")) for f in got] ==
+          [(False, "parity_error", 2)] and got[0].get("bytes") == request.hex()
+          and status == 1, f"{got} {err}")
+
+
+def tformat_abnormal(cli, work):
+    """issue 23: requests the encoder answers with ID3 data (spec §6.3.2, Tables 5 and 6) are
+    paired with the reply and flagged."""
+    baud = 2500000
+
+    def with_crc(data):
+        x = 0
+        for b in data:
+            x ^= b
+        return bytes(data) + bytes([x])
+
+    def id3(sf):
+        return with_crc([0x1A, sf, 0, 0, 0, 0x11, 0, 0, 0, 0])
+
+    exchanges = [
+        (bytes([0xEA, 0x06, 0xEC]), False, 0x00, None),  # IDD page 7 address 6: closed
+        (bytes([0x82]), False, 0x40, "parity"),  # ID0 CF, parity wrong: ca0
+        (bytes([0x02]), True, 0x80, "framing_error"),  # ID0, delimiter error: ca1
+        (bytes([0xA2]), False, 0x00, "unknown_data_id"),  # ID4
+        (bytes([0xEA, 0x06, 0x00]), False, 0x00, "crc_mismatch"),  # IDD, bad CRC
+    ]
+    frames = []
+    t = 100e-6
+    for request, bad_stop, sf, _ in exchanges:
+        frames.append((t, request, bad_stop))
+        frames.append((t + len(request) * 4e-6 + 3e-6, id3(sf)))
+        t += 200e-6
+    path = os.path.join(work, "tformat_abnormal.csv")
+    uart_csv(path, "tf", baud, frames, parity="N")
+    got, summary, status, err = decode(cli, "tformat", "capture", path, "--line", "tf")
+    pairs = [(f.get("dir"), f.get("error"), f.get("id3_reply"), f.get("ca0"), f.get("ca1"))
+             for f in got]
+    expected = []
+    for request, _, sf, error in exchanges:
+        expected.append(("request" if error != "framing_error" else "?", error, None, None,
+                         None))
+        expected.append(("response", None, True, 1 if sf & 0x40 else 0, 1 if sf & 0x80 else 0))
+    check("T-format capture: abnormal requests paired with their ID3 replies, flagged",
+          pairs == expected and summary.get("missing_responses") == 0
+          and summary.get("garbage_bytes") == 0, f"{pairs} {summary} {err}")
+    first = got[:2]
+    check("T-format capture: EA 06 EC and its ID3 reply: no missing response, no phantom",
+          len(first) == 2 and first[0].get("ok") and first[0].get("data_id") == 13
+          and first[1].get("ok") and first[1].get("data_id") == 3, f"{first}")
+
+
 def round_trips(cli, work):
     def encode(*args):
         p = subprocess.run([cli, "encode", *args, "--json"], stdout=subprocess.PIPE, text=True,
@@ -240,6 +405,8 @@ def main():
     tb_vcd(cli, source, work)
     sigrok_sr(cli, work)
     analyzer_csv(cli, work)
+    modbus_lost_frames(cli, work)
+    tformat_abnormal(cli, work)
     round_trips(cli, work)
     if failures:
         print(f"{len(failures)} check(s) failed")

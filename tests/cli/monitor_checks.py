@@ -258,13 +258,95 @@ def tformat(cli):
           f"{summary}")
 
 
+def crc16(data):
+    crc = 0xFFFF
+    for b in data:
+        crc ^= b
+        for _ in range(8):
+            crc = (crc >> 1) ^ 0xA001 if crc & 1 else crc >> 1
+    return bytes(data) + bytes([crc & 0xFF, crc >> 8])
+
+
+def monitor_written(cli, protocol, writes, *options):
+    """The monitor on a pty, `writes` (bytes, then the seconds to wait) written straight onto
+    it: the frames it printed and its summary."""
+    tap = Tap()  # (its thread is not started: only the monitor's pty is used)
+    monitor = start([cli, "monitor", protocol, "--device", tap.path("monitor"), "--json",
+                     *options])
+    time.sleep(0.5)
+    for data, wait in writes:
+        tap.noise(data)
+        time.sleep(wait)
+    return stop_monitor(monitor)
+
+
+def modbus_lost(cli):
+    """issue 23: a corrupted request, then 5 x t3.5 (20 ms at 9600 8E1) later a request, its
+    exception reply and a request: every one; frames 5 ms apart are not merged."""
+    bad = bytearray(crc16(bytes.fromhex("110300000002")))
+    bad[3] ^= 0x40
+    request = crc16(bytes.fromhex("110300000002"))
+    exception = crc16(bytes.fromhex("118302"))
+    third = crc16(bytes.fromhex("110400010001"))
+    for gap, name in ((0.02, "5 x t3.5"), (0.005, "5 ms")):
+        frames, summary = monitor_written(
+            cli, "modbus", [(bytes(bad), gap), (request, gap), (exception, gap), (third, 0.1)],
+            "--response-ms", "2000")
+        kinds = [(f.get("dir"), f.get("ok"), f.get("error")) for f in frames
+                 if f.get("error") != "no_response"]  # (the third request's, at the end)
+        check(f"modbus: a corrupted request, then request, exception, request {name} apart: "
+              "every one reported",
+              kinds == [("?", False, "crc_mismatch"), ("request", True, None),
+                        ("response", True, None), ("request", True, None)]
+              and frames[2].get("exception") == 2, f"{kinds}")
+    garbage = bytes([0x00, 0xFF, 0x11, 0x10, 0x55])
+    write = crc16(bytes.fromhex("010600010003"))
+    frames, summary = monitor_written(cli, "modbus", [(garbage + write, 0.02), (write, 0.1)])
+    kinds = [(f.get("dir"), f.get("ok")) for f in frames]
+    check("modbus: an FC06 exchange right after garbage is reported",
+          kinds == [("?", False), ("request", True), ("response", True)], f"{kinds}")
+
+
+def tformat_abnormal(cli):
+    """issue 23: EA 06 EC (a read of a closed address) and the encoder's ID3 reply, paired."""
+    frames, summary = monitor_written(
+        cli, "tformat",
+        [(bytes.fromhex("EA06EC" "1A0000000011000000000B"), 0.1)])
+    kinds = [(f.get("dir"), f.get("ok"), f.get("data_id"), f.get("id3_reply")) for f in frames]
+    s = summary[0] if summary else {}
+    check("tformat: EA 06 EC and its ID3 reply paired (no missing response, no phantom request, "
+          "no garbage)",
+          kinds == [("request", True, 13, None), ("response", True, 3, True)]
+          and s.get("missing_responses") == 0 and s.get("garbage_bytes") == 0,
+          f"{kinds} {summary}")
+
+
+def tformat_echo_missing(cli):
+    """issue 23: read tformat --echo on a line that does not echo: the response, not a timeout."""
+    tap = Tap()
+    tap.start()
+    encoder = start([cli, "serve", "tformat-encoder", "--device", tap.path("device"), "--json"])
+    time.sleep(0.5)
+    out = run([cli, "read", "tformat", "--device", tap.path("client"), "--json", "--id", "3",
+               "--echo"])
+    stop_server(encoder)
+    tap.running = False
+    lines = [json.loads(l) for l in out.splitlines() if l.strip()]
+    check("tformat: read --echo on a line without echo: the response, flagged echo_missed",
+          len(lines) == 1 and lines[0].get("ok") and lines[0].get("data_id") == 3
+          and lines[0].get("echo_missed") is True, f"{lines}")
+
+
 def main():
     cli, protocol = sys.argv[1], sys.argv[2]
     if protocol == "modbus":
         modbus(cli)
         modbus_text(cli)
+        modbus_lost(cli)
     else:
         tformat(cli)
+        tformat_abnormal(cli)
+        tformat_echo_missing(cli)
     if failures:
         print(f"{len(failures)} check(s) failed")
         return 1

@@ -476,3 +476,207 @@ TEST_CASE("MBAP header: a buffer shorter than header and PDU is refused") {
   CHECK(encode_tcp(1, 1, view(pdu), mutable_byte_view(out, sizeof out)).error() ==
         errc::buffer_too_small);
 }
+
+namespace {
+
+// A listener's results, with the direction of each frame (heard_response()).
+struct heard {
+  event e;
+  bool response;
+};
+bool operator==(const heard& a, const heard& b) {
+  return a.e == b.e && a.response == b.response;
+}
+
+std::vector<heard> listen_chunks(rtu_listener& f, const bytes& stream, std::size_t chunk) {
+  std::vector<heard> out;
+  const auto each = [&](const auto& r) {
+    out.push_back({note(r), r.is_complete() && f.heard_response()});
+    return true;
+  };
+  for (std::size_t at = 0; at < stream.size(); at += chunk) {
+    feed_all(f, byte_view(stream.data() + at, std::min(chunk, stream.size() - at)), each);
+  }
+  for (auto r = f.idle(); !r.is_incomplete(); r = f.idle()) {
+    each(r);
+  }
+  return out;
+}
+
+std::vector<heard> listen_bytes(rtu_listener& f, const bytes& stream) {
+  std::vector<heard> out;
+  const auto each = [&](const auto& r) {
+    CHECK(!r.is_incomplete());
+    out.push_back({note(r), r.is_complete() && f.heard_response()});
+    return true;
+  };
+  for (const std::uint8_t b : stream) {
+    put_each(f, b, each);
+  }
+  for (auto r = f.idle(); !r.is_incomplete(); r = f.idle()) {
+    each(r);
+  }
+  return out;
+}
+
+std::vector<heard> frames_of(const std::vector<heard>& all) {
+  std::vector<heard> out;
+  for (const heard& h : all) {
+    if (h.e.ok) {
+      out.push_back(h);
+    }
+  }
+  return out;
+}
+
+bytes cat(std::initializer_list<bytes> parts) {
+  bytes out;
+  for (const bytes& p : parts) {
+    out.insert(out.end(), p.begin(), p.end());
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("listener: a corrupted request, then a request, its exception and a request") {
+  // issue 23: every valid frame behind the bad one is framed, each with its direction, with no
+  // silence signalled between them (the length rule and the CRC find them)
+  bytes bad = rtu(0x11, {0x03, 0x00, 0x6B, 0x00, 0x03});
+  bad[3] ^= 0x40U;
+  const bytes request = rtu(0x11, {0x03, 0x00, 0x6B, 0x00, 0x03});
+  const bytes exception = rtu(0x11, {0x83, 0x02});
+  const bytes third = rtu(0x11, {0x04, 0x00, 0x01, 0x00, 0x02});
+  const bytes line = cat({bad, request, exception, third});
+  for (std::size_t chunk = 1; chunk <= line.size(); ++chunk) {
+    rtu_listener f;
+    const auto all = listen_chunks(f, line, chunk);
+    CAPTURE(chunk);
+    const auto frames = frames_of(all);
+    REQUIRE(frames.size() == 3U);
+    CHECK(frames[0] == heard{{true, errc::ok, 0x11, {0x03, 0x00, 0x6B, 0x00, 0x03}}, false});
+    CHECK(frames[1] == heard{{true, errc::ok, 0x11, {0x83, 0x02}}, true});
+    CHECK(frames[2] == heard{{true, errc::ok, 0x11, {0x04, 0x00, 0x01, 0x00, 0x02}}, false});
+    REQUIRE(!all.empty());
+    CHECK(all[0].e.error == errc::crc_mismatch);  // the bad frame, reported first
+    CHECK(f.pending() == 0U);
+    rtu_listener g;
+    CHECK(listen_bytes(g, line) == all);
+  }
+}
+
+TEST_CASE("listener: an FC06 exchange after garbage (request and echo alike)") {
+  const bytes request = rtu(0x01, {0x06, 0x00, 0x01, 0x00, 0x03});
+  const bytes line = cat({{0x00, 0xFF, 0x11, 0x10, 0x55}, request, request, request});
+  rtu_listener f;
+  const auto frames = frames_of(listen_chunks(f, line, line.size()));
+  REQUIRE(frames.size() == 3U);
+  CHECK(!frames[0].response);
+  CHECK(frames[1].response);  // the echo of a write answers the request before it
+  CHECK(!frames[2].response);
+  for (const heard& h : frames) {
+    CHECK(h.e.pdu == bytes{0x06, 0x00, 0x01, 0x00, 0x03});
+  }
+}
+
+TEST_CASE("listener: a response is tried before a request, a request when it is no response") {
+  const bytes request = rtu(0x11, {0x03, 0x00, 0x6B, 0x00, 0x03});
+  const bytes response = rtu(0x11, {0x03, 0x06, 0x02, 0x2B, 0x00, 0x00, 0x00, 0x64});
+  const bytes broadcast = rtu(0x00, {0x06, 0x00, 0x01, 0x00, 0x03});
+  // a request, its response; a request whose response is missing, a request; a broadcast
+  // (never answered) and a request that reads as an echo of it only if it were a response
+  const bytes line = cat(
+      {request, response, request, request, broadcast, rtu(0x00, {0x06, 0x00, 0x01, 0x00, 0x03})});
+  rtu_listener f;
+  const auto all = listen_chunks(f, line, 7);
+  const auto frames = frames_of(all);
+  REQUIRE(frames.size() == 6U);
+  const bool directions[] = {false, true, false, false, false, false};
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    CAPTURE(i);
+    CHECK(frames[i].response == directions[i]);
+  }
+  CHECK(frames.size() == all.size());  // nothing failed: no phantom or garbage
+}
+
+TEST_CASE("listener: a frame cut short by the silence, then the frames behind it") {
+  const bytes request = rtu(0x11, {0x03, 0x00, 0x6B, 0x00, 0x03});
+  rtu_listener f;
+  const bytes cut(request.begin(), request.begin() + 5);
+  auto out = listen_chunks(f, cut, cut.size());  // idle() at the end
+  REQUIRE(!out.empty());
+  for (const heard& h : out) {
+    CHECK(!h.e.ok);
+  }
+  CHECK(f.pending() == 0U);
+  out = listen_chunks(f, request, 3);
+  REQUIRE(out.size() == 1U);
+  CHECK(out[0].e.ok);
+}
+
+TEST_CASE("listener put(): byte by byte, the results of feed() in chunks (random streams)") {
+  splitmix64 rng(0x1157e7);
+  const std::vector<bytes> pdus = {{0x03, 0x00, 0x6B, 0x00, 0x03},
+                                   {0x03, 0x06, 0x02, 0x2B, 0x00, 0x00, 0x00, 0x64},
+                                   {0x06, 0x00, 0x01, 0x00, 0x03},
+                                   {0x10, 0x00, 0x01, 0x00, 0x02, 0x04, 0x00, 0x0A, 0x01, 0x02},
+                                   {0x10, 0x00, 0x01, 0x00, 0x02},
+                                   {0x83, 0x02},
+                                   {0x11},
+                                   {0x41, 0x01}};
+  std::size_t frames = 0;
+  for (int round = 0; round < 300; ++round) {
+    bytes stream;
+    while (stream.size() < 300U) {
+      const std::uint64_t kind = rng.below(10);
+      if (kind < 7U) {
+        const auto slave = static_cast<std::uint8_t>(rng.below(3));
+        bytes f = rtu(slave, pdus[static_cast<std::size_t>(rng.below(pdus.size()))]);
+        if (kind == 6U) {
+          f[static_cast<std::size_t>(rng.below(f.size()))] ^=
+              static_cast<std::uint8_t>(1U + rng.below(255));
+        } else if (kind == 5U) {
+          f.resize(static_cast<std::size_t>(rng.below(f.size())));
+        }
+        stream.insert(stream.end(), f.begin(), f.end());
+      } else {
+        for (std::uint64_t i = rng.below(6); i > 0; --i) {
+          stream.push_back(rng.byte());
+        }
+      }
+    }
+    rtu_listener chunked;
+    rtu_listener by_byte;
+    const auto expected =
+        listen_chunks(chunked, stream, 1U + static_cast<std::size_t>(rng.below(40)));
+    CAPTURE(round);
+    CHECK(listen_bytes(by_byte, stream) == expected);
+    for (const auto& e : expected) {
+      frames += e.e.ok ? 1U : 0U;
+    }
+  }
+  CHECK(frames > 1000U);
+}
+
+TEST_CASE("client framer: result() keeps the last settled result through puts that return false") {
+  // issue 23 §4: the header's contract (valid until the next put() that returns true)
+  framer_options options{framer_role::client, 0x11};
+  rtu_client_framer f(options);
+  f.sent(0x11, 0x03);
+  const bytes response = rtu(0x11, {0x03, 0x02, 0x00, 0x2A});
+  bool settled = false;
+  for (const std::uint8_t b : response) {
+    settled = f.put(b);
+  }
+  REQUIRE(settled);
+  REQUIRE(f.result().is_complete());
+  const bytes next = rtu(0x11, {0x03, 0x02, 0x00, 0x2B});
+  for (std::size_t i = 0; i + 1 < next.size(); ++i) {
+    CHECK(!f.put(next[i]));
+    CHECK(f.result().is_complete());  // still the first response
+    CHECK(f.result()->pdu.size() == 4U);
+  }
+  REQUIRE(f.put(next.back()));
+  REQUIRE(f.result().is_complete());
+  CHECK(f.result()->pdu[3] == 0x2B);
+}

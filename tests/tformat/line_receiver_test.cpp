@@ -213,7 +213,9 @@ TEST_CASE("receiver: echo skipped, garbage dropped, no valid frame lost after a 
   CHECK(rx.echoes_skipped() == 4);
   CHECK(rx.feed(byte_view{}).is_incomplete());
 
-  // Without an echo on the line, echo::expected gives up on the first differing byte.
+  // echo::expected on a line that does not echo (issue 23): the response's CF 0x92 equals
+  // the request, but the four bytes decode as the response that answers it (an echo would put
+  // the CF where the SF is): delivered, and echo_missed() tells the line does not echo.
   receiver rx2(opt);
   std::uint8_t rq[1] = {};
   (void)encode_request(data_id::read_enid, rq);
@@ -221,11 +223,51 @@ TEST_CASE("receiver: echo skipped, garbage dropped, no valid frame lost after a 
   const auto enid = with_crc({0x92, 0x00, 0x11});
   std::vector<std::uint8_t> s2 = enid;
   r = rx2.feed(byte_view(s2.data(), s2.size()));
-  // echo::expected asserts that the line echoes: here the response's CF 0x92 equals the
-  // request and is taken as its echo; the other three bytes are no valid CF and are dropped.
-  CHECK(r.is_incomplete());
-  CHECK(rx2.echoes_skipped() == 1);
-  CHECK(rx2.dropped() == 3);
+  REQUIRE(r.is_complete());
+  CHECK(r->enid == 0x11);
+  CHECK(r.consumed() == 4);
+  CHECK(rx2.echo_missed());
+  CHECK(rx2.echoes_skipped() == 0);
+  CHECK(rx2.dropped() == 0);
+  // the same, byte by byte, for every Data ID with a CF-only request; and with the echo there,
+  // the echo is still skipped and echo_missed() is false
+  for (const data_id id : {data_id::read_abs, data_id::read_abm, data_id::read_enid,
+                           data_id::read_all, data_id::reset_errors}) {
+    CAPTURE(static_cast<int>(id));
+    std::uint8_t q[1] = {};
+    (void)encode_request(id, q);
+    std::vector<std::uint8_t> frame = {q[0], 0x00};
+    frame.resize(layout_of(id).size - 1U, 0x00);
+    if (id == data_id::read_enid) {
+      frame[2] = 0x11;
+    }
+    frame = with_crc(frame);
+    for (const bool echoed : {false, true}) {
+      receiver by_byte(opt);
+      by_byte.sent(byte_view(q, 1));
+      std::vector<std::uint8_t> line;
+      if (echoed) {
+        line.push_back(q[0]);
+      }
+      line.insert(line.end(), frame.begin(), frame.end());
+      int complete = 0;
+      for (const std::uint8_t b : line) {
+        put_each(by_byte, b, [&](const auto& e) {
+          complete += e.is_complete() ? 1 : 0;
+          return true;
+        });
+      }
+      CHECK(complete == 1);
+      CHECK(by_byte.echo_missed() == !echoed);
+      CHECK(by_byte.echoes_skipped() == (echoed ? 1U : 0U));
+    }
+  }
+  // an echo and no response: the echo, held to tell it from a response, is skipped at idle()
+  receiver quiet(opt);
+  quiet.sent(rq);
+  CHECK(quiet.feed(byte_view(rq, 1)).is_incomplete());
+  CHECK(quiet.idle().is_incomplete());
+  CHECK(quiet.echoes_skipped() == 1);
 
   // Garbage, then a corrupted frame, then a valid one right behind it.
   receiver rx3;

@@ -3,17 +3,22 @@
 // their start times). Every frame is printed as it is settled (cli::print) with its time and
 // direction; a summary record ends the output.
 //
-// Framing: a frame is taken as soon as its length rule and CRC agree (the function code and
-// counts for Modbus, the CF for T-format); bytes that form no frame are reported when the line
-// has been silent for the gap. A request is answered when its response arrives before the next
-// request or within the response time.
+// Framing and pairing: the library's listeners (modbus::rtu_listener, tformat::line_listener):
+// a frame is taken as soon as its length rule and CRC agree, after a request its response is
+// tried first, and after a bad frame the listener rescans one byte on, so that no valid frame
+// behind it is lost. The silence of the gap (the user's --gap-us) is a hint: it settles what
+// is held, it is not the delimiter. A request is answered when its response arrives before the
+// next request or within the response time. A byte with a UART error (a capture's parity or
+// framing error) makes its frame fail, with the byte's index and the frame's bytes.
 #ifndef MOTIONBUS_TOOLS_BUS_MONITOR_HPP
 #define MOTIONBUS_TOOLS_BUS_MONITOR_HPP
 
 #include <motionbus/modbus.hpp>
 #include <motionbus/tformat.hpp>
+#include <motionbus/tformat/listener.hpp>
 
 #include <cstdint>
+#include <deque>
 #include <map>
 #include <string>
 #include <vector>
@@ -66,84 +71,71 @@ struct tally {
   }
 };
 
+// The silence that settles what the listener holds: --gap-us, or `fallback` (microseconds,
+// 1 to 60 s); the monitor and the capture decoders share the option.
+inline std::uint32_t gap_of(const cli::options& opts, std::uint32_t fallback) {
+  const auto gap =
+      static_cast<std::uint32_t>(cli::option_number(opts, "gap-us", fallback, 60000000));
+  if (gap == 0) {
+    throw cli::usage_error{"--gap-us must be above 0"};
+  }
+  return gap;
+}
+
 inline cli::record at(std::uint32_t time_us, const char* direction) {
   cli::record p;
   p.add("time_us", static_cast<std::int64_t>(time_us)).add("dir", direction);
   return p;
 }
 
-// The read loop: bytes with their arrival time, silences, and the stop conditions. `on_bytes`
-// takes the bytes read; `on_tick` runs after every read (with the time since the last byte);
-
-// The bytes heard and not yet framed, each with its start time. On a port, a burst's arrival
-// moved back by the bytes' time on the wire (a driver hands bytes over after they arrived), but
-// never before the previous frame was complete (a pseudo-terminal hands them over at once); in
-// a capture, each byte's own start.
-class heard_bytes {
- public:
-  explicit heard_bytes(std::uint32_t byte_us) : byte_us_(byte_us) {}
-
-  void add(const std::uint8_t* data, std::size_t n, std::uint32_t time_us) {
-    for (std::size_t i = 0; i < n; ++i) {
-      std::uint32_t start = time_us - static_cast<std::uint32_t>(n - i) * byte_us_;
-      if (static_cast<std::int32_t>(start - floor_) < 0) {
-        start = floor_;
-      }
-      add_at(data[i], start, time_us);
-    }
-  }
-  void add_at(std::uint8_t byte, std::uint32_t start_us, std::uint32_t end_us) {
-    bytes_.push_back(byte);
-    starts_.push_back(start_us);
-    last_ = end_us;
-  }
-  /// The first `n` bytes, removed; `time` gets the first one's start.
-  std::vector<std::uint8_t> take(std::size_t n, std::uint32_t& time) {
-    time = starts_[0];
-    std::vector<std::uint8_t> out(bytes_.begin(), bytes_.begin() + static_cast<long>(n));
-    bytes_.erase(bytes_.begin(), bytes_.begin() + static_cast<long>(n));
-    starts_.erase(starts_.begin(), starts_.begin() + static_cast<long>(n));
-    floor_ = last_;
-    return out;
-  }
-  const std::vector<std::uint8_t>& held() const { return bytes_; }
-  bool empty() const { return bytes_.empty(); }
-  std::size_t size() const { return bytes_.size(); }
-  std::uint8_t operator[](std::size_t i) const { return bytes_[i]; }
-  std::uint32_t start() const { return starts_.empty() ? last_ : starts_[0]; }
-
- private:
-  std::uint32_t byte_us_;
-  std::vector<std::uint8_t> bytes_;
-  std::vector<std::uint32_t> starts_;
-  std::uint32_t last_ = 0;   // the last byte's arrival (or end)
-  std::uint32_t floor_ = 0;  // when the last frame taken was complete
+// A byte heard and not yet settled: its value, start time, and the UART error a capture's
+// decoder found in it (parity_error, framing_error; nullptr: none).
+struct heard_byte {
+  std::uint8_t value;
+  std::uint32_t start;
+  const char* uart_error;
 };
 
-// What both monitors share: the bytes heard, the silence that ends what no length rule frames,
-// the request waiting for its response, the tally. `Protocol` frames (frame(at_silence): takes
-// every frame the bytes held begin with; at a silence, whatever is left) and reports a request
-// left unanswered (missing(time)).
-template <class Protocol>
+// What both monitors share: the bytes heard (given one at a time to the library's listener,
+// rtu_listener or tformat::line_listener, which frames and pairs them: one framing
+// implementation for the firmware, the library's users and the tools), the user's silence
+// (the gap: a hint, idle() to the listener), the request waiting for its response, the tally.
+// The bytes the listener drops (a rejected frame, garbage) are reported as one run when the
+// next frame or the silence settles them. `Protocol` reports a frame (frame(result, bytes,
+// time)) and a request left unanswered (missing(time)).
+template <class Protocol, class Listener>
 class line_monitor {
  public:
-  line_monitor(std::uint32_t gap_us, std::uint32_t byte_us, std::uint32_t response_us)
-      : gap_us_(gap_us), response_us_(response_us), held_(byte_us) {}
+  line_monitor(Listener listener, std::uint32_t gap_us, std::uint32_t byte_us,
+               std::uint32_t response_us)
+      : listener_(listener), gap_us_(gap_us), byte_us_(byte_us), response_us_(response_us) {}
 
-  /// Bytes read from a port, with their arrival time.
+  /// Bytes read from a port, with their arrival time: each byte's start is moved back by the
+  /// bytes' time on the wire (a driver hands bytes over after they arrived), never before the
+  /// last byte's.
   void bytes(const std::uint8_t* data, std::size_t n, std::uint32_t time_us) {
-    held_.add(data, n, time_us);
-    self().frame(false);
+    for (std::size_t i = 0; i < n; ++i) {
+      std::uint32_t start = time_us - static_cast<std::uint32_t>(n - i) * byte_us_;
+      if (!first_ && static_cast<std::int32_t>(start - last_start_) < 0) {
+        start = last_start_;
+      }
+      byte_at(data[i], start, nullptr);
+    }
   }
-  /// A byte a UART decoder found in a recording, with its start and end.
-  void byte_at(std::uint8_t byte, std::uint32_t start_us, std::uint32_t end_us) {
-    held_.add_at(byte, start_us, end_us);
-    self().frame(false);
+  /// A byte a UART decoder found (its start), with the UART error it found, if any.
+  void byte_at(std::uint8_t byte, std::uint32_t start_us, const char* uart_error) {
+    first_ = false;
+    last_start_ = start_us;
+    heard_.push_back({byte, start_us, uart_error});
+    mb::put_each(listener_, byte, [&](const auto& r) {
+      settle(r);
+      return true;
+    });
   }
-  /// Time passes: `silent_us` since the last byte.
+  /// Time passes: `silent_us` since the last byte. A silence of the gap settles what is held.
   void tick(std::uint32_t time_us, std::uint32_t silent_us) {
-    if (!held_.empty() && silent_us >= gap_us_) {
-      self().frame(true);
+    if (!heard_.empty() && silent_us >= gap_us_) {
+      silence();
     }
     if (pending_ && time_us - pending_time_ >= response_us_) {
       self().missing(time_us);
@@ -151,9 +143,7 @@ class line_monitor {
   }
   /// The line is no longer watched: what is held is settled.
   void end(std::uint32_t time_us) {
-    if (!held_.empty()) {
-      self().frame(true);
-    }
+    silence();
     if (pending_) {
       self().missing(time_us);
     }
@@ -164,121 +154,184 @@ class line_monitor {
  protected:
   Protocol& self() { return static_cast<Protocol&>(*this); }
 
+  void silence() {
+    for (auto r = listener_.idle(); !r.is_incomplete(); r = listener_.idle()) {
+      settle(r);
+    }
+    flush(heard_.size() - listener_.pending());
+  }
+
+  // A result of the listener: the bytes it no longer holds are settled.
+  template <class Result>
+  void settle(const Result& r) {
+    const std::size_t settled = heard_.size() - listener_.pending();
+    if (!r.is_complete()) {
+      if (failure_.empty()) {
+        failure_ = mb::to_string(r.error());
+        expected_ = r.expected();
+        received_ = r.received();
+      }
+      return;
+    }
+    const std::size_t n = self().size_of(r.value());
+    flush(settled - n);
+    std::vector<std::uint8_t> frame;
+    const char* uart_error = nullptr;
+    std::size_t error_at = 0;
+    const std::uint32_t time = heard_.front().start;
+    for (std::size_t i = 0; i < n; ++i) {
+      frame.push_back(heard_.front().value);
+      if (uart_error == nullptr && heard_.front().uart_error != nullptr) {
+        uart_error = heard_.front().uart_error;
+        error_at = i;
+      }
+      heard_.pop_front();
+    }
+    ++t_.frames;
+    if (uart_error != nullptr) {  // a byte the UART flagged: the frame fails, with the evidence
+      ++t_.other_errors;
+      cli::record e;
+      e.add("byte_index", static_cast<std::int64_t>(error_at))
+          .bytes("bytes", frame.data(), frame.size());
+      cli::print(cli::outcome::failure(uart_error, e), at(time, "?"));
+      self().rejected(r.value(), frame, time);
+      return;
+    }
+    self().frame(r.value(), frame, time);
+  }
+
+  // The first `n` bytes heard, dropped by the listener: one failure (the first the listener
+  // reported for them, else garbage), with the bytes.
+  void flush(std::size_t n) {
+    if (n == 0U) {
+      failure_.clear();
+      return;
+    }
+    std::vector<std::uint8_t> bad;
+    const char* uart_error = nullptr;
+    const std::uint32_t time = heard_.front().start;
+    for (std::size_t i = 0; i < n; ++i) {
+      bad.push_back(heard_.front().value);
+      if (uart_error == nullptr) {
+        uart_error = heard_.front().uart_error;
+      }
+      heard_.pop_front();
+    }
+    ++t_.frames;
+    cli::record e;
+    if (failure_.empty()) {
+      t_.garbage_bytes += n;
+    } else {
+      ++(failure_ == "crc_mismatch" ? t_.crc_errors : t_.other_errors);
+      if (expected_ != received_) {
+        e.hex("expected", expected_, self().crc_digits)
+            .hex("received", received_, self().crc_digits);
+      }
+    }
+    if (uart_error != nullptr) {
+      e.add("uart_error", uart_error);
+    }
+    e.bytes("bytes", bad.data(), bad.size());
+    cli::print(cli::outcome::failure(failure_.empty() ? "garbage" : failure_, e),
+               at(time, self().rejected_run(!failure_.empty(), bad[0])));
+    failure_.clear();
+  }
+
+  Listener listener_;
   std::uint32_t gap_us_;
+  std::uint32_t byte_us_;
   std::uint32_t response_us_;
-  heard_bytes held_;
+  std::deque<heard_byte> heard_;
+  bool first_ = true;
+  std::uint32_t last_start_ = 0;
+  std::string failure_;  // the first failure among the bytes dropped since the last frame
+  std::uint32_t expected_ = 0;
+  std::uint32_t received_ = 0;
   std::vector<std::uint8_t> request_;
   bool pending_ = false;
   std::uint32_t pending_time_ = 0;
   tally t_;
 };
 
-class modbus_monitor : public line_monitor<modbus_monitor> {
+class modbus_monitor : public line_monitor<modbus_monitor, mo::rtu_listener> {
  public:
   modbus_monitor(mo::report_id_format fc11, std::uint32_t gap_us, std::uint32_t byte_us,
                  std::uint32_t response_us)
-      : line_monitor(gap_us, byte_us, response_us), fc11_(fc11) {}
+      : line_monitor(mo::rtu_listener(listener_options(fc11)), gap_us, byte_us, response_us),
+        fc11_(fc11) {}
 
  private:
-  friend class line_monitor<modbus_monitor>;
+  friend class line_monitor<modbus_monitor, mo::rtu_listener>;
+  static constexpr int crc_digits = 4;
 
-  // Takes every frame the bytes held begin with; at a silence, whatever is left is one frame
-  // (or garbage).
-  void frame(bool at_silence) {
-    while (!held_.empty()) {
-      const mb::byte_view in(held_.held().data(), held_.size());
-      const std::size_t n = complete_frame(in);
-      if (n > 0) {
-        take(n);
-        continue;
-      }
-      if (!at_silence) {
-        return;
-      }
-      take(held_.size());
-    }
+  static mo::framer_options listener_options(mo::report_id_format fc11) {
+    mo::framer_options o;
+    o.fc11 = fc11;
+    return o;
   }
 
-  // The size of a CRC-valid frame at the front of `in` (a response to the pending request
-  // first), 0 when none is complete yet.
-  std::size_t complete_frame(mb::byte_view in) const {
-    std::size_t sizes[2] = {0, 0};
-    if (pending_) {
-      sizes[0] = mo::predict_response_size(in, request_[1], fc11_);
+  static std::size_t size_of(const mo::rtu_frame& f) { return f.pdu.size() + 3U; }
+  // Bytes the listener dropped: a frame no rule and CRC confirmed, of either direction.
+  const char* rejected_run(bool failed, std::uint8_t slave) {
+    if (failed) {
+      ++t_.by_key[slave].errors;
     }
-    sizes[1] = mo::predict_request_size(in);
-    for (const std::size_t size : sizes) {
-      if (size >= 4U && size != mo::unknown_length && size <= in.size() &&
-          mo::decode_rtu(in.first(size)).is_complete()) {
-        return size;
-      }
-    }
-    return 0;
+    return "?";
   }
 
-  void take(std::size_t n) {
-    std::uint32_t time = 0;
-    const std::vector<std::uint8_t> bytes = held_.take(n, time);
-    report(bytes, time);
-  }
-
-  void report(const std::vector<std::uint8_t>& bytes, std::uint32_t time) {
-    ++t_.frames;
-    const auto f = mo::decode_rtu(mb::byte_view(bytes.data(), bytes.size()));
-    if (!f.is_complete()) {
-      if (bytes.size() < 4U) {  // not even a frame's address, function and CRC
-        t_.garbage_bytes += bytes.size();
-        cli::record e;
-        e.bytes("bytes", bytes.data(), bytes.size());
-        cli::print(cli::outcome::failure("garbage", e), at(time, "?"));
-        return;
-      }
-      if (f.error() == mb::errc::crc_mismatch) {
-        ++t_.crc_errors;
-      } else {
-        ++t_.other_errors;
-      }
-      cli::outcome o = cli::failure_of(f, 4);
-      o.evidence.add("slave", bytes[0]).bytes("bytes", bytes.data(), bytes.size());
-      ++t_.by_key[bytes[0]].errors;
-      cli::print(o, at(time, "?"));
-      return;
-    }
-    const mo::rtu_frame& frame = f.value();
-    if (pending_ && answers(frame)) {
-      const auto request = mo::decode_rtu(mb::byte_view(request_.data(), request_.size()));
-      cli::outcome o = modbus_io::describe_response(frame, &request.value(), fc11_);
-      ++t_.responses;
-      ++t_.by_key[frame.slave].responses;
-      if (!o.ok) {
-        ++t_.other_errors;
-        ++t_.by_key[frame.slave].errors;
-      } else if (frame.pdu[0] >= mo::exception_flag) {
-        ++t_.exceptions;
-        ++t_.by_key[frame.slave].errors;
-      }
-      cli::record p = at(time, "response");
-      p.add("latency_us", static_cast<std::int64_t>(time - pending_time_));
-      cli::print(o, p);
+  // A frame that failed for a UART error: the pairing follows the listener's reading of it.
+  void rejected(const mo::rtu_frame& f, const std::vector<std::uint8_t>& bytes,
+                std::uint32_t time) {
+    ++t_.by_key[f.slave].errors;
+    if (listener_.heard_response()) {
       pending_ = false;
-      return;
+    } else {
+      note_request(f, bytes, time);
     }
+  }
+
+  void note_request(const mo::rtu_frame& f, const std::vector<std::uint8_t>& bytes,
+                    std::uint32_t time) {
     if (pending_) {
       missing(time);  // a request follows a request
     }
-    ++t_.requests;
-    ++t_.by_key[frame.slave].requests;
-    const cli::outcome o = modbus_io::describe_request(frame);
-    cli::print(o, at(time, "request"));
-    if (frame.slave != mo::broadcast_address) {  // a broadcast is never answered
+    if (f.slave != mo::broadcast_address) {  // a broadcast is never answered
       request_ = bytes;
       pending_ = true;
       pending_time_ = time;
     }
   }
 
-  bool answers(const mo::rtu_frame& f) const {
-    return f.slave == request_[0] && (f.pdu[0] & 0x7FU) == request_[1];
+  void frame(const mo::rtu_frame& f, const std::vector<std::uint8_t>& bytes, std::uint32_t time) {
+    if (listener_.heard_response()) {
+      const auto request = mo::decode_rtu(mb::byte_view(request_.data(), request_.size()));
+      const bool paired = pending_ && request.is_complete();
+      cli::outcome o = modbus_io::describe_response(f, paired ? &request.value() : nullptr, fc11_);
+      ++t_.responses;
+      ++t_.by_key[f.slave].responses;
+      if (!o.ok) {
+        ++t_.other_errors;
+        ++t_.by_key[f.slave].errors;
+      } else if (f.pdu[0] >= mo::exception_flag) {
+        ++t_.exceptions;
+        ++t_.by_key[f.slave].errors;
+      }
+      cli::record p = at(time, "response");
+      if (paired) {
+        p.add("latency_us", static_cast<std::int64_t>(time - pending_time_));
+      }
+      cli::print(o, p);
+      pending_ = false;
+      return;
+    }
+    ++t_.requests;
+    ++t_.by_key[f.slave].requests;
+    const cli::outcome o = modbus_io::describe_request(f);
+    if (pending_) {
+      missing(time);
+    }
+    cli::print(o, at(time, "request"));
+    note_request(f, bytes, time);
   }
 
   void missing(std::uint32_t time) {
@@ -294,126 +347,85 @@ class modbus_monitor : public line_monitor<modbus_monitor> {
   mo::report_id_format fc11_;
 };
 
-class tformat_monitor : public line_monitor<tformat_monitor> {
+class tformat_monitor : public line_monitor<tformat_monitor, tf::line_listener> {
  public:
-  using line_monitor::line_monitor;
+  tformat_monitor(std::uint32_t gap_us, std::uint32_t byte_us, std::uint32_t response_us)
+      : line_monitor(tf::line_listener(), gap_us, byte_us, response_us) {}
 
  private:
-  friend class line_monitor<tformat_monitor>;
+  friend class line_monitor<tformat_monitor, tf::line_listener>;
+  static constexpr int crc_digits = 2;
 
-  void frame(bool at_silence) {
-    while (!held_.empty()) {
-      const std::uint8_t cf = held_[0];
-      const std::uint8_t code = tf::data_id_code(cf);
-      if (cf != tf::valid_control_fields[code]) {  // not a CF: garbage up to the next CF
-        std::size_t n = 1;
-        while (n < held_.size() &&
-               held_[n] != tf::valid_control_fields[tf::data_id_code(held_[n])]) {
-          ++n;
-        }
-        garbage(n);
-        continue;
-      }
-      if (pending_ && cf == request_[0]) {  // the response to the request seen
-        const std::size_t size = tf::response_layouts[code].size;
-        if (held_.size() < size) {
-          if (!at_silence) {
-            return;
-          }
-          failed(held_.size(), "response", cli::outcome::failure("truncated"));
-          pending_ = false;
-          continue;
-        }
-        response(size);
-        continue;
-      }
-      if (pending_) {
-        missing(held_.start());  // another request: the last one went unanswered
-      }
-      const mb::byte_view in(held_.held().data(), held_.size());
-      const auto q = tf::decode_request(in);
-      if (q.is_incomplete()) {
-        if (!at_silence) {
-          return;
-        }
-        failed(held_.size(), "request", cli::outcome::failure("truncated"));
-        continue;
-      }
-      if (q.is_failed()) {
-        failed(tf::request_size(static_cast<tf::data_id>(code)) < held_.size()
-                   ? tf::request_size(static_cast<tf::data_id>(code))
-                   : held_.size(),
-               "request", cli::failure_of(q, 2));
-        continue;
-      }
-      request(q.consumed(), q.value());
+  static std::size_t size_of(const tf::heard& h) { return h.bytes.size(); }
+  // Bytes the listener dropped: a rejected response (the listener rejects only responses; it
+  // answers the request before it), or garbage.
+  const char* rejected_run(bool failed, std::uint8_t /*cf*/) {
+    if (!failed) {
+      return "?";
+    }
+    if (pending_) {
+      ++t_.responses;
+      ++t_.by_key[tf::data_id_code(request_[0])].errors;
+      pending_ = false;
+    }
+    return "response";
+  }
+
+  void rejected(const tf::heard& h, const std::vector<std::uint8_t>& bytes, std::uint32_t time) {
+    const unsigned id = tf::data_id_code(bytes[0]);
+    ++t_.by_key[id].errors;
+    if (h.is_response) {
+      pending_ = false;
+    } else {
+      note_request(bytes, time);
     }
   }
 
-  std::vector<std::uint8_t> take(std::size_t n, std::uint32_t& time) {
-    ++t_.frames;
-    return held_.take(n, time);
-  }
-
-  void request(std::size_t n, const tf::request& q) {
-    std::uint32_t time = 0;
-    request_ = take(n, time);
-    ++t_.requests;
-    ++t_.by_key[static_cast<unsigned>(q.id)].requests;
-    cli::print(cli::outcome::success(tformat_io::request_record(q)), at(time, "request"));
+  void note_request(const std::vector<std::uint8_t>& bytes, std::uint32_t time) {
+    request_ = bytes;
     pending_ = true;
     pending_time_ = time;
   }
 
-  void response(std::size_t n) {
-    std::uint32_t time = 0;
-    const std::vector<std::uint8_t> bytes = take(n, time);
-    const auto r = tf::decode_response_for(mb::byte_view(request_.data(), request_.size()),
-                                           mb::byte_view(bytes.data(), bytes.size()));
-    const unsigned id = tf::data_id_code(request_[0]);
+  void frame(const tf::heard& h, const std::vector<std::uint8_t>& bytes, std::uint32_t time) {
+    if (!h.is_response) {
+      if (pending_) {
+        missing(time);  // another request: the last one went unanswered
+      }
+      const unsigned id = tf::data_id_code(h.req.cf);
+      ++t_.requests;
+      ++t_.by_key[id].requests;
+      if (h.request_error != mb::errc::ok) {
+        // an abnormal request (spec §8.4 Table 5, §9.4 Table 6): the encoder answers ID3 data
+        ++t_.other_errors;
+        ++t_.by_key[id].errors;
+        cli::record e;
+        e.hex("cf", h.req.cf).bytes("bytes", bytes.data(), bytes.size());
+        cli::print(cli::outcome::failure(mb::to_string(h.request_error), e), at(time, "request"));
+      } else {
+        cli::print(cli::outcome::success(tformat_io::request_record(h.req)), at(time, "request"));
+      }
+      note_request(bytes, time);
+      return;
+    }
+    const unsigned id = pending_ ? tf::data_id_code(request_[0]) : tf::data_id_code(bytes[0]);
     cli::record p = at(time, "response");
-    p.add("latency_us", static_cast<std::int64_t>(time - pending_time_));
+    if (pending_) {
+      p.add("latency_us", static_cast<std::int64_t>(time - pending_time_));
+    }
     pending_ = false;
     ++t_.responses;
     ++t_.by_key[id].responses;
-    if (!r.is_complete()) {
-      count_error(r.error(), id);
-      cli::outcome o = cli::failure_of(r, 2);
-      o.evidence.bytes("bytes", bytes.data(), bytes.size());
-      cli::print(o, p);
-      return;
+    cli::record fields = tformat_io::response_record(h.resp);
+    const bool alarm = h.resp.layout().sf() && (h.resp.sf & (tf::sf::ca0 | tf::sf::ca1)) != 0U;
+    if (h.id3_reply) {
+      fields.add_bool("id3_reply", true);  // the request was abnormal (spec §6.3.2)
     }
-    if ((r->almc != 0U || r->ea0() || r->ea1()) && r->layout().sf()) {
+    if (h.id3_reply || alarm ||
+        ((h.resp.almc != 0U || h.resp.ea0() || h.resp.ea1()) && h.resp.layout().sf())) {
       ++t_.by_key[id].errors;  // the encoder reports an error or alarm: flagged in the fields
     }
-    cli::print(cli::outcome::success(tformat_io::response_record(r.value())), p);
-  }
-
-  void failed(std::size_t n, const char* direction, cli::outcome o) {
-    const unsigned id = tf::data_id_code(held_[0]);
-    std::uint32_t time = 0;
-    const std::vector<std::uint8_t> bytes = take(n, time);
-    count_error(o.error == "crc_mismatch" ? mb::errc::crc_mismatch : mb::errc::truncated, id);
-    o.evidence.bytes("bytes", bytes.data(), bytes.size());
-    cli::print(o, at(time, direction));
-  }
-
-  void garbage(std::size_t n) {
-    std::uint32_t time = 0;
-    const std::vector<std::uint8_t> bytes = take(n, time);
-    t_.garbage_bytes += n;
-    cli::record e;
-    e.bytes("bytes", bytes.data(), bytes.size());
-    cli::print(cli::outcome::failure("garbage", e), at(time, "?"));
-  }
-
-  void count_error(mb::errc e, unsigned id) {
-    if (e == mb::errc::crc_mismatch) {
-      ++t_.crc_errors;
-    } else {
-      ++t_.other_errors;
-    }
-    ++t_.by_key[id].errors;
+    cli::print(cli::outcome::success(fields), p);
   }
 
   void missing(std::uint32_t time) {

@@ -1,13 +1,17 @@
 // Every frame in a logic-analyzer or simulation recording (sigrok .sr, VCD, CSV):
 //   decode modbus capture FILE --line CH [--baud N] [--parity E|O|N] [--stop-bits N] [--fc11 sm]
-//   decode tformat capture FILE --line CH [--baud 2500000]
+//                              [--gap-us N]
+//   decode tformat capture FILE --line CH [--baud 2500000] [--gap-us N]
 //   decode biss capture FILE --clock CH --data CH [layout options]
 // Channels by the names the file gives them. The UART protocols go through the bus monitors'
-// framing and pairing (bus_monitor.hpp): a T-format line holds both directions (half duplex),
-// and each frame is labelled request or response; a Modbus frame ends at a t3.5 silence seen
-// in the recording. BiSS-C: SL is sampled at each rising edge of MA (the level just before the
-// edge); a frame is a burst of MA clocks, the next one starting after MA stayed high for more
-// than four clock periods. Times are microseconds from the recording's start.
+// framing and pairing (bus_monitor.hpp, on the library's listeners): a T-format line holds
+// both directions (half duplex), and each frame is labelled request or response; length rule
+// and CRC find the frames, a silence of --gap-us (default t3.5 for Modbus, 10 byte times for
+// T-format) settles a frame cut short. A byte with a parity or framing error makes its frame
+// fail (parity_error, framing_error, with the byte's index). BiSS-C: SL is sampled at each rising
+// edge of MA (the level just before the edge); a frame is a burst of MA clocks, the next one
+// starting after MA stayed high for more than four clock periods. Times are microseconds from the
+// recording's start.
 #include <motionbus/biss.hpp>
 #include <motionbus/modbus.hpp>
 #include <motionbus/tformat.hpp>
@@ -43,8 +47,8 @@ const capture::channel& channel_of(const capture::recording& r, const cli::optio
 }
 
 // Feeds the bytes a UART decoder found to a bus monitor (a silence of `gap_us` between two
-// bytes ends what is held; parity and framing errors are printed where they occur), then
-// prints the summary under `summary_key`. 0 when every frame was sound, else 1.
+// bytes settles what is held; a byte's parity or framing error fails its frame), then prints
+// the summary under `summary_key`. 0 when every frame was sound, else 1.
 template <class Monitor>
 int decode_line(Monitor& m, const std::vector<capture::uart_byte>& bytes, std::uint32_t gap_us,
                 const char* summary_key) {
@@ -56,13 +60,9 @@ int decode_line(Monitor& m, const std::vector<capture::uart_byte>& bytes, std::u
     if (!first && silent > 0 && us(silent) >= gap_us) {
       m.tick(us(b.start), us(silent));
     }
-    if (b.parity_error || b.framing_error) {
-      cli::record e;
-      e.hex("byte", b.value);
-      cli::print(cli::outcome::failure(b.parity_error ? "parity_error" : "framing_error", e),
-                 bus_monitor::at(us(b.start), "?"));
-    }
-    m.byte_at(b.value, us(b.start), us(b.end));
+    const char* uart_error =
+        b.parity_error ? "parity_error" : (b.framing_error ? "framing_error" : nullptr);
+    m.byte_at(b.value, us(b.start), uart_error);
     last_end = b.end;
     first = false;
   }
@@ -80,9 +80,10 @@ int modbus_capture(const cli::options& opts) {
   const mo::parity p = modbus_io::parity_of(s);
   const std::uint32_t t35 = mo::t35_us(s.baud, p, s.stop_bits);
   // a response is expected before the next request: the recording's end settles the last one
-  bus_monitor::modbus_monitor m(fc11, t35, mo::character_time_us(s.baud, p, s.stop_bits),
+  const std::uint32_t gap = bus_monitor::gap_of(opts, t35);
+  bus_monitor::modbus_monitor m(fc11, gap, mo::character_time_us(s.baud, p, s.stop_bits),
                                 ~std::uint32_t{0});
-  return decode_line(m, capture::decode_uart(line, s.baud, s.parity, s.stop_bits), t35, "slave");
+  return decode_line(m, capture::decode_uart(line, s.baud, s.parity, s.stop_bits), gap, "slave");
 }
 
 int tformat_capture(const cli::options& opts) {
@@ -93,7 +94,8 @@ int tformat_capture(const cli::options& opts) {
     throw cli::usage_error{"--baud must be above 0"};
   }
   const auto byte_us = static_cast<std::uint32_t>(std::ceil(10e6 / baud));
-  const std::uint32_t gap = 10 * byte_us;  // well past the encoder's turnaround
+  const std::uint32_t gap =
+      bus_monitor::gap_of(opts, 10 * byte_us);  // well past the encoder's turnaround
   bus_monitor::tformat_monitor m(gap, byte_us, ~std::uint32_t{0});
   return decode_line(m, capture::decode_uart(line, baud, 'N', 1), gap, "data_id");
 }
@@ -156,23 +158,27 @@ protocol_entries capture_entries() {
   const std::vector<option_use> biss = {"clock",           "data",     {"data-bits", "32"},
                                         {"crc-bits", "6"}, "crc-poly", {"crc-start", "0"}};
   protocol_entries e;
-  e.commands.push_back(
-      {"decode",
-       "modbus",
-       "capture",
-       "every Modbus RTU frame on a UART line in a recording (.sr, .vcd, .csv), "
-       "requests paired with responses",
-       &modbus_capture,
-       {"line", {"baud", "9600"}, {"parity", "E"}, {"stop-bits", "1"}, {"fc11", "standard"}},
-       {},
-       {"file"}});
+  e.commands.push_back({"decode",
+                        "modbus",
+                        "capture",
+                        "every Modbus RTU frame on a UART line in a recording (.sr, .vcd, .csv), "
+                        "requests paired with responses",
+                        &modbus_capture,
+                        {"line",
+                         {"baud", "9600"},
+                         {"parity", "E"},
+                         {"stop-bits", "1"},
+                         {"fc11", "standard"},
+                         "gap-us"},
+                        {},
+                        {"file"}});
   e.commands.push_back({"decode",
                         "tformat",
                         "capture",
                         "every T-format request and response on a line in a recording (.sr, "
                         ".vcd, .csv): both directions, labelled",
                         &tformat_capture,
-                        {"line", {"baud", "2500000"}},
+                        {"line", {"baud", "2500000"}, "gap-us"},
                         {},
                         {"file"}});
   e.commands.push_back({"decode",

@@ -106,6 +106,12 @@ const std::map<std::string, option_info>& catalogue() {
       {"duration", {"S", "stop after S seconds (0: no limit; Ctrl-C stops too)", {}}},
       {"response-ms",
        {"MS", "a request not answered within this many milliseconds is flagged", {}}},
+      {"gap-us",
+       {"US",
+        "the line's silence, in microseconds, that settles a frame cut short (a hint: length "
+        "and CRC frame; default monitor: t3.5 or 20000 for Modbus, 20000 for T-format; "
+        "capture: t3.5, or 10 byte times for T-format)",
+        {}}},
   };
   return c;
 }

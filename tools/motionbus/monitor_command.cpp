@@ -1,16 +1,19 @@
 // Passive bus monitors (a port that listens to a tapped line and never sends):
 //   monitor modbus --device PATH [--baud N] [--parity E|O|N] [--stop-bits N] [--fc11 sm]
 //   monitor tformat --device PATH [--baud N]
-//   both: [--count N] [--duration S] [--json]
+//   both: [--gap-us N] [--count N] [--duration S] [--response-ms N] [--json]
 // Every frame seen, with the microseconds since the monitor started (at its first byte's
 // arrival), its direction (request or response, from the pairing), its fields and CRC state;
 // a response is paired with its request; a missing response, an exception, a CRC error and
 // garbage are flagged. A summary (frames, errors, per slave or Data ID) ends the output.
 //
-// Framing and pairing: bus_monitor.hpp. On a port the silence that ends what no length rule
-// frames is t3.5 or 20 ms, whichever is longer: a USB adapter hands bytes over in bursts, so a
-// host cannot see a character-time gap. A request is flagged as unanswered when no response
-// arrives before the next request or within --response-ms.
+// Framing and pairing: the library's listeners (bus_monitor.hpp): length rule and CRC find
+// the frames, frames closer than any silence are framed apart. --gap-us is the silence after
+// which what is held is settled (a frame cut short reported truncated): by default t3.5 or
+// 20 ms, whichever is longer, for Modbus, and 20 ms for T-format (a USB adapter hands bytes
+// over in bursts: a host sees no character-time gap, and a shorter gap could cut a frame that
+// arrives in two bursts). A request is flagged as unanswered when no response arrives before
+// the next request or within --response-ms.
 #include <motionbus/modbus.hpp>
 #include <motionbus/tformat.hpp>
 
@@ -92,7 +95,7 @@ int monitor_modbus(const cli::options& opts) {
   }
   const mo::parity p = modbus_io::parity_of(s);
   const std::uint32_t t35 = mo::t35_us(s.baud, p, s.stop_bits);
-  modbus_monitor m(fc11, t35 > min_gap_us ? t35 : min_gap_us,
+  modbus_monitor m(fc11, bus_monitor::gap_of(opts, t35 > min_gap_us ? t35 : min_gap_us),
                    mo::character_time_us(s.baud, p, s.stop_bits), l.response_us);
   return watch(port, l, m, "slave");
 }
@@ -112,7 +115,7 @@ int monitor_tformat(const cli::options& opts) {
   if (!serial::open_reporting(port, *device, s)) {
     return 1;
   }
-  tformat_monitor m(min_gap_us, 10U * 1000000U / s.baud, l.response_us);
+  tformat_monitor m(bus_monitor::gap_of(opts, min_gap_us), 10U * 1000000U / s.baud, l.response_us);
   return watch(port, l, m, "data_id");
 }
 
@@ -122,7 +125,7 @@ namespace cli {
 
 protocol_entries monitor_entries() {
   const std::vector<option_use> common = {
-      {"count", "0"}, {"duration", "0"}, {"response-ms", "1000"}};
+      "gap-us", {"count", "0"}, {"duration", "0"}, {"response-ms", "1000"}};
   std::vector<option_use> modbus = {
       "device", {"baud", "9600"}, {"parity", "E"}, {"stop-bits", "1"}, {"fc11", "standard"}};
   modbus.insert(modbus.end(), common.begin(), common.end());

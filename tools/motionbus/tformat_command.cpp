@@ -324,7 +324,11 @@ int read_encoder(const cli::options& opts) {
     int status = -1;  // a response, or a failure: the first result settles the command
     mb::feed_all(rx, mb::byte_view(buffer, static_cast<std::size_t>(got)), [&](const auto& r) {
       if (r.is_complete()) {
-        cli::print(cli::outcome::success(tformat_io::response_record(r.value())));
+        cli::record fields = tformat_io::response_record(r.value());
+        if (rx.echo_missed()) {  // --echo, and the line does not echo: the response came alone
+          fields.add_bool("echo_missed", true);
+        }
+        cli::print(cli::outcome::success(fields));
         status = 0;
       } else {
         cli::print(cli::failure_of(r, 2));

@@ -8,12 +8,13 @@
 // answers such requests with the exception the specification requires. Where no silence can be
 // observed (frame_end::length), the length rule alone frames and everything else is garbage.
 // A server keeps frames for its address and broadcasts; a client frames the response to its
-// outstanding request. After garbage or a bad CRC the framer drops one byte at a time and
-// rescans (at most 256 bytes are ever held, in a frame_buffer: a dropped byte moves an index,
-// nothing is shifted; a frame is handed over as a view into it, not copied). The same shape as
-// the T-format receiver: built from an options struct, given bytes by put() (one byte, from a
-// UART interrupt) and feed() (a chunk), told of the line's silence by idle(). `Table` selects
-// the CRC table. No heap, no I/O.
+// outstanding request; a listener (rtu_listener: a bus monitor, a capture decoder) frames both
+// directions of a tapped line (framer_roles::listener). After garbage or a bad CRC the framer drops
+// one byte at a time and rescans (at most 256 bytes are ever held, in a frame_buffer: a dropped
+// byte moves an index, nothing is shifted; a frame is handed over as a view into it, not copied).
+// The same shape as the T-format receiver: built from an options struct, given bytes by put() (one
+// byte, from a UART interrupt) and feed() (a chunk), told of the line's silence by idle(). `Table`
+// selects the CRC table. No heap, no I/O.
 //
 //   rtu_server_framer rx({framer_role::server, 0x11});
 //   on_rx_interrupt(b):                 // one byte: true when something is settled
@@ -187,7 +188,24 @@ struct framer_options {
 /// The roles a framer type can take: either (framer_options::role chooses at run time), or one
 /// fixed by the type, so that a server links only the request length rule (no client code)
 /// and a client only the response's.
-enum class framer_roles : std::uint8_t { either = 0, server_only = 1, client_only = 2 };
+///
+/// listener: a passive node on a tapped line (a bus monitor, a capture decoder) that frames the
+/// requests and the responses of every node. After a request, a frame is tried as that
+/// request's response first (the response rule of its function, from its slave; an exception
+/// from any slave), else as a request (the request rule); the first length at which a rule and
+/// the CRC agree ends the frame (a shorter request read in a response's bytes needs a CRC
+/// match by chance, 1 in 65536). A frame no rule and CRC confirm fails (crc_mismatch,
+/// modbus_pdu_length) and the listener drops one byte and rescans, so that no valid frame
+/// behind a bad one is lost; bytes no rule sizes (an unknown function, garbage) are dropped
+/// one at a time (dropped()) whatever options.ends says: on a tapped line the silence is a
+/// hint (idle()), never the only delimiter. heard_response() tells which rule framed the last
+/// frame. options.address and options.role are not used.
+enum class framer_roles : std::uint8_t {
+  either = 0,
+  server_only = 1,
+  client_only = 2,
+  listener = 3
+};
 
 template <crc_table_size Table = default_crc_table, framer_roles Roles = framer_roles::either>
 class basic_rtu_framer {
@@ -250,9 +268,20 @@ class basic_rtu_framer {
   /// framer is empty afterwards. Incomplete: nothing was held, or only a frame for another
   /// address (counted in skipped()). The same signal, and the same return type, as the
   /// T-format receiver's idle().
+  /// The listener's idle() settles one result at a time, like feed(): the first frame or
+  /// failure in the bytes held, a frame's bytes cut short by the silence being truncated (one
+  /// byte dropped); call it again until it reports incomplete (the framer is then empty), so
+  /// that a frame behind a failure is still reported.
   constexpr decode_result<rtu_frame> idle() noexcept {
     if (buf_.empty()) {
       return need_input{1};
+    }
+    if constexpr (Roles == framer_roles::listener) {
+      const decode_result<rtu_frame> r = listen(0, true);
+      if (buf_.empty()) {
+        buf_.want(0);
+      }
+      return r;
     }
     decode_result<rtu_frame> r = need_input{1};
     bool settled = false;
@@ -299,6 +328,10 @@ class basic_rtu_framer {
   constexpr std::size_t dropped() const noexcept { return dropped_; }
   constexpr std::size_t skipped() const noexcept { return skipped_; }
   constexpr std::size_t pending() const noexcept { return buf_.size(); }
+  /// listener: whether the last frame handed over was framed as the response to the request
+  /// before it (else it was a request). A request other than a broadcast makes the listener
+  /// expect its response; a response, or a broadcast, makes it expect a request.
+  constexpr bool heard_response() const noexcept { return heard_response_; }
 
  private:
   // put() of the last byte of a frame whose size the length rule gave: a frame for this node
@@ -312,7 +345,7 @@ class basic_rtu_framer {
   // function code (the length rule gives the frame's size), or anything scan() must sort out.
   MOTIONBUS_NOINLINE constexpr bool put_other(std::uint8_t byte) noexcept {
     const std::size_t size = buf_.size();
-    if (!waiting_ && size < 2U) {
+    if (!listening() && !waiting_ && size < 2U) {
       buf_.push(byte);  // fewer than 2 held: it fits
       if (size == 0U) {
         buf_.want(2);
@@ -342,9 +375,14 @@ class basic_rtu_framer {
     return settle();
   }
   // put()'s decision on the bytes held (the byte taken): scan() decides.
+  // result_ keeps the last settled result when nothing is settled (the contract of result()).
   MOTIONBUS_NOINLINE constexpr bool settle() noexcept {
-    emplace_result(result_, [&] { return decide(byte_view(), 1); });
-    return !result_.is_incomplete();
+    const decode_result<rtu_frame> r = decide(byte_view(), 1);
+    if (r.is_incomplete()) {
+      return false;
+    }
+    emplace_result(result_, [&] { return r; });
+    return true;
   }
 
   // The last byte of a frame whose size the length rule gave (wanted(), all held) was taken:
@@ -392,10 +430,12 @@ class basic_rtu_framer {
     waiting_ = false;
   }
 
+  static constexpr bool listening() noexcept { return Roles == framer_roles::listener; }
+
   constexpr bool server() const noexcept {
     if constexpr (Roles == framer_roles::server_only) {
       return true;
-    } else if constexpr (Roles == framer_roles::client_only) {
+    } else if constexpr (Roles == framer_roles::client_only || Roles == framer_roles::listener) {
       return false;
     } else {
       return options_.role == framer_role::server;
@@ -409,6 +449,9 @@ class basic_rtu_framer {
   }
 
   MOTIONBUS_INLINE constexpr bool for_us(std::uint8_t slave) const noexcept {
+    if (listening()) {
+      return true;
+    }
     if (server()) {
       return slave == options_.address || slave == broadcast_address;
     }
@@ -478,6 +521,9 @@ class basic_rtu_framer {
   MOTIONBUS_NOINLINE constexpr decode_result<rtu_frame> scan(std::size_t used,
                                                              bool at_end) noexcept {
     phase_ = phase::scanning;
+    if constexpr (Roles == framer_roles::listener) {
+      return listen(used, at_end);
+    }
     if (waiting_) {
       if (!at_end && buf_.size() < max_rtu_size) {
         buf_.want(buf_.size() + 1U);
@@ -546,6 +592,76 @@ class basic_rtu_framer {
     }
   }
 
+  // The listener's decision on the bytes held (framer_roles::listener). The response rule
+  // (after a request, from its slave; an exception from any slave) is tried before the request
+  // rule; the first rule whose length is held and whose CRC matches frames. Incomplete: the
+  // bytes the nearest rule still needs are wanted. Neither: the first failure met, one byte
+  // dropped. At a silence (at_end) a rule still waiting is cut short: truncated.
+  constexpr decode_result<rtu_frame> listen(std::size_t used, bool at_end) noexcept {
+    for (;;) {
+      const std::size_t size = buf_.size();
+      if (size < 2U) {
+        if (at_end && size != 0U) {  // one byte starts no frame: garbage
+          drop_front(size);
+          dropped_ += size;
+        }
+        buf_.want(2);
+        return need_input{2U - size};
+      }
+      const byte_view held = buf_.view();
+      const bool response_possible =
+          (function_ != 0U && held[0] == options_.address) || (held[1] & exception_flag) != 0U;
+      std::size_t need = 0;  // the smallest frame size still to be held
+      decode_failure failure{errc::ok, used};
+      for (unsigned rule = response_possible ? 0U : 1U; rule < 2U; ++rule) {
+        const std::size_t total = rule == 0U ? predict_response_size(held, function_, options_.fc11)
+                                             : predict_request_size(held);
+        if (total == unknown_length) {
+          continue;
+        }
+        if (total == 0U || total > size) {
+          const std::size_t at_least = total == 0U ? size + 1U : total;
+          if (total > max_rtu_size) {
+            if (failure.code == errc::ok) {
+              failure = decode_failure{errc::modbus_pdu_length, used};
+            }
+          } else if (need == 0U || at_least < need) {
+            need = at_least;
+          }
+          continue;
+        }
+        const decode_result<rtu_frame> f = decode_rtu<Table>(held.first(total));
+        if (f.is_failed()) {
+          if (failure.code == errc::ok) {
+            failure = decode_failure{f.error(), used, f.expected(), f.received()};
+          }
+          continue;
+        }
+        heard_response_ = rule == 0U;
+        if (heard_response_ || f.value().slave == broadcast_address) {
+          function_ = 0;  // a request comes next
+        } else {
+          options_.address = f.value().slave;
+          function_ = f.value().pdu[0];
+        }
+        return hand_over(f.value(), total, used);
+      }
+      if (need != 0U && !at_end) {
+        buf_.want(need);
+        return need_input{need - size};
+      }
+      drop_front(1);  // resynchronise: a frame may start at the next byte
+      ++dropped_;
+      buf_.want(2);  // rescan what is held at the next decision
+      if (failure.code != errc::ok) {
+        return failure;
+      }
+      if (need != 0U) {
+        return decode_failure{errc::truncated, used};
+      }
+    }
+  }
+
   frame_buffer<max_rtu_size> buf_;  // first: put() stores at the object's address
   framer_options options_;
   std::uint8_t function_ = 0;
@@ -559,6 +675,7 @@ class basic_rtu_framer {
     framing = 2,        // the last byte of a frame whose size the length rule gave (wanted())
   };
   phase phase_ = phase::scanning;
+  bool heard_response_ = false;  // listener: see heard_response() (in the padding before dropped_)
   std::size_t dropped_ = 0;
   std::size_t skipped_ = 0;
   decode_result<rtu_frame> result_;  // put()'s
@@ -569,6 +686,8 @@ using rtu_framer = basic_rtu_framer<>;
 /// A server's framer (links no client code) and a client's, default CRC table.
 using rtu_server_framer = basic_rtu_framer<default_crc_table, framer_roles::server_only>;
 using rtu_client_framer = basic_rtu_framer<default_crc_table, framer_roles::client_only>;
+/// A bus monitor's framer: both directions of a tapped line (framer_roles::listener).
+using rtu_listener = basic_rtu_framer<default_crc_table, framer_roles::listener>;
 
 }  // namespace modbus
 }  // namespace motionbus

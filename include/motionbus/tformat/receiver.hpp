@@ -2,7 +2,8 @@
 //
 // Give it bytes as they arrive: one at a time with put() (a receive interrupt), or in chunks
 // with feed(). It knows each response's length from its CF, skips the echo of the master's own
-// request on half-duplex adapters whose receiver is always on, drops garbage until a valid CF,
+// request on half-duplex adapters whose receiver is always on (and tells a response that comes
+// without the echo expected: echo_missed()), drops garbage until a valid CF,
 // and after a corrupted frame rescans from the next byte so that no valid frame behind it is
 // lost. Holds at most one frame (11 bytes, in a frame_buffer: garbage is dropped by moving an
 // index); no heap, no I/O. The same shape as the Modbus RTU framer: built from an options
@@ -107,6 +108,7 @@ class receiver {
       request_[i] = request_frame[i];
     }
     echo_pending_ = echo_ && request_size_ > 0U;
+    echo_missed_ = false;
     check_ = !skip_check_ && detail::valid_request(request_frame);
     framing_ = false;
     buf_.clear();
@@ -143,8 +145,19 @@ class receiver {
   /// The line went idle (end of frame): what is held is dropped. Failed (truncated, with the
   /// bytes dropped as consumed()) when part of a frame was held; else incomplete (nothing to
   /// report). The same signal, and the same return type, as the Modbus framer's idle().
+  /// An echo held whole (waiting to tell it from a response without echo) is skipped here.
   constexpr decode_result<response> idle() noexcept {
-    const std::size_t held = buf_.size();
+    std::size_t held = buf_.size();
+    if (echo_pending_ && held == request_size_) {
+      std::size_t match = 0;
+      while (match < held && buf_[match] == request_[match]) {
+        ++match;
+      }
+      if (match == held) {
+        echoes_ += held;
+        held = 0;
+      }
+    }
     dropped_ += held;
     buf_.want(0);
     buf_.clear();
@@ -160,6 +173,10 @@ class receiver {
   constexpr std::size_t dropped() const noexcept { return dropped_; }
   /// Echo bytes skipped since construction.
   constexpr std::size_t echoes_skipped() const noexcept { return echoes_; }
+  /// echo::expected, and the response to the last request came without the echo: it was
+  /// delivered (the line does not echo: configure echo::none). See answers_request() for how
+  /// it is told; an ID6 response cannot be told from the echo and is taken as the echo.
+  constexpr bool echo_missed() const noexcept { return echo_missed_; }
   /// Bytes held for an unfinished frame.
   constexpr std::size_t pending() const noexcept { return buf_.size(); }
 
@@ -191,10 +208,15 @@ class receiver {
   // put() of a byte that decide() must sort out with the bytes held. Fewer than 11 bytes are
   // held after every decision (a frame is decided when complete, a rejected one drops its first
   // byte), so the byte fits, and is taken first.
+  // result_ keeps the last settled result when nothing is settled (the contract of result()).
   MOTIONBUS_NOINLINE constexpr bool put_held(std::uint8_t byte) noexcept {
     buf_.push(byte);
-    emplace_result(result_, [&] { return decide(byte_view(), 1); });
-    return !result_.is_incomplete();
+    const decode_result<response> r = decide(byte_view(), 1);
+    if (r.is_incomplete()) {
+      return false;
+    }
+    emplace_result(result_, [&] { return r; });
+    return true;
   }
 
   // feed() of anything else: takes bytes from `in` and decides as often as needed.
@@ -231,21 +253,11 @@ class receiver {
         return need_input{1};
       }
       if (echo_pending_) {
-        std::size_t match = 0;
-        while (match < held && match < request_size_ && buf_[match] == request_[match]) {
-          ++match;
+        const std::size_t more = settle_echo(held);
+        if (more != 0U) {
+          return need_input{more};
         }
-        if (match == request_size_) {  // the whole echo: skip it
-          buf_.drop(match);
-          echoes_ += match;
-          echo_pending_ = false;
-          continue;
-        }
-        if (match == held) {
-          buf_.want(request_size_);
-          return need_input{request_size_ - match};
-        }
-        echo_pending_ = false;  // not an echo after all: parse as a response
+        continue;  // the echo skipped, or none: parse the bytes held as a response
       }
       const std::uint8_t code = data_id_code(buf_[0]);
       if (buf_[0] != valid_control_fields[code]) {
@@ -291,6 +303,59 @@ class receiver {
     }
   }
 
+  // The echo awaited (echo_pending_) and `held` bytes: skips the whole echo; or tells that the
+  // bytes held are no echo (the response: echo_pending_ cleared, nothing dropped). Returns the
+  // bytes still needed to tell (0: told). Out of line: the
+  // rare path (only after sent() with echo::expected).
+  MOTIONBUS_NOINLINE constexpr std::size_t settle_echo(std::size_t held) noexcept {
+    std::size_t match = 0;
+    while (match < held && match < request_size_ && buf_[match] == request_[match]) {
+      ++match;
+    }
+    if (match == request_size_) {  // the whole echo, or the response without one
+      const std::size_t n = response_layouts[data_id_code(request_[0])].size;
+      if (n > match) {
+        if (held < n) {
+          buf_.want(n);
+          return n - held;
+        }
+        if (answers_request(n)) {  // no echo after all: the response
+          echo_pending_ = false;
+          echo_missed_ = true;
+          return 0;
+        }
+      }
+      echo_missed_ = false;
+      buf_.drop(match);
+      echoes_ += match;
+      echo_pending_ = false;
+      return 0;
+    }
+    if (match == held) {
+      buf_.want(request_size_);
+      return request_size_ - match;
+    }
+    echo_pending_ = false;  // not an echo after all: parse as a response
+    return 0;
+  }
+
+  // An adapter that does not echo (echo::expected by mistake) hands over the response at once,
+  // whose CF is the request's. Where the response is longer than the request, the first `n`
+  // bytes held (the response's size) tell: without an echo they are a frame whose CRC matches
+  // and whose second byte is an SF (bits 0..3 clear; T-format spec §6.3.2) or, for IDD, the
+  // request's ADF; with the echo, the echoed CF stands where the SF is (a CF's bit 1 is the
+  // sync code's 1), or for IDD the request's CRC stands where EDF is and the next CF where the
+  // CRC is (their CRC is 0, the CF is not). The response is then decoded and checked as any.
+  // ID6's response repeats the request: an ID6 echo and an ID6 response cannot be told apart,
+  // the echo is assumed.
+  constexpr bool answers_request(std::size_t n) const noexcept {
+    const std::uint8_t second = buf_[1];
+    const bool eeprom = response_layouts[data_id_code(request_[0])].eeprom();
+    const bool fits = eeprom ? ((second ^ request_[1]) & adf_address_mask) == 0U
+                             : (second & sf::reserved_mask) == 0U;
+    return fits && crc_of(buf_.first(n - 1U)) == buf_[n - 1U];
+  }
+
   constexpr decode_options decode_opts() const noexcept {
     decode_options d;
     d.res.single_turn_bits =
@@ -313,8 +378,9 @@ class receiver {
   std::uint8_t request_[max_request_size] = {};
   std::uint8_t request_size_ = 0;
   bool echo_pending_ = false;
-  bool framing_ = false;  // buf_ starts with a checked CF and wanted() is its frame's size
-  bool check_ = false;    // check responses against request_ (a valid request, and the option)
+  bool framing_ = false;      // buf_ starts with a checked CF and wanted() is its frame's size
+  bool check_ = false;        // check responses against request_ (a valid request, and the option)
+  bool echo_missed_ = false;  // see echo_missed() (in the padding before dropped_)
   std::size_t dropped_ = 0;
   std::size_t echoes_ = 0;
   decode_result<response> result_;  // put()'s

@@ -1,0 +1,252 @@
+// T-format line listener (both directions of a tapped line): requests and responses framed
+// and paired; the abnormal requests of spec Tables 5 and 6 paired with their ID3 replies.
+// Frames built here by hand from the spec's field structure (CRC = XOR of the fields).
+#include "motionbus/tformat/listener.hpp"
+
+#include <doctest/doctest.h>
+
+#include <cstdint>
+#include <vector>
+
+#include "../support/prng.hpp"
+
+using namespace motionbus;
+using namespace motionbus::tformat;
+
+namespace {
+
+using bytes = std::vector<std::uint8_t>;
+
+bytes with_crc(bytes v) {
+  std::uint8_t x = 0;
+  for (std::uint8_t b : v) {
+    x = static_cast<std::uint8_t>(x ^ b);
+  }
+  v.push_back(x);
+  return v;
+}
+
+struct event {
+  bool ok = false;
+  errc error = errc::ok;
+  bool response = false;
+  bytes frame;
+  errc request_error = errc::ok;
+  bool id3_reply = false;
+  std::uint8_t sf = 0;
+};
+bool operator==(const event& a, const event& b) {
+  return a.ok == b.ok && a.error == b.error && a.response == b.response && a.frame == b.frame &&
+         a.request_error == b.request_error && a.id3_reply == b.id3_reply && a.sf == b.sf;
+}
+
+event note(const decode_result<heard>& r) {
+  event e;
+  if (!r) {
+    e.error = r.error();
+    return e;
+  }
+  e.ok = true;
+  e.response = r->is_response;
+  e.frame.assign(r->bytes.begin(), r->bytes.end());
+  e.request_error = r->request_error;
+  e.id3_reply = r->id3_reply;
+  e.sf = r->resp.sf;
+  return e;
+}
+
+std::vector<event> chunks(line_listener& l, const bytes& line, std::size_t chunk) {
+  std::vector<event> out;
+  const auto each = [&](const auto& r) {
+    out.push_back(note(r));
+    return true;
+  };
+  for (std::size_t at = 0; at < line.size(); at += chunk) {
+    feed_all(l, byte_view(line.data() + at, std::min(chunk, line.size() - at)), each);
+  }
+  for (auto r = l.idle(); !r.is_incomplete(); r = l.idle()) {
+    each(r);
+  }
+  return out;
+}
+
+std::vector<event> one_by_one(line_listener& l, const bytes& line) {
+  std::vector<event> out;
+  const auto each = [&](const auto& r) {
+    out.push_back(note(r));
+    return true;
+  };
+  for (const std::uint8_t b : line) {
+    put_each(l, b, each);
+  }
+  for (auto r = l.idle(); !r.is_incomplete(); r = l.idle()) {
+    each(r);
+  }
+  return out;
+}
+
+bytes cat(std::initializer_list<bytes> parts) {
+  bytes out;
+  for (const bytes& p : parts) {
+    out.insert(out.end(), p.begin(), p.end());
+  }
+  return out;
+}
+
+// The ID3 data an encoder answers an abnormal request with, `sf` its status field.
+bytes id3_reply(std::uint8_t sf) {
+  return with_crc({0x1A, sf, 0x00, 0x00, 0x00, 0x11, 0x00, 0x00, 0x00, 0x00});
+}
+
+}  // namespace
+
+TEST_CASE("listener: a read of a closed EEPROM address, answered with ID3 data, is paired") {
+  // issue 23: EA 06 EC (IDD, page 7 address 6), and the emulator's reply
+  const bytes line = {0xEA, 0x06, 0xEC, 0x1A, 0x00, 0x00, 0x00,
+                      0x00, 0x11, 0x00, 0x00, 0x00, 0x00, 0x0B};
+  for (std::size_t chunk = 1; chunk <= line.size(); ++chunk) {
+    line_listener l;
+    const auto out = chunks(l, line, chunk);
+    CAPTURE(chunk);
+    REQUIRE(out.size() == 2U);  // no missing response, no phantom request, no garbage
+    CHECK(out[0].ok);
+    CHECK(!out[0].response);
+    CHECK(out[0].frame == bytes{0xEA, 0x06, 0xEC});
+    CHECK(out[0].request_error == errc::ok);
+    CHECK(out[1].ok);
+    CHECK(out[1].response);
+    CHECK(out[1].id3_reply);
+    CHECK(out[1].frame.size() == 11U);
+    CHECK(l.dropped() == 0U);
+    line_listener b;
+    CHECK(one_by_one(b, line) == out);
+  }
+}
+
+TEST_CASE("listener: the abnormal requests of Tables 5 and 6, paired with their ID3 replies") {
+  struct exchange {
+    bytes request;
+    errc error;       // request_error
+    std::uint8_t sf;  // the ID3 reply's status field (ca0: parity, ca1: delimiter)
+  };
+  const std::vector<exchange> table = {
+      {{0x82}, errc::tformat_parity, sf::ca0},               // ID0 CF, parity bit wrong
+      {{0xA2}, errc::tformat_unknown_data_id, 0x00},         // ID4
+      {{0x02}, errc::ok, sf::ca1},                           // delimiter error (UART's)
+      {{0xEA, 0x06, 0xEC}, errc::ok, 0x00},                  // closed address (Table 6)
+      {{0xEA, 0x06, 0x00}, errc::crc_mismatch, 0x00},        // IDD, bad CRC
+      {{0x32, 0x04, 0x99, 0x00}, errc::crc_mismatch, 0x00},  // ID6, bad CRC
+      {with_crc({0xEA, 0x86}), errc::reserved_bits, 0x00},   // busy bit in a request
+  };
+  bytes line;
+  for (const exchange& x : table) {
+    line = cat({line, x.request, id3_reply(x.sf)});
+  }
+  line_listener l;
+  const auto out = chunks(l, line, 5);
+  REQUIRE(out.size() == 2U * table.size());
+  for (std::size_t i = 0; i < table.size(); ++i) {
+    CAPTURE(i);
+    const event& q = out[2U * i];
+    const event& a = out[2U * i + 1U];
+    CHECK(q.ok);
+    CHECK(!q.response);
+    CHECK(q.frame == table[i].request);
+    CHECK(q.request_error == table[i].error);
+    CHECK(a.ok);
+    CHECK(a.response);
+    CHECK(a.id3_reply);
+    CHECK(a.sf == table[i].sf);  // the alarm bits, for the monitor to flag
+  }
+  line_listener b;
+  CHECK(one_by_one(b, line) == out);
+}
+
+TEST_CASE("listener: requests and responses of every layout; a missing response; garbage") {
+  const bytes id0 = {0x02};
+  const bytes id0_reply = with_crc({0x02, 0x00, 0x10, 0x00, 0x00});
+  const bytes id3 = {0x1A};
+  const bytes id3_data = id3_reply(0x00);
+  const bytes write = with_crc({0x32, 0x04, 0x99});
+  const bytes id1 = {0x8A};
+  const bytes line = cat({id0,
+                          id0_reply,
+                          id3,
+                          id3_data,
+                          write,
+                          write,
+                          id0,
+                          {0x00, 0x55},
+                          id1,
+                          with_crc({0x8A, 0x00, 0x05, 0x00, 0x00})});
+  line_listener l;
+  const auto out = chunks(l, line, 3);
+  // id0 request, response; id3 request, response (not an "ID3 reply": it was asked for); the
+  // ID6 request and its echoing response; a request without response (the next is a request,
+  // garbage dropped between); a request and its response
+  REQUIRE(out.size() == 9U);
+  const bool response[] = {false, true, false, true, false, true, false, false, true};
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    CAPTURE(i);
+    CHECK(out[i].ok);
+    CHECK(out[i].response == response[i]);
+    CHECK(!out[i].id3_reply);
+  }
+  CHECK(l.dropped() == 2U);
+  line_listener b;
+  CHECK(one_by_one(b, line) == out);
+}
+
+TEST_CASE("listener: a corrupted response is reported, a frame behind it is not lost") {
+  bytes bad = with_crc({0x02, 0x00, 0x10, 0x00, 0x00});
+  bad[2] ^= 0x01;
+  const bytes good = with_crc({0x02, 0x00, 0x11, 0x00, 0x00});
+  line_listener l;
+  const auto out = chunks(l, cat({{0x02}, bad, good}), 64);
+  REQUIRE(out.size() >= 3U);
+  CHECK(!out[0].response);
+  CHECK(!out[1].ok);
+  CHECK(out[1].error == errc::crc_mismatch);
+  CHECK(out.back().ok);
+  CHECK(out.back().response);
+  CHECK(out.back().frame == good);
+}
+
+TEST_CASE("listener put(): byte by byte, the results of feed() in chunks (random streams)") {
+  testutil::splitmix64 rng(0x7f0a);
+  const std::vector<bytes> frames = {{0x02},
+                                     {0x1A},
+                                     {0xEA, 0x06, 0xEC},
+                                     with_crc({0x32, 0x04, 0x99}),
+                                     with_crc({0x02, 0x00, 0x10, 0x00, 0x00}),
+                                     id3_reply(0x40),
+                                     with_crc({0xEA, 0x06, 0x42}),
+                                     {0x82},
+                                     {0x22}};
+  std::size_t heard_frames = 0;
+  for (int round = 0; round < 300; ++round) {
+    bytes line;
+    while (line.size() < 200U) {
+      const std::uint64_t kind = rng.below(10);
+      if (kind < 8U) {
+        bytes f = frames[static_cast<std::size_t>(rng.below(frames.size()))];
+        if (kind == 7U) {
+          f[static_cast<std::size_t>(rng.below(f.size()))] ^=
+              static_cast<std::uint8_t>(1U + rng.below(255));
+        }
+        line = cat({line, f});
+      } else {
+        line.push_back(rng.byte());
+      }
+    }
+    line_listener a;
+    line_listener b;
+    const auto expected = chunks(a, line, 1U + static_cast<std::size_t>(rng.below(20)));
+    CAPTURE(round);
+    CHECK(one_by_one(b, line) == expected);
+    for (const auto& e : expected) {
+      heard_frames += e.ok ? 1U : 0U;
+    }
+  }
+  CHECK(heard_frames > 5000U);
+}
