@@ -313,7 +313,11 @@ class emulator {
     const bool is_reset = id == tformat::data_id::reset_errors ||
                           id == tformat::data_id::reset_single_turn ||
                           id == tformat::data_id::reset_multi_turn;
-    if (!is_reset || turning_) {
+    if (!is_reset) {
+      reset_count_ = 0;
+      return;
+    }
+    if (turning_) {
       reset_count_ = 0;  // a reset request counts only with the shaft still (header, spec §10)
       return;
     }
