@@ -19,24 +19,28 @@ class session {
  public:
   explicit session(ab::emulator& e) : enc_(e) {}
 
-  // One frame; returns false when the capture does not decode.
-  bool frame() {
+  // One frame; an error when the emulator cannot write it or the capture does not decode.
+  mb::errc frame() {
     std::uint32_t words[2] = {0xFFFFFFFFU, 0xFFFFFFFFU};
     const auto n = enc_.frame(words, 2, 1);  // a line delay of 2 bits, Ack 1
+    if (!n.ok()) {
+      return n.error();
+    }
     const auto r = bs::decode_frame(words, 64, ab::layout, last_);
-    if (!n.ok() || !r.is_complete()) {
-      return false;
+    if (!r.is_complete()) {
+      return r.is_failed() ? r.error() : mb::errc::no_frame;
     }
     line_delay_ = r->line_delay;
     enc_.control(master_.step(r->cds));
     ++frames_;
-    return true;
+    return mb::errc::ok;
   }
   // Runs frames until the running access ends; returns its result.
   mb::errc finish() {
     while (master_.busy()) {
-      if (!frame()) {
-        return mb::errc::no_frame;
+      const mb::errc e = frame();
+      if (e != mb::errc::ok) {
+        return e;
       }
     }
     return master_.error();
@@ -53,9 +57,7 @@ class session {
     e = e == mb::errc::ok ? finish() : e;
     for (std::uint32_t t = 0; e == mb::errc::ok && t < ab::write_time_us(address, value);
          t += enc_.frame_period_us()) {
-      if (!frame()) {
-        return mb::errc::no_frame;
-      }
+      e = frame();
     }
     return e;
   }
@@ -87,7 +89,7 @@ int main() {
   enc.set_position(131072);
   for (int i = 0; i < 3; ++i) {
     enc.set_position(enc.absolute_position() + 4096);
-    s.frame();
+    check(s.frame(), "frame");
     std::printf("  position %u pulses = %.3f deg, nE %d, nW %d, line delay %zu bits\n",
                 static_cast<unsigned>(s.last().single_turn),
                 360.0 * static_cast<double>(s.last().single_turn) / pulses, s.last().ne ? 1 : 0,
@@ -108,6 +110,8 @@ int main() {
   // ID: two ASCII bytes, the number, two ASCII bytes (§2.5).
   const auto sn = ab::decode_serial_number(serial);
   const auto dev = ab::decode_device_id(device);
+  check(sn.error(), "serial number decode");
+  check(dev.error(), "device ID decode");
   if (sn.ok() && dev.ok()) {
     std::printf(
         "  identity: manufacturer \"%c%c\", slave revision 0x%02X, profile 0x%02X%02X "
@@ -122,6 +126,8 @@ int main() {
   check(s.write(ab::reg::bank_select, ab::bank::eds_bp3), "bank select");
   check(s.read(0x00, bank, bs::bank_size), "EDS BP3");
   const auto bp3 = bs::decode_bp3(mb::byte_view(bank, bs::bank_size));
+  check(common.error(), "EDS common part decode");
+  check(bp3.error(), "EDS BP3 decode");
   if (common.ok() && bp3.ok()) {
     const bs::crc_format crc = bs::crc_from_eds(bp3->crc_poly, bp3->crc_start);
     std::printf(
@@ -138,7 +144,7 @@ int main() {
   std::uint8_t status[3] = {};
   check(s.read(ab::reg::error_status, &status[0], 1), "error status");
   enc.set_error(ab::sensor_error::in_operation);  // synchronisation lost for one frame ...
-  s.frame();
+  check(s.frame(), "frame");
   const bool ne_low = !s.last().ne;
   enc.set_error(ab::sensor_error::none);  // ... and regained: nE high again, 0x6B keeps it
   check(s.read(ab::reg::error_status, &status[1], 1), "error status");
@@ -156,7 +162,7 @@ int main() {
         "set offset");
   std::uint8_t off[4] = {};
   check(s.read(ab::reg::offset, off, 4), "offset");  // after the 17 ms EEPROM writes
-  s.frame();
+  check(s.frame(), "frame");
   std::printf(
       "  command 02 (offset := position): offset 0x%02X%02X%02X%02X, position now %u; "
       "%zu frames of 100 us including the 17 ms the encoder is busy\n",

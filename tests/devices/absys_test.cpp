@@ -330,6 +330,27 @@ TEST_CASE("ABSYS emulator: 0x6B latches nE/nW active low, 0x03 healthy; command 
   CHECK(enc.user_bank()[0x11] == 2);
 }
 
+TEST_CASE("ABSYS emulator: 0x6B latches the error when it is set, not when a frame is read") {
+  // docs/biss.md §4: the register latches nE where it changes (set_error) and after command
+  // 06; an error gone before the next frame is still latched; command 06 leaves the frame's
+  // power-on error alone (§1 "remains latched", the library's choice)
+  ab::emulator enc;
+  bench b(enc);
+  enc.set_error(ab::sensor_error::in_operation);
+  enc.set_error(ab::sensor_error::none);  // gone before any frame carried it
+  CHECK(enc.error_status() == 0x01);
+  b.frame();
+  CHECK(!b.last.error());
+  CHECK(b.read1(ab::reg::error_status) == 0x01);
+  REQUIRE(b.write(ab::reg::command, {0x06}) == errc::ok);
+  CHECK(b.read1(ab::reg::error_status) == 0x03);
+  enc.set_error(ab::sensor_error::at_power_on);
+  REQUIRE(b.write(ab::reg::command, {0x06}) == errc::ok);
+  b.frame();
+  CHECK(b.last.error());  // nE still low after command 06
+  CHECK(b.read1(ab::reg::error_status) == 0x01);
+}
+
 TEST_CASE("ABSYS emulator registers: banks, command, preset, reserve, undefined addresses") {
   ab::emulator e;
   ab::emulator::registers regs(e);

@@ -152,7 +152,7 @@ TEST_CASE("alarms: latched flags stay until reset, non-latched follow their cond
     enc.set_condition(a, false);
   }
   // FS and BA cleared with their condition; CE latched, as the shaft is still (case II)
-  const auto held = static_cast<std::uint8_t>(ts::latched_alarms | ts::speed_latched_alarms);
+  const std::uint8_t held = 0x7D;  // OS, CE, OF, OH, ME, BE (spec §6.5)
   CHECK(enc.almc() == held);
   auto all = m.ask(data_id::read_all);
   REQUIRE(all.is_complete());
@@ -192,6 +192,7 @@ TEST_CASE("counting error: non-latched at 100 rpm or more (case I), latched belo
   enc.set_condition(almc_bit::ce, false);
   CHECK(enc.almc() == ce);
   CHECK(m.ask(data_id::read_abs)->ea0());
+  enc.set_speed_rpm(0);  // resets are sent with the shaft still (spec §10)
   for (int i = 0; i < 10; ++i) {
     (void)m.ask(data_id::reset_errors, 0, 0, 50);
   }
@@ -203,19 +204,77 @@ TEST_CASE("counting error: non-latched at 100 rpm or more (case I), latched belo
   enc.set_speed_rpm(50);
   enc.set_condition(almc_bit::ce, false);
   CHECK(enc.almc() == ce);
-  // a reset while the error is still present at low speed leaves it latched
+  // a reset while the error is still present leaves it latched
+  enc.set_speed_rpm(0);
   enc.set_condition(almc_bit::ce, true);
   for (int i = 0; i < 10; ++i) {
     (void)m.ask(data_id::reset_multi_turn, 0, 0, 50);
   }
   enc.set_condition(almc_bit::ce, false);
   CHECK(enc.almc() == ce);
-  // at speed a reset releases it for good once the condition goes
-  enc.set_speed_rpm(200);
+  // once the condition has gone, a reset at standstill releases it
   for (int i = 0; i < 10; ++i) {
     (void)m.ask(data_id::reset_errors, 0, 0, 50);
   }
   CHECK(enc.almc() == 0);
+}
+
+TEST_CASE("counting error: a reverse speed counts by its magnitude") {
+  // spec §6.5 gives the cases by speed, not direction: -150 min^-1 is case I, -50 case II
+  ts::emulator enc;
+  const auto ce = static_cast<std::uint8_t>(almc_bit::ce);
+  enc.set_speed_rpm(-150);  // case I: released with its condition
+  enc.set_condition(almc_bit::ce, true);
+  enc.set_condition(almc_bit::ce, false);
+  CHECK(enc.almc() == 0);
+  enc.set_speed_rpm(-50);  // case II: latched
+  enc.set_condition(almc_bit::ce, true);
+  enc.set_condition(almc_bit::ce, false);
+  CHECK(enc.almc() == ce);
+  CHECK(!ts::info(almc_bit::ce).latched_at(-150));
+  CHECK(!ts::info(almc_bit::ce).latched_at(-100));
+  CHECK(ts::info(almc_bit::ce).latched_at(-99));
+  CHECK(ts::info(almc_bit::ce).latched_at(-50));
+  CHECK(!ts::info(almc_bit::ce).latched_at(INT32_MIN));  // no overflow in the magnitude
+  CHECK(ts::speed_magnitude(-50) == 50U);
+  CHECK(ts::speed_magnitude(INT32_MIN) == 0x80000000U);
+}
+
+TEST_CASE("resets count only with the shaft still (spec §10: \"at stationary of the shaft\")") {
+  // The spec does not say what the encoder does with a reset sent while the shaft turns; the
+  // emulator does not count it (ts5700n8500_emulator.hpp), in either direction.
+  for (const std::int32_t rpm : {200, 1, -1, -200}) {
+    CAPTURE(rpm);
+    ts::emulator enc;
+    master m{enc};
+    enc.set_position(5000, 9);
+    enc.set_condition(almc_bit::os, true);
+    enc.set_condition(almc_bit::os, false);
+    enc.set_speed_rpm(rpm);
+    for (int i = 0; i < 10; ++i) {
+      CHECK(m.ask(data_id::reset_errors, 0, 0, 50).is_complete());  // still answered
+    }
+    CHECK(has_alarm(enc.almc(), almc_bit::os));
+    for (int i = 0; i < 10; ++i) {
+      (void)m.ask(data_id::reset_single_turn, 0, 0, 50);
+    }
+    CHECK(enc.abs() == 5000);
+    for (int i = 0; i < 10; ++i) {
+      (void)m.ask(data_id::reset_multi_turn, 0, 0, 50);
+    }
+    CHECK(enc.abm() == 9);
+    // nine requests while turning, the shaft stops, one more: the count restarted at the stop
+    for (int i = 0; i < 9; ++i) {
+      (void)m.ask(data_id::reset_errors, 0, 0, 50);
+    }
+    enc.set_speed_rpm(0);
+    (void)m.ask(data_id::reset_errors, 0, 0, 50);
+    CHECK(has_alarm(enc.almc(), almc_bit::os));
+    for (int i = 0; i < 9; ++i) {
+      (void)m.ask(data_id::reset_errors, 0, 0, 50);
+    }
+    CHECK(enc.almc() == 0);
+  }
 }
 
 TEST_CASE("resets act on the 10th request of the same ID, at least 40 us apart") {
@@ -343,11 +402,26 @@ TEST_CASE("TS5700N8500: over-heat threshold, temperature, alarms, timing") {
   CHECK(ts::decode_temperature(0xFF) == -1);
   CHECK(ts::decode_temperature(0x80) == -128);
   CHECK(ts::decode_temperature(0x7F) == 127);
-  for (almc_bit a : all_alarms) {
-    CHECK(std::string(ts::info(a).symbol) == symbol(a));
-    const bool always = (static_cast<std::uint8_t>(a) & ts::latched_alarms) != 0;
-    CHECK(ts::info(a).latched_at(0) == (always || a == almc_bit::ce));
-    CHECK(ts::info(a).latched_at(100) == always);
+  // spec §6.5, flag by flag: held until a reset when raised below 100 min^-1 and at 100 or
+  // more (OS, OF, OH, BE "Latched", ME "Latched during main power-on", CE case II / case I,
+  // FS and BA "Non-latched")
+  struct row {
+    almc_bit flag;
+    bool latched_still;
+    bool latched_at_speed;
+  };
+  const row spec[] = {
+      {almc_bit::os, true, true}, {almc_bit::fs, false, false}, {almc_bit::ce, true, false},
+      {almc_bit::of, true, true}, {almc_bit::oh, true, true},   {almc_bit::me, true, true},
+      {almc_bit::be, true, true}, {almc_bit::ba, false, false},
+  };
+  for (const row& r : spec) {
+    CAPTURE(symbol(r.flag));
+    CHECK(std::string(ts::info(r.flag).symbol) == symbol(r.flag));
+    CHECK(ts::info(r.flag).latched_at(0) == r.latched_still);
+    CHECK(ts::info(r.flag).latched_at(99) == r.latched_still);
+    CHECK(ts::info(r.flag).latched_at(100) == r.latched_at_speed);
+    CHECK(ts::info(r.flag).latched_at(6000) == r.latched_at_speed);
   }
   // spec §6.5: OS, OF, OH, BE "Latched", ME "Latched during main power-on", FS, BA
   // "Non-latched"; CE case I (100 min^-1 or more) non-latched, case II (below) latched

@@ -1,11 +1,13 @@
-// Compile-time suite for BiSS-C: CRC vectors, layouts, and a frame encoded and decoded by the
-// compiler.
+// Compile-time suite for BiSS-C and the ABSYS profile: CRC vectors, layouts, a frame encoded
+// and decoded by the compiler, the serial number decoder.
 #include <cstdint>
 
 #include "motionbus/biss.hpp"
+#include "motionbus/devices/absys.hpp"
 
 namespace mb = motionbus;
 namespace bs = motionbus::biss;
+namespace ab = motionbus::devices::absys;
 
 namespace {
 
@@ -97,6 +99,23 @@ constexpr bool truncated_and_no_ack() {
              .is_incomplete();
 }
 static_assert(truncated_and_no_ack(), "no Ack vs need more input");
+
+// ABSYS serial number (ABSYS document §2.4, registers 0x44..0x4B): three ASCII bytes, the
+// number most significant byte first (the text's 0x00BC614E = 12345678), one ASCII byte.
+constexpr std::uint8_t serial_regs[ab::serial_number_size] = {'A',  'T',  'J',  0x00,
+                                                              0xBC, 0x61, 0x4E, 'C'};
+constexpr bool serial_number_decodes() {
+  const auto s = ab::decode_serial_number(serial_regs);
+  return s.ok() && s->prefix[0] == 'A' && s->prefix[1] == 'T' && s->prefix[2] == 'J' &&
+         s->number == 12345678U && s->suffix == 'C';
+}
+static_assert(serial_number_decodes(), "serial number: ASCII, 0x00BC614E, ASCII");
+static_assert(ab::decode_serial_number(mb::byte_view(serial_regs, 7)).error() ==
+                  mb::errc::truncated,
+              "seven bytes are too few");
+constexpr std::uint8_t serial_not_ascii[ab::serial_number_size] = {'A', 'T', 0x80, 0, 0, 0, 1, 'C'};
+static_assert(ab::decode_serial_number(serial_not_ascii).error() == mb::errc::out_of_range,
+              "a byte above 0x7F where ASCII belongs");
 
 }  // namespace
 

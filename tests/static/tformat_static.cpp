@@ -154,6 +154,9 @@ static_assert(receiver_put_settles_at_the_last_byte(), "receiver::put");
 static_assert(ts::encode_overheat_threshold(90).value() == 0xDA, "90 °C");
 static_assert(ts::decode_temperature(0x3C) == 60 && ts::decode_temperature(0xFF) == -1, "temp");
 static_assert(ts::transaction_ns(tf::data_id::read_all) == 48000, "ID3 48 us");
+// CE by the magnitude of a signed speed (spec §6.5): -150 min^-1 case I, -50 case II.
+static_assert(!ts::info(tf::almc_bit::ce).latched_at(-150), "reverse, case I: non-latched");
+static_assert(ts::info(tf::almc_bit::ce).latched_at(-50), "reverse, case II: latched");
 static_assert(ts::reset_plan(tf::data_id::reset_errors).value().size == 10, "10 requests");
 
 }  // namespace

@@ -56,7 +56,9 @@ struct emulator_config {
 enum class sensor_error : std::uint8_t {
   none = 0,
   in_operation = 1,  ///< clears when set_error(sensor_error::none) says it has gone
-  at_power_on = 2,   ///< stays until the emulator is built again (a power cycle)
+  /// "Remains latched" (§1, Figure 1 notes), release unstated: chosen, until the emulator is
+  /// built again (a power cycle); command 06 resets register 0x6B only (§2.7; docs/biss.md §4).
+  at_power_on = 2,
 };
 
 class emulator {
@@ -75,9 +77,10 @@ class emulator {
   /// Sets the measured (absolute) position.
   constexpr void set_position(std::uint32_t p) noexcept { position_ = p; }
   constexpr std::uint32_t absolute_position() const noexcept { return position_; }
-  /// Sets the sensor error condition (lost synchronisation, bad absolute reading), latched in
-  /// the error status register. An error at power-on keeps nE active until power cycles; one
-  /// in operation clears when synchronisation comes back (ABSYS document, Figure 1 notes).
+  /// Sets the sensor error condition (lost synchronisation, bad absolute reading) and latches
+  /// it in the error status register at once, whether or not a frame is read meanwhile. One in
+  /// operation clears from the frame when synchronisation comes back (ABSYS document, Figure 1
+  /// notes); one at power-on stays (sensor_error::at_power_on).
   constexpr void set_error(sensor_error e) noexcept {
     error_ = e != sensor_error::none;
     power_on_error_ = power_on_error_ || e == sensor_error::at_power_on;
@@ -201,7 +204,7 @@ class emulator {
       case reg::manufacturer_id + 1U: return static_cast<std::uint8_t>(manufacturer[1]);
       default: break;
     }
-    if (a >= reg::serial_number && a < reg::serial_number + 8U) {
+    if (a >= reg::serial_number && a < reg::serial_number + serial_number_size) {
       return cfg_.serial_number[a - reg::serial_number];
     }
     if (a >= reg::offset && a < reg::offset + 4U) {
@@ -210,7 +213,7 @@ class emulator {
     if (a >= reg::position && a < reg::position + 4U) {
       return static_cast<std::uint8_t>((pos >> (8U * (3U - (a - reg::position)))) & 0xFFU);
     }
-    if (a >= reg::device_id && a < reg::device_id + 8U) {
+    if (a >= reg::device_id && a < reg::device_id + device_id_size) {
       return cfg_.device_id[a - reg::device_id];
     }
     return 0;
@@ -219,6 +222,8 @@ class emulator {
  private:
   constexpr void tick(std::uint32_t us) noexcept { busy_us_ = busy_us_ > us ? busy_us_ - us : 0U; }
   // The error status register latches the frame's active-low nE and nW (§2.7): a 0 stays.
+  // Run where they can change (set_error) and after command 06: every frame in between
+  // carries the same bits.
   constexpr void latch() noexcept {
     const biss::slave_values v = values();
     status_ = static_cast<std::uint8_t>(status_ & status_of(v.ne, v.nw));

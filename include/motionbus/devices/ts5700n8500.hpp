@@ -193,6 +193,12 @@ enum class latch_rule : std::uint8_t {
 };
 /// The shaft speed from which a counting error is case I, non-latched (spec §6.5), in min^-1.
 inline constexpr std::uint32_t counting_error_case_i_rpm = 100;
+/// The magnitude of a signed shaft speed (min^-1; negative: the other direction). §6.5 gives
+/// the CE cases by speed alone (§5.4.1 Note 3's cases: "in one direction", either one), so
+/// the magnitude counts: -150 min^-1 is case I, -50 case II.
+constexpr std::uint32_t speed_magnitude(std::int32_t rpm) noexcept {
+  return rpm < 0 ? 0U - static_cast<std::uint32_t>(rpm) : static_cast<std::uint32_t>(rpm);
+}
 
 struct alarm_info {
   const char* symbol;
@@ -201,10 +207,11 @@ struct alarm_info {
   tformat::almc_bit flag;
   latch_rule latch;
 
-  /// Whether the flag is held until a reset when raised with the shaft at `rpm` (min^-1).
-  constexpr bool latched_at(std::uint32_t rpm) const noexcept {
+  /// Whether the flag is held until a reset when raised with the shaft at `rpm` (min^-1,
+  /// signed: its magnitude counts).
+  constexpr bool latched_at(std::int32_t rpm) const noexcept {
     return latch == latch_rule::latched ||
-           (latch == latch_rule::by_speed && rpm < counting_error_case_i_rpm);
+           (latch == latch_rule::by_speed && speed_magnitude(rpm) < counting_error_case_i_rpm);
   }
 };
 

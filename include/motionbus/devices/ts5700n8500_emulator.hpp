@@ -8,9 +8,10 @@
 //  - position and turns, with single-turn resolution and ENID from the config;
 //  - ALMC flags: latched (OS, OF, OH, ME, BE) until an ID7/IDC reset while their condition is
 //    gone, non-latched (FS, BA) following their condition; CE by the shaft speed
-//    (set_speed_rpm): case I at 100 min^-1 or more follows its condition (the condition the
-//    caller clears stands for the 45° check finding the deviation gone), case II below
-//    latches, also when the shaft slows below 100 min^-1 with the error present;
+//    (set_speed_rpm, signed, its magnitude counts): case I at 100 min^-1 or more follows its
+//    condition (the condition the caller clears stands for the 45° check finding the
+//    deviation gone), case II below latches, also when the shaft slows below 100 min^-1 with
+//    the error present;
 //  - abnormal requests: bad sync code → no reply; parity error → ID3 data with ca0; delimiter
 //    error (reported by the caller's UART or line decoder) → ID3 data with ca1; unknown Data ID,
 //    bad EEPROM CRC or a closed EEPROM address → ID3 data (spec Tables 5, 6);
@@ -23,7 +24,11 @@
 //    again");
 //  - resets 7, 8, C act on the 10th consecutive request of the same ID, each at least 40 µs after
 //    the previous one (spec §10), after the reply to it (which carries the data as received);
-//    ID8 then writes EEPROM (busy 18 ms).
+//    ID8 then writes EEPROM (busy 18 ms). Spec §10 has the 10 requests sent "at stationary of
+//    the shaft" and does not say what the encoder does with one sent while it turns: the
+//    emulator counts a reset request only while set_speed_rpm() is 0; one sent at any other
+//    speed is answered but restarts the count, so a master that resets a turning shaft sees
+//    its reset not happen.
 // Choices where the spec is silent (documented and tested): the reply to an abnormal request
 // carries the ID3 control field 0x1A; reading address 127 returns the current page; a write to a
 // closed address or an invalid page number gets ID3 data; the over-heat flag is raised when
@@ -127,9 +132,11 @@ class emulator {
                           : static_cast<std::uint8_t>(conditions_ & ~bit);
     latch_present();
   }
-  /// The shaft speed in min^-1 (0 at construction): it decides the case of a counting error.
-  constexpr void set_speed_rpm(std::uint32_t rpm) noexcept {
-    fast_ = rpm >= counting_error_case_i_rpm;
+  /// The shaft speed in min^-1, negative the other way (0 at construction). Its magnitude
+  /// decides the case of a counting error (spec §6.5); resets count only at 0 (spec §10).
+  constexpr void set_speed_rpm(std::int32_t rpm) noexcept {
+    fast_ = speed_magnitude(rpm) >= counting_error_case_i_rpm;
+    turning_ = rpm != 0;
     latch_present();
   }
   /// Substrate temperature in °C (page 7 address 5); may raise over-heat.
@@ -310,6 +317,10 @@ class emulator {
       reset_count_ = 0;
       return;
     }
+    if (turning_) {
+      reset_count_ = 0;  // a reset request counts only with the shaft still (header, spec §10)
+      return;
+    }
     if (reset_count_ > 0U && id == reset_id_) {
       if (now_us - last_reset_us_ < reset_interval_us) {
         return;  // too soon: this request does not count
@@ -374,7 +385,8 @@ class emulator {
   std::uint8_t eeprom_[user_pages * page_size] = {};
   std::uint8_t loaded_[page_size] = {};  // the current page as last specified
   bool busy_ = false;
-  bool fast_ = false;  // shaft at 100 min^-1 or more
+  bool fast_ = false;     // shaft at 100 min^-1 or more
+  bool turning_ = false;  // shaft speed not 0: resets do not count
   std::uint32_t busy_until_ = 0;
   tformat::data_id reset_id_ = tformat::data_id::read_abs;  // meaningful while reset_count_ > 0
   unsigned reset_count_ = 0;
