@@ -3,10 +3,21 @@
 #define MOTIONBUS_TESTS_RUN_CLI_HPP
 
 #include <doctest/doctest.h>
+#include <fcntl.h>
+#include <poll.h>
 #include <sys/wait.h>
+#include <termios.h>
+#include <unistd.h>
 
+#include <atomic>
+#include <cstdint>
 #include <cstdio>
+#include <cstdlib>
+#include <mutex>
 #include <string>
+#include <thread>
+#include <utility>
+#include <vector>
 
 namespace testcli {
 
@@ -39,6 +50,89 @@ inline std::string run(const std::string& args, int* status = nullptr,
                        const std::string& stdin_text = "") {
   return run_as_is(args + " --json", status, stdin_text);
 }
+
+/// Stderr of `motionbus <args>` (stdout discarded): the messages of usage errors.
+inline std::string run_stderr(const std::string& args, int* status = nullptr) {
+  const std::string command =
+      std::string("'") + MOTIONBUS_CLI_PATH + "' " + args + " 2>&1 >/dev/null";
+  FILE* pipe = popen(command.c_str(), "r");
+  REQUIRE(pipe != nullptr);
+  std::string out;
+  char buffer[512];
+  std::size_t n = 0;
+  while ((n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0) {
+    out.append(buffer, n);
+  }
+  const int s = pclose(pipe);
+  if (status != nullptr) {
+    *status = WIFEXITED(s) ? WEXITSTATUS(s) : -1;
+  }
+  return out;
+}
+
+/// A device on a pseudo-terminal that answers each burst of bytes (ended by 10 ms of silence)
+/// with `reply`, whatever it was; it keeps every byte it received.
+class canned_device {
+ public:
+  explicit canned_device(std::vector<std::uint8_t> reply) : reply_(std::move(reply)) {
+    master_ = posix_openpt(O_RDWR | O_NOCTTY);
+    REQUIRE(master_ >= 0);
+    REQUIRE(grantpt(master_) == 0);
+    REQUIRE(unlockpt(master_) == 0);
+    path_ = ptsname(master_);
+    keep_ = open(path_.c_str(), O_RDWR | O_NOCTTY);  // keeps the pty up between CLI runs
+    REQUIRE(keep_ >= 0);
+    termios t{};
+    tcgetattr(keep_, &t);
+    cfmakeraw(&t);
+    tcsetattr(keep_, TCSANOW, &t);
+    thread_ = std::thread([this] { loop(); });
+  }
+  canned_device(const canned_device&) = delete;
+  canned_device& operator=(const canned_device&) = delete;
+  ~canned_device() {
+    stop_ = true;
+    thread_.join();
+    close(keep_);
+    close(master_);
+  }
+  const std::string& path() const { return path_; }
+  std::vector<std::uint8_t> received() {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    return received_;
+  }
+
+ private:
+  void loop() {
+    bool pending = false;
+    while (!stop_) {
+      pollfd p{master_, POLLIN, 0};
+      if (poll(&p, 1, 10) > 0) {
+        std::uint8_t buffer[256];
+        const long n = read(master_, buffer, sizeof buffer);
+        if (n > 0) {
+          const std::lock_guard<std::mutex> lock(mutex_);
+          received_.insert(received_.end(), buffer, buffer + n);
+          pending = true;
+        }
+      } else if (pending) {
+        pending = false;
+        if (!reply_.empty()) {
+          REQUIRE(write(master_, reply_.data(), reply_.size()) == static_cast<long>(reply_.size()));
+        }
+      }
+    }
+  }
+
+  std::vector<std::uint8_t> reply_;
+  int master_ = -1;
+  int keep_ = -1;
+  std::string path_;
+  std::atomic<bool> stop_{false};
+  std::mutex mutex_;
+  std::vector<std::uint8_t> received_;
+  std::thread thread_;
+};
 
 }  // namespace testcli
 

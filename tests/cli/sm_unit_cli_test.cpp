@@ -260,3 +260,29 @@ TEST_CASE("read modbus --fc11 sm: the two-byte version reply is framed and decod
   CHECK(testcli::run("read modbus --slave 1 --function 17 --fc11 other" + dev, &status).empty());
   CHECK(status == 2);
 }
+
+TEST_CASE(
+    "read sm-unit: an address outside 1..16 or a bad password is a usage error, nothing sent") {
+  unit_on_pty unit;
+  const std::string dev = " --device '" + unit.device() + "'";
+  // SM unit guideline §2: slave addresses 1-16; §10: passwords of 8 to 16 characters 0x21..0x7E
+  for (const char* args :
+       {"--slave 17", "--slave 247", "--slave 0", "--read password --password abcd",
+        "--read password --password abcdefghijklmnopq", "--read password --password 'pass word'",
+        "--password short"}) {
+    CAPTURE(args);
+    int status = 0;
+    CHECK(testcli::run(std::string("read sm-unit ") + args + dev, &status).empty());
+    CHECK(status == 2);
+  }
+  CHECK(testcli::run_stderr("read sm-unit --slave 17" + dev).find("1..16") != std::string::npos);
+  CHECK(unit.take().empty());
+  int status = 0;
+  testcli::run("serve sm-unit --slave 17" + dev, &status);
+  CHECK(status == 2);
+  // the help says what the unit takes
+  const std::string help = testcli::run_as_is("read sm-unit --help", &status);
+  CHECK(status == 0);
+  CHECK(help.find("8 to 16 characters") != std::string::npos);
+  CHECK(help.find("4 characters") == std::string::npos);
+}
