@@ -17,6 +17,7 @@
 #include <iostream>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "cli.hpp"
@@ -169,8 +170,8 @@ int read_sm_unit(const cli::options& opts) {
   paced_link link(port, slave, fc11);
   std::uint8_t adu[256] = {};
   std::string error;
-  auto fail = [](const std::string& code) {
-    cli::print(cli::outcome::failure(code));
+  auto fail = [](const std::string& code, cli::record evidence = {}) {
+    cli::print(cli::outcome::failure(code, std::move(evidence)));
     return 1;
   };
   cli::record out;
@@ -224,8 +225,10 @@ int read_sm_unit(const cli::options& opts) {
     if (!read_error.empty()) {
       return fail(read_error);
     }
-    if (!restore_error.empty()) {
-      return fail("logout_" + restore_error);
+    if (!restore_error.empty()) {  // the password was read, the unit is left logged in
+      cli::record e;
+      e.add("reason", restore_error);
+      return fail("logout_failed", e);
     }
     out.add_bool("logged_in", was_logged_in)
         .add_bool("logged_in_by_read", !was_logged_in)
