@@ -306,7 +306,7 @@ std::vector<std::uint16_t> values_for(const cli::options& opts, std::uint8_t fc)
         std::string("FC ") + fc_text +
         (fc == 0x16 ? " needs --values AND,OR" : " needs --values: what to write")};
   }
-  const std::vector<std::uint16_t> values = parse_values(*text, fc == 0x05 || fc == 0x0F);
+  std::vector<std::uint16_t> values = parse_values(*text, fc == 0x05 || fc == 0x0F);
   if (values.size() < rule.min || values.size() > rule.max) {
     throw cli::usage_error{std::string("FC ") + fc_text +
                            (fc == 0x16 ? " takes --values AND,OR" : " takes one value")};

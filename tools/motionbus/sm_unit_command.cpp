@@ -48,7 +48,7 @@ std::uint8_t slave_of(const cli::options& opts) {
 // The password as the unit takes it (§10: 8 to 16 characters, each 0x21..0x7E); a usage error
 // otherwise.
 std::string password_of(const cli::options& opts) {
-  const std::string password = opts.get("password").value_or("password");
+  std::string password = opts.get("password").value_or("password");
   const auto e = sm::check_password(
       mb::byte_view(reinterpret_cast<const std::uint8_t*>(password.data()), password.size()));
   if (e != mb::errc::ok) {
