@@ -51,6 +51,15 @@ inline std::string run(const std::string& args, int* status = nullptr,
   return run_as_is(args + " --json", status, stdin_text);
 }
 
+/// The exit status of `motionbus <args>`, killed after `seconds` (status 124 then, as
+/// timeout(1) reports it): for a command that would run until stopped when it is wrong.
+inline void run_bounded(const std::string& args, int seconds, int* status) {
+  const std::string command = "timeout " + std::to_string(seconds) + " '" + MOTIONBUS_CLI_PATH +
+                              "' " + args + " >/dev/null 2>&1";
+  const int s = std::system(command.c_str());
+  *status = WIFEXITED(s) ? WEXITSTATUS(s) : -1;
+}
+
 /// Stderr of `motionbus <args>` (stdout discarded): the messages of usage errors.
 inline std::string run_stderr(const std::string& args, int* status = nullptr) {
   const std::string command =
