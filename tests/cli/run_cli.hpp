@@ -21,15 +21,8 @@
 
 namespace testcli {
 
-/// Stdout of `motionbus <args>` (args already shell-quoted); stderr is discarded. `stdin_text`,
-/// when given, is piped in through printf (so \\n and \\r escapes are expanded).
-inline std::string run_as_is(const std::string& args, int* status = nullptr,
-                             const std::string& stdin_text = "") {
-  std::string command;
-  if (!stdin_text.empty()) {
-    command = "printf '" + stdin_text + "' | ";
-  }
-  command += std::string("'") + MOTIONBUS_CLI_PATH + "' " + args + " 2>/dev/null";
+/// What the shell command prints on its standard output, and its exit status.
+inline std::string output_of(const std::string& command, int* status) {
   FILE* pipe = popen(command.c_str(), "r");
   REQUIRE(pipe != nullptr);
   std::string out;
@@ -43,6 +36,17 @@ inline std::string run_as_is(const std::string& args, int* status = nullptr,
     *status = WIFEXITED(s) ? WEXITSTATUS(s) : -1;
   }
   return out;
+}
+
+/// Stdout of `motionbus <args>` (args already shell-quoted); stderr is discarded. `stdin_text`,
+/// when given, is piped in through printf (so \\n and \\r escapes are expanded).
+inline std::string run_as_is(const std::string& args, int* status = nullptr,
+                             const std::string& stdin_text = "") {
+  std::string command;
+  if (!stdin_text.empty()) {
+    command = "printf '" + stdin_text + "' | ";
+  }
+  return output_of(command + "'" + MOTIONBUS_CLI_PATH + "' " + args + " 2>/dev/null", status);
 }
 
 /// run_as_is with --json: one JSON object per line, as scripts read the tool.
@@ -62,39 +66,43 @@ inline void run_bounded(const std::string& args, int seconds, int* status) {
 
 /// Stderr of `motionbus <args>` (stdout discarded): the messages of usage errors.
 inline std::string run_stderr(const std::string& args, int* status = nullptr) {
-  const std::string command =
-      std::string("'") + MOTIONBUS_CLI_PATH + "' " + args + " 2>&1 >/dev/null";
-  FILE* pipe = popen(command.c_str(), "r");
-  REQUIRE(pipe != nullptr);
-  std::string out;
-  char buffer[512];
-  std::size_t n = 0;
-  while ((n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0) {
-    out.append(buffer, n);
-  }
-  const int s = pclose(pipe);
-  if (status != nullptr) {
-    *status = WIFEXITED(s) ? WEXITSTATUS(s) : -1;
-  }
-  return out;
+  return output_of(std::string("'") + MOTIONBUS_CLI_PATH + "' " + args + " 2>&1 >/dev/null",
+                   status);
 }
+
+/// A pseudo-terminal in raw mode: `master` for the test's device, `path` for the CLI. Raw from
+/// here too, so that nothing is echoed before the CLI sets it; `keep` holds the slave side
+/// open: with no slave open, the master side reads as hung up (between CLI runs).
+struct raw_pty {
+  int master = -1;
+  int keep = -1;
+  std::string path;
+  raw_pty() {
+    master = posix_openpt(O_RDWR | O_NOCTTY);
+    REQUIRE(master >= 0);
+    REQUIRE(grantpt(master) == 0);
+    REQUIRE(unlockpt(master) == 0);
+    path = ptsname(master);
+    keep = open(path.c_str(), O_RDWR | O_NOCTTY);
+    REQUIRE(keep >= 0);
+    termios t{};
+    tcgetattr(keep, &t);
+    cfmakeraw(&t);
+    tcsetattr(keep, TCSANOW, &t);
+  }
+  raw_pty(const raw_pty&) = delete;
+  raw_pty& operator=(const raw_pty&) = delete;
+  ~raw_pty() {
+    close(keep);
+    close(master);
+  }
+};
 
 /// A device on a pseudo-terminal that answers each burst of bytes (ended by 10 ms of silence)
 /// with `reply`, whatever it was; it keeps every byte it received.
 class canned_device {
  public:
   explicit canned_device(std::vector<std::uint8_t> reply) : reply_(std::move(reply)) {
-    master_ = posix_openpt(O_RDWR | O_NOCTTY);
-    REQUIRE(master_ >= 0);
-    REQUIRE(grantpt(master_) == 0);
-    REQUIRE(unlockpt(master_) == 0);
-    path_ = ptsname(master_);
-    keep_ = open(path_.c_str(), O_RDWR | O_NOCTTY);  // keeps the pty up between CLI runs
-    REQUIRE(keep_ >= 0);
-    termios t{};
-    tcgetattr(keep_, &t);
-    cfmakeraw(&t);
-    tcsetattr(keep_, TCSANOW, &t);
     thread_ = std::thread([this] { loop(); });
   }
   canned_device(const canned_device&) = delete;
@@ -102,10 +110,8 @@ class canned_device {
   ~canned_device() {
     stop_ = true;
     thread_.join();
-    close(keep_);
-    close(master_);
   }
-  const std::string& path() const { return path_; }
+  const std::string& path() const { return pty_.path; }
   std::vector<std::uint8_t> received() {
     const std::lock_guard<std::mutex> lock(mutex_);
     return received_;
@@ -115,10 +121,10 @@ class canned_device {
   void loop() {
     bool pending = false;
     while (!stop_) {
-      pollfd p{master_, POLLIN, 0};
+      pollfd p{pty_.master, POLLIN, 0};
       if (poll(&p, 1, 10) > 0) {
         std::uint8_t buffer[256];
-        const long n = read(master_, buffer, sizeof buffer);
+        const long n = read(pty_.master, buffer, sizeof buffer);
         if (n > 0) {
           const std::lock_guard<std::mutex> lock(mutex_);
           received_.insert(received_.end(), buffer, buffer + n);
@@ -127,16 +133,15 @@ class canned_device {
       } else if (pending) {
         pending = false;
         if (!reply_.empty()) {
-          REQUIRE(write(master_, reply_.data(), reply_.size()) == static_cast<long>(reply_.size()));
+          REQUIRE(write(pty_.master, reply_.data(), reply_.size()) ==
+                  static_cast<long>(reply_.size()));
         }
       }
     }
   }
 
+  raw_pty pty_;
   std::vector<std::uint8_t> reply_;
-  int master_ = -1;
-  int keep_ = -1;
-  std::string path_;
   std::atomic<bool> stop_{false};
   std::mutex mutex_;
   std::vector<std::uint8_t> received_;

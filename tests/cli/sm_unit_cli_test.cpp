@@ -3,9 +3,7 @@
 // no login for a read that does not need it, login restored after one that does (§6), and the
 // FC11 reply in the unit's layout (§11) whatever its version bytes.
 #include <doctest/doctest.h>
-#include <fcntl.h>
 #include <poll.h>
-#include <termios.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -42,26 +40,13 @@ struct request_seen {
 class unit_on_pty {
  public:
   unit_on_pty() {
-    master_ = posix_openpt(O_RDWR | O_NOCTTY);
-    REQUIRE(master_ >= 0);
-    REQUIRE(grantpt(master_) == 0);
-    REQUIRE(unlockpt(master_) == 0);
-    slave_ = ptsname(master_);
-    keep_ = open(slave_.c_str(), O_RDWR | O_NOCTTY);  // keeps the pty up between CLI runs
-    REQUIRE(keep_ >= 0);
-    termios t{};
-    tcgetattr(keep_, &t);
-    cfmakeraw(&t);
-    tcsetattr(keep_, TCSANOW, &t);
     thread_ = std::thread([this] { loop(); });
   }
   ~unit_on_pty() {
     stop_ = true;
     thread_.join();
-    close(keep_);
-    close(master_);
   }
-  const std::string& device() const { return slave_; }
+  const std::string& device() const { return pty_.path; }
   std::vector<request_seen> take() {
     const std::lock_guard<std::mutex> lock(mutex_);
     std::vector<request_seen> out;
@@ -84,11 +69,11 @@ class unit_on_pty {
     mo::rtu_framer rx({mo::framer_role::server, 1});
     clock_type::time_point start{};
     while (!stop_) {
-      pollfd p{master_, POLLIN, 0};
+      pollfd p{pty_.master, POLLIN, 0};
       std::uint8_t buffer[256];
       long n = 0;
       if (poll(&p, 1, 5) > 0) {
-        n = read(master_, buffer, sizeof buffer);
+        n = read(pty_.master, buffer, sizeof buffer);
       }
       if (n < 0) {
         n = 0;
@@ -135,15 +120,13 @@ class unit_on_pty {
     // thread may be descheduled while the CLI already reads and starts its 0.1 s).
     s.replied = clock_type::now();
     if (size > 0U) {
-      REQUIRE(write(master_, out, size) == static_cast<long>(size));
+      REQUIRE(write(pty_.master, out, size) == static_cast<long>(size));
     }
     const std::lock_guard<std::mutex> lock(mutex_);
     seen_.push_back(s);
   }
 
-  int master_ = -1;
-  int keep_ = -1;
-  std::string slave_;
+  testcli::raw_pty pty_;
   std::atomic<bool> stop_{false};
   std::mutex mutex_;
   sm::emulator unit_;
