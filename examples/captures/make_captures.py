@@ -1,6 +1,6 @@
 """Writes the sample recordings of examples/captures/: each protocol's frames as a VCD, a CSV (as
 analyzer software exports it) and a sigrok session file (.sr), to try `motionbus decode ...
-capture` without hardware (the frames: examples/captures/README.md).
+capture` without hardware (what each holds: docs/cli.md, "Sample recordings").
 
 The frames come from the CLI itself: requests from `motionbus encode`, the responses' CRCs
 from `motionbus crc`, the BiSS-C bits from `motionbus encode biss csd`. The levels are drawn

@@ -1,5 +1,5 @@
 """The sample recordings shipped in examples/captures/ decode with the CLI to the frames they
-hold (examples/captures/README.md), in each of the three formats, and stay small.
+hold (docs/cli.md, "Sample recordings"), in each of the three formats, and stay small.
 
 The expected frames are written here from what the samples were made of (the Modbus
 Application Protocol's FC03 example registers 555, 0, 100; the T-format and BiSS-C positions
