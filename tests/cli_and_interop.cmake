@@ -21,6 +21,16 @@ if(TARGET motionbus_cli)
     set_tests_properties(cli.monitor.${protocol} PROPERTIES LABELS "cli" TIMEOUT 120
       RUN_SERIAL TRUE)
   endforeach()
+  # The sample recordings shipped in examples/captures/, decoded to the frames they hold.
+  add_test(NAME cli.sample_captures
+    COMMAND /usr/bin/python3 "${CMAKE_CURRENT_SOURCE_DIR}/cli/sample_captures_check.py"
+            "$<TARGET_FILE:motionbus_cli>" "${PROJECT_SOURCE_DIR}")
+  set_tests_properties(cli.sample_captures PROPERTIES LABELS "cli" TIMEOUT 120)
+  # Every error name the CLI can print is in docs/cli.md (and the docs name no other).
+  add_test(NAME cli.error_names
+    COMMAND /usr/bin/python3 "${CMAKE_CURRENT_SOURCE_DIR}/cli/error_names_check.py"
+            "${PROJECT_SOURCE_DIR}")
+  set_tests_properties(cli.error_names PROPERTIES LABELS "cli" TIMEOUT 60)
   # Recordings made by the real tools (Icarus Verilog, sigrok-cli) and encode --vcd, decoded
   # (tests/captures/capture_checks.py).
   find_program(MOTIONBUS_IVERILOG iverilog)

@@ -24,12 +24,13 @@ run_result run(const std::string& args, const std::string& stdin_text = "") {
 
 TEST_CASE("crc: published and hand-computed values") {
   auto r = run("crc modbus '11 03 00 6B 00 03'");
-  CHECK(r.out == "{\"ok\":true,\"crc\":34678}\n");  // 0x8776: wire bytes 76 87
+  // 0x8776, and its wire bytes, low byte first: 76 87
+  CHECK(r.out == "{\"ok\":true,\"crc\":34678,\"wire\":\"7687\"}\n");
   CHECK(r.status == 0);
   r = run("crc modbus 313233343536373839");
-  CHECK(r.out == "{\"ok\":true,\"crc\":19255}\n");  // 0x4B37
+  CHECK(r.out == "{\"ok\":true,\"crc\":19255,\"wire\":\"374b\"}\n");  // 0x4B37
   r = run("crc modbus '0x31 0x32 0x33 0x34 0x35 0x36 0x37 0x38 0x39'");
-  CHECK(r.out == "{\"ok\":true,\"crc\":19255}\n");
+  CHECK(r.out == "{\"ok\":true,\"crc\":19255,\"wire\":\"374b\"}\n");
   r = run("crc tformat '02 20 b4'");
   CHECK(r.out == "{\"ok\":true,\"crc\":150}\n");  // 0x02 ^ 0x20 ^ 0xB4
   // x^6 mod (x^6 + x + 1) = x + 1 = 000011, inverted 111100
@@ -65,7 +66,9 @@ TEST_CASE("crc: invalid inputs are reported with a code and exit status 1") {
 
 TEST_CASE("stdin: one input per line, blank lines skipped, status 1 if any is invalid") {
   auto r = run("crc modbus -", "313233343536373839\\n\\n11 03 00 6B 00 03\\r\\n");
-  CHECK(r.out == "{\"ok\":true,\"crc\":19255}\n{\"ok\":true,\"crc\":34678}\n");
+  CHECK(r.out ==
+        "{\"ok\":true,\"crc\":19255,\"wire\":\"374b\"}\n{\"ok\":true,\"crc\":34678,\"wire\":"
+        "\"7687\"}\n");
   CHECK(r.status == 0);
   r = run("crc biss4 -", "1\\nxyz\\n1\\n");
   CHECK(r.out ==
@@ -102,7 +105,7 @@ TEST_CASE("text output: hex where engineers think in hex, failures with their ev
   CHECK(status == 1);
   CHECK(testcli::run_as_is("encode modbus request --function 3 --slave 17 --address 107 "
                            "--quantity 3") == "ok  hex=[11 03 00 6B 00 03 76 87]\n");
-  CHECK(testcli::run_as_is("crc modbus '11 03 00 6B 00 03'") == "ok  crc=0x8776\n");
+  CHECK(testcli::run_as_is("crc modbus '11 03 00 6B 00 03'") == "ok  crc=0x8776 wire=[76 87]\n");
 }
 
 TEST_CASE("--help at every level prints the options, defaults and allowed values") {
@@ -136,4 +139,24 @@ TEST_CASE("--help at every level prints the options, defaults and allowed values
   }
   testcli::run_as_is("read modbus --parity X --slave 1 --function 3 --device /dev/null", &status);
   CHECK(status == 2);  // not an allowed value
+}
+
+TEST_CASE("--help says what each input is: hex bytes, or bits for BiSS-C") {
+  int status = -1;
+  for (const char* args : {"decode biss csd --help", "crc biss6 --help", "crc biss4 --help"}) {
+    CAPTURE(args);
+    const std::string help = testcli::run_as_is(args, &status);
+    CHECK(status == 0);
+    CHECK(help.find("0/1 bits") != std::string::npos);
+    CHECK(help.find("hex bytes") == std::string::npos);
+  }
+  for (const char* args :
+       {"decode modbus request --help", "decode tformat response --help", "crc modbus --help"}) {
+    CAPTURE(args);
+    const std::string help = testcli::run_as_is(args, &status);
+    CHECK(help.find("hex bytes") != std::string::npos);
+    CHECK(help.find("0/1 bits") == std::string::npos);
+  }
+  // and takes what it says
+  CHECK(run("decode biss csd 000110000000000000001111000100100000011111110").status == 0);
 }

@@ -2,7 +2,9 @@
 // an independent bitwise CRC-16/MODBUS (Modbus over Serial Line V1.02 §6.2.2).
 #include <doctest/doctest.h>
 
+#include <cstdint>
 #include <string>
+#include <vector>
 
 #include "run_cli.hpp"
 
@@ -32,7 +34,11 @@ TEST_CASE("decode modbus request: fields of an RTU ADU") {
   CHECK(status == 1);
   CHECK(cli("decode modbus request 1103006B00037688") ==
         "{\"ok\":false,\"error\":\"crc_mismatch\",\"expected\":34678,\"received\":34934}\n");
-  CHECK(cli("decode modbus request 110300") == "{\"ok\":false,\"error\":\"pdu_length\"}\n");
+  // shorter than its function's length: truncated (FC03 requests are 8 bytes), not a CRC error
+  CHECK(cli("decode modbus request 110300") ==
+        "{\"ok\":false,\"error\":\"truncated\",\"expected_bytes\":8,\"received_bytes\":3}\n");
+  CHECK(cli("decode modbus request 1103006B00") ==
+        "{\"ok\":false,\"error\":\"truncated\",\"expected_bytes\":8,\"received_bytes\":5}\n");
 }
 
 TEST_CASE("decode modbus response: registers, bits, exceptions, FC11, checked against a request") {
@@ -97,13 +103,100 @@ TEST_CASE("encode modbus request: RTU ADU as hex") {
   CHECK(cli("encode modbus request --function 0x11 --slave 1") ==
         "{\"ok\":true,\"hex\":\"0111c02c\"}\n");
   int status = 0;
-  CHECK(cli("encode modbus request --function 3 --slave 17 --quantity 126", &status) ==
-        "{\"ok\":false,\"error\":\"illegal_quantity\"}\n");
-  CHECK(status == 1);
-  CHECK(cli("encode modbus request --function 3 --slave 248") ==
-        "{\"ok\":false,\"error\":\"slave_address\"}\n");
+  // what the library's builders refuse is a usage error that names the library's code
+  CHECK(cli("encode modbus request --function 3 --slave 17 --quantity 126", &status).empty());
+  CHECK(status == 2);
+  CHECK(testcli::run_stderr("encode modbus request --function 3 --slave 17 --quantity 126")
+            .find("illegal_quantity") != std::string::npos);
+  CHECK(cli("encode modbus request --function 3 --slave 248", &status).empty());
+  CHECK(status == 2);
+  CHECK(
+      testcli::run_stderr("encode modbus request --function 3 --slave 248").find("slave_address") !=
+      std::string::npos);
   cli("encode modbus request --function 3", &status);
   CHECK(status == 2);
   cli("encode modbus request --function 3 --slave 1 --values x", &status);
   CHECK(status == 2);
+}
+
+TEST_CASE("encode modbus request: a write needs its values, a coil is on or off") {
+  int status = 0;
+  // FC06 without --values would write 0 to register 0
+  CHECK(cli("encode modbus request --function 6 --slave 1", &status).empty());
+  CHECK(status == 2);
+  CHECK(
+      testcli::run_stderr("encode modbus request --function 6 --slave 1").find("needs --values") !=
+      std::string::npos);
+  for (const char* args :
+       {"--function 5 --slave 1", "--function 5 --slave 1 --values 2",
+        "--function 5 --slave 1 --values yes", "--function 5 --slave 1 --values on,off",
+        "--function 6 --slave 1 --values 1,2", "--function 15 --slave 1",
+        "--function 15 --slave 1 --values on,2", "--function 16 --slave 1",
+        "--function 0x16 --slave 1 --values 1", "--function 23 --slave 1 --quantity 2",
+        "--function 3 --slave 1 --values 5", "--function 3 --slave 1 --data 00"}) {
+    CAPTURE(args);
+    CHECK(cli(std::string("encode modbus request ") + args, &status).empty());
+    CHECK(status == 2);
+  }
+  // a coil is on (FF00) or off (0000): on/off or 1/0 (Modbus Application Protocol §6.5)
+  CHECK(cli("encode modbus request --function 5 --slave 1 --address 172 --values on") ==
+        "{\"ok\":true,\"hex\":\"010500acff004c1b\"}\n");
+  CHECK(cli("encode modbus request --function 5 --slave 1 --address 172 --values 1") ==
+        "{\"ok\":true,\"hex\":\"010500acff004c1b\"}\n");
+  CHECK(cli("encode modbus request --function 5 --slave 1 --address 172 --values OFF") ==
+        "{\"ok\":true,\"hex\":\"010500ac00000deb\"}\n");
+  CHECK(cli("encode modbus request --function 15 --slave 17 --address 19 --values "
+            "on,off,on,on,off,off,1,1,1,0") ==
+        "{\"ok\":true,\"hex\":\"110f0013000a02cd01bf0b\"}\n");
+  CHECK(cli("encode modbus request --function 6 --slave 17 --address 1 --values 3") ==
+        "{\"ok\":true,\"hex\":\"1106000100039a9b\"}\n");
+}
+
+TEST_CASE("read modbus: refused arguments send nothing; a write needs its values") {
+  testcli::canned_device device({0x01, 0x06, 0x00, 0x00, 0x00, 0x00, 0x89, 0xCA});
+  const std::string dev = " --timeout-ms 300 --device '" + device.path() + "'";
+  for (const char* args : {"--function 6 --slave 1", "--function 5 --slave 1 --values 2",
+                           "--function 3 --slave 248", "--function 3 --slave 1 --quantity 126"}) {
+    CAPTURE(args);
+    int status = 0;
+    CHECK(cli(std::string("read modbus ") + args + dev, &status).empty());
+    CHECK(status == 2);
+  }
+  CHECK(device.received().empty());
+}
+
+TEST_CASE("read modbus: an exception response fails the transaction (exit status 1)") {
+  testcli::canned_device device({0x11, 0x83, 0x02, 0xC1, 0x34});
+  int status = 0;
+  CHECK(cli("read modbus --slave 17 --function 3 --address 107 --quantity 3 --timeout-ms 500 "
+            "--device '" +
+                device.path() + "'",
+            &status) ==
+        "{\"ok\":false,\"error\":\"exception\",\"slave\":17,\"function\":3,\"exception\":2,"
+        "\"exception_name\":\"illegal_data_address\",\"crc\":13505}\n");
+  CHECK(status == 1);
+  const std::vector<std::uint8_t> request = {0x11, 0x03, 0x00, 0x6B, 0x00, 0x03, 0x76, 0x87};
+  CHECK(device.received() == request);
+}
+
+TEST_CASE("a truncated response is reported as truncated, not as a CRC mismatch") {
+  // FC03, byte count 6: 11 bytes; 7 present
+  CHECK(cli("decode modbus response 110306022b0000") ==
+        "{\"ok\":false,\"error\":\"truncated\",\"expected_bytes\":11,\"received_bytes\":7}\n");
+  CHECK(cli("decode modbus response 110306022b0000 --request 1103006B00037687") ==
+        "{\"ok\":false,\"error\":\"truncated\",\"expected_bytes\":11,\"received_bytes\":7}\n");
+  CHECK(cli("decode modbus response 1183") ==
+        "{\"ok\":false,\"error\":\"truncated\","
+        "\"expected_bytes\":5,\"received_bytes\":2}\n");
+  // a whole frame with a bad CRC is still a CRC mismatch
+  CHECK(cli("decode modbus response 110306022b00000064c8bb") ==
+        "{\"ok\":false,\"error\":\"crc_mismatch\",\"expected\":47816,\"received\":48072}\n");
+  // on the line: the device stops after 7 of 11 bytes
+  testcli::canned_device device({0x11, 0x03, 0x06, 0x02, 0x2B, 0x00, 0x00});
+  int status = 0;
+  CHECK(cli("read modbus --slave 17 --function 3 --address 107 --quantity 3 --timeout-ms 500 "
+            "--device '" +
+                device.path() + "'",
+            &status) == "{\"ok\":false,\"error\":\"truncated\"}\n");
+  CHECK(status == 1);
 }

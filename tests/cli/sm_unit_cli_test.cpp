@@ -3,9 +3,7 @@
 // no login for a read that does not need it, login restored after one that does (§6), and the
 // FC11 reply in the unit's layout (§11) whatever its version bytes.
 #include <doctest/doctest.h>
-#include <fcntl.h>
 #include <poll.h>
-#include <termios.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -42,26 +40,13 @@ struct request_seen {
 class unit_on_pty {
  public:
   unit_on_pty() {
-    master_ = posix_openpt(O_RDWR | O_NOCTTY);
-    REQUIRE(master_ >= 0);
-    REQUIRE(grantpt(master_) == 0);
-    REQUIRE(unlockpt(master_) == 0);
-    slave_ = ptsname(master_);
-    keep_ = open(slave_.c_str(), O_RDWR | O_NOCTTY);  // keeps the pty up between CLI runs
-    REQUIRE(keep_ >= 0);
-    termios t{};
-    tcgetattr(keep_, &t);
-    cfmakeraw(&t);
-    tcsetattr(keep_, TCSANOW, &t);
     thread_ = std::thread([this] { loop(); });
   }
   ~unit_on_pty() {
     stop_ = true;
     thread_.join();
-    close(keep_);
-    close(master_);
   }
-  const std::string& device() const { return slave_; }
+  const std::string& device() const { return pty_.path; }
   std::vector<request_seen> take() {
     const std::lock_guard<std::mutex> lock(mutex_);
     std::vector<request_seen> out;
@@ -84,11 +69,11 @@ class unit_on_pty {
     mo::rtu_framer rx({mo::framer_role::server, 1});
     clock_type::time_point start{};
     while (!stop_) {
-      pollfd p{master_, POLLIN, 0};
+      pollfd p{pty_.master, POLLIN, 0};
       std::uint8_t buffer[256];
       long n = 0;
       if (poll(&p, 1, 5) > 0) {
-        n = read(master_, buffer, sizeof buffer);
+        n = read(pty_.master, buffer, sizeof buffer);
       }
       if (n < 0) {
         n = 0;
@@ -135,15 +120,13 @@ class unit_on_pty {
     // thread may be descheduled while the CLI already reads and starts its 0.1 s).
     s.replied = clock_type::now();
     if (size > 0U) {
-      REQUIRE(write(master_, out, size) == static_cast<long>(size));
+      REQUIRE(write(pty_.master, out, size) == static_cast<long>(size));
     }
     const std::lock_guard<std::mutex> lock(mutex_);
     seen_.push_back(s);
   }
 
-  int master_ = -1;
-  int keep_ = -1;
-  std::string slave_;
+  testcli::raw_pty pty_;
   std::atomic<bool> stop_{false};
   std::mutex mutex_;
   sm::emulator unit_;
@@ -259,4 +242,31 @@ TEST_CASE("read modbus --fc11 sm: the two-byte version reply is framed and decod
   CHECK(status == 1);
   CHECK(testcli::run("read modbus --slave 1 --function 17 --fc11 other" + dev, &status).empty());
   CHECK(status == 2);
+}
+
+TEST_CASE(
+    "read sm-unit: an address outside 1..16 or a bad password is a usage error, nothing sent") {
+  unit_on_pty unit;
+  const std::string dev = " --device '" + unit.device() + "'";
+  // SM unit guideline §2: slave addresses 1-16; §10: passwords of 8 to 16 characters 0x21..0x7E
+  for (const char* args :
+       {"--slave 17", "--slave 247", "--slave 0", "--read password --password abcd",
+        "--read password --password abcdefghijklmnopq", "--read password --password 'pass word'",
+        "--password short"}) {
+    CAPTURE(args);
+    int status = 0;
+    CHECK(testcli::run(std::string("read sm-unit ") + args + dev, &status).empty());
+    CHECK(status == 2);
+  }
+  CHECK(testcli::run_stderr("read sm-unit --slave 17" + dev).find("1..16") != std::string::npos);
+  CHECK(unit.take().empty());
+  // the emulator refuses it too (bounded: an emulator that starts would serve until killed)
+  int status = 0;
+  testcli::run_bounded("serve sm-unit --slave 17" + dev, 5, &status);
+  CHECK(status == 2);
+  // the help says what the unit takes
+  const std::string help = testcli::run_as_is("read sm-unit --help", &status);
+  CHECK(status == 0);
+  CHECK(help.find("8 to 16 characters") != std::string::npos);
+  CHECK(help.find("4 characters") == std::string::npos);
 }

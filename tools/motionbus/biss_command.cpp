@@ -199,13 +199,11 @@ int encode_csd(const cli::options& opts) {
   }
   std::vector<std::uint8_t> words(
       (bs::encoded_bits(mb::span<const bs::slave_layout>(&layout, 1), line) + 7U) / 8U + 1U, 0);
-  const auto n =
-      bs::encode_frame(layout, v, mb::span<std::uint8_t>(words.data(), words.size()), line);
-  if (!n) {
-    return cli::finish(cli::outcome::failure(mb::to_string(n.error())));
-  }
+  const std::size_t n = cli::built(
+      bs::encode_frame(layout, v, mb::span<std::uint8_t>(words.data(), words.size()), line),
+      "--position " + std::to_string(v.single_turn) + " in this layout");
   std::string bits;
-  for (std::size_t i = 0; i < *n; ++i) {
+  for (std::size_t i = 0; i < n; ++i) {
     bits.push_back(((words[i / 8U] >> (7U - i % 8U)) & 1U) != 0U ? '1' : '0');
   }
   cli::record f;
@@ -255,7 +253,9 @@ protocol_entries biss_entries() {
                         &decode_csd,
                         decode_options,
                         {"no-crc-invert"},
-                        false});
+                        false,
+                        "the SL samples as 0/1 bits, first clock first (hex words: --hex "
+                        "instead)"});
   e.commands.push_back({"encode",
                         "biss",
                         "csd",

@@ -118,6 +118,17 @@ struct usage_error {
   std::string message;
 };
 
+/// The value of a library builder's result (a request, a frame). When the library refuses the
+/// arguments, a usage error that names its error code after `what` ("--slave 17: ..."):
+/// nothing is sent and nothing is printed on standard output.
+template <class T>
+T built(const motionbus::result<T>& r, const std::string& what) {
+  if (!r) {
+    throw usage_error{what + " (the library refuses it: " + motionbus::to_string(r.error()) + ")"};
+  }
+  return r.value();
+}
+
 /// A per-line handler: turns one input (hex, bits...) into an outcome.
 using line_handler = outcome (*)(const std::string& input, const options& opts);
 /// A whole-command handler (encode, capture decoders, serve, read, monitor): the exit status.
@@ -143,6 +154,8 @@ struct decoder {
   std::vector<option_use> value_options;
   std::vector<std::string> switch_options;
   bool input = true;  ///< the input is required (else the options may carry it)
+  /// What the input is, for --help ("the frame: <input_help>; - reads ...").
+  const char* input_help = "hex bytes (\"02 20 b4\", \"0220B4\", \"0x02 0x20\")";
 };
 
 /// A command that takes no per-line input: `encode <protocol> <kind>`, `decode <protocol>

@@ -10,8 +10,10 @@
 //   motionbus read <device> --device PATH [options]
 //   motionbus monitor <protocol> --device PATH [options]
 //
-// Output: readable text, or with --json one JSON object per line. Exit status: 0 all inputs
-// decoded, 1 an input failed, 2 usage error.
+// Output: readable text, or with --json one JSON object per line. Exit status (docs/cli.md): 0
+// every input decoded, or the transaction done; 1 an input failed, or the transaction did (no
+// or a bad response, a Modbus exception response); 2 usage error (an option, or arguments the
+// library's builders refuse: nothing is sent); 3 a fault of the tool itself.
 #include <CLI/CLI.hpp>
 
 #include <deque>
@@ -55,9 +57,16 @@ const std::map<std::string, option_info>& catalogue() {
       // Modbus
       {"function", {"FC", "Modbus function code, 1..127 (decimal or 0x..)", {}}},
       {"slave",
-       {"N", "Modbus slave address, 1..247 (0: broadcast, where a command allows it)", {}}},
+       {"N",
+        "Modbus slave address, 1..247 (0: broadcast, where a command allows it; the SM unit: "
+        "1..16)",
+        {}}},
       {"quantity", {"N", "number of registers or coils to read", {}}},
-      {"values", {"LIST", "comma-separated values to write (registers 0..65535, coils 0/1)", {}}},
+      {"values",
+       {"LIST",
+        "comma-separated values to write: registers 0..65535, coils on/off (or 1/0); "
+        "required by FC 05, 06, 0F, 10, 16 (AND,OR) and 17",
+        {}}},
       {"write-address", {"ADDR", "FC17: the first register to write", {}}},
       {"request", {"HEX", "the request ADU in hex: the response is checked against it", {}}},
       {"fc11",
@@ -80,7 +89,11 @@ const std::map<std::string, option_info>& catalogue() {
       {"stop-bits", {"N", "stop bits: 1 or 2", {"1", "2"}}},
       {"timeout-ms", {"MS", "how long to wait for the response, in milliseconds", {}}},
       // SM unit
-      {"password", {"TEXT", "the SM unit's password (4 characters)", {}}},
+      {"password",
+       {"TEXT",
+        "the SM unit's password: 8 to 16 characters, each ! (0x21) to ~ (0x7E) (SM unit "
+        "guideline, section 10)",
+        {}}},
       {"read", {"WHAT", "what to read", {"instantaneous", "password"}}},
       // BiSS-C
       {"data-bits", {"N", "BiSS-C single-cycle data bits", {}}},
@@ -278,8 +291,7 @@ int main_of(int argc, char** argv) {
     l.positional.resize(1);
     CLI::Option* in = l.app->add_option(
         "input", l.positional[0],
-        "the frame: hex bytes (\"02 20 b4\", \"0220B4\") or 0/1 bits; - reads one per line "
-        "from standard input");
+        std::string("the input: ") + d.input_help + "; - reads one per line from standard input");
     if (d.input) {
       in->required();
     }

@@ -39,6 +39,8 @@ cli::outcome crc_of_bits(const std::string& input, const cli::options&) {
   return cli::outcome::success(f);
 }
 
+// The CRC as a number, and for a 16-bit CRC also as the wire bytes: low byte first, as the
+// Modbus CRC is appended (Modbus over Serial Line V1.02 §2.5.1.2): crc=0x8776 wire=[76 87].
 template <class Crc>
 cli::outcome crc_of_hex(const std::string& input, const cli::options&) {
   std::string error;
@@ -46,9 +48,14 @@ cli::outcome crc_of_hex(const std::string& input, const cli::options&) {
   if (!bytes) {
     return cli::outcome::failure(error);
   }
+  const auto crc = Crc::compute(mb::byte_view(bytes->data(), bytes->size()));
   cli::record f;
-  f.hex("crc", static_cast<std::int64_t>(Crc::compute(mb::byte_view(bytes->data(), bytes->size()))),
-        Crc::spec::width > 8 ? 4 : 2);
+  f.hex("crc", static_cast<std::int64_t>(crc), Crc::spec::width > 8 ? 4 : 2);
+  if (Crc::spec::width > 8) {
+    const std::uint8_t wire[2] = {static_cast<std::uint8_t>(crc & 0xFFU),
+                                  static_cast<std::uint8_t>((crc >> 8U) & 0xFFU)};
+    f.bytes("wire", wire, sizeof wire);
+  }
   return cli::outcome::success(f);
 }
 
@@ -68,24 +75,28 @@ protocol_entries crc_entries() {
   e.decoders.push_back({"crc",
                         "modbus",
                         "",
-                        "Modbus CRC-16 of hex bytes (sent low byte first)",
+                        "Modbus CRC-16 of hex bytes, and its bytes as sent (low byte first)",
                         &crc_of_hex<mb::crc16_modbus<>>,
                         {},
                         {}});
   e.decoders.push_back({"crc",
                         "biss6",
                         "",
-                        "BiSS-C CRC6 (x^6+x+1) of a 0/1 bit string, before inversion",
+                        "BiSS-C CRC6 (x^6+x+1) of a 0/1 bit string, as sent (inverted)",
                         &crc_of_bits<mb::crc6_biss<>>,
                         {},
-                        {}});
+                        {},
+                        true,
+                        "0/1 bits, first bit first"});
   e.decoders.push_back({"crc",
                         "biss4",
                         "",
-                        "BiSS-C CRC4 (x^4+x+1) of a 0/1 bit string, before inversion",
+                        "BiSS-C CRC4 (x^4+x+1) of a 0/1 bit string, as sent (inverted)",
                         &crc_of_bits<mb::crc4_biss<>>,
                         {},
-                        {}});
+                        {},
+                        true,
+                        "0/1 bits, first bit first"});
   return e;
 }
 

@@ -9,8 +9,12 @@
 //   read modbus --device PATH --function FC --slave N [...] [--baud N] [--parity E|O|N]
 #include <motionbus/core/errc.hpp>
 #include <motionbus/modbus.hpp>
+#include <motionbus/modbus/framer.hpp>
 
+#include <cctype>
 #include <cstdint>
+#include <cstdio>
+#include <functional>
 #include <optional>
 #include <string>
 #include <utility>
@@ -49,21 +53,39 @@ struct parsed_adu {
   mo::rtu_frame frame;
 };
 
+// `size` is the frame's size by the length rule (predict_request_size or
+// predict_response_size): a frame shorter than it is `truncated` (expected and received byte
+// counts as its evidence), not a CRC mismatch of its last two bytes.
 std::optional<parsed_adu> adu_of(const std::string& input, std::string& error,
-                                 cli::record& evidence) {
+                                 cli::record& evidence,
+                                 const std::function<std::size_t(mb::byte_view)>& size) {
   auto bytes = cli::parse_hex(input, error);
   if (!bytes) {
     return std::nullopt;
   }
   parsed_adu p{std::move(*bytes), {}};
-  const auto f = mo::decode_rtu(mb::byte_view(p.bytes.data(), p.bytes.size()));
+  const mb::byte_view in(p.bytes.data(), p.bytes.size());
+  const auto f = mo::decode_rtu(in);
   if (!f.is_complete()) {
+    const std::size_t wanted = size(in);
+    if (wanted != mo::unknown_length && (wanted == 0 || wanted > in.size())) {
+      error = mb::to_string(mb::errc::truncated);
+      if (wanted != 0) {
+        evidence.add("expected_bytes", static_cast<std::int64_t>(wanted))
+            .add("received_bytes", static_cast<std::int64_t>(in.size()));
+      }
+      return std::nullopt;
+    }
     error = mb::to_string(f.error());
     evidence = cli::failure_of(f, 4).evidence;
     return std::nullopt;
   }
   p.frame = f.value();
   return p;
+}
+
+std::size_t request_size(mb::byte_view in) {
+  return mo::predict_request_size(in);
 }
 
 }  // namespace
@@ -177,7 +199,7 @@ namespace {
 cli::outcome decode_request_line(const std::string& input, const cli::options&) {
   std::string error;
   cli::record evidence;
-  const auto parsed = adu_of(input, error, evidence);
+  const auto parsed = adu_of(input, error, evidence, &request_size);
   if (!parsed) {
     return cli::outcome::failure(error, evidence);
   }
@@ -185,39 +207,53 @@ cli::outcome decode_request_line(const std::string& input, const cli::options&) 
 }
 
 cli::outcome decode_response_line(const std::string& input, const cli::options& opts) {
-  std::string error;
-  cli::record evidence;
-  const auto parsed = adu_of(input, error, evidence);
-  if (!parsed) {
-    return cli::outcome::failure(error, evidence);
-  }
   const mo::report_id_format fc11 = modbus_io::fc11_of(opts, mo::report_id_format::standard);
+  std::optional<parsed_adu> request;
   if (const auto text = opts.get("request")) {
     std::string request_error;
     cli::record request_evidence;
-    const auto request = adu_of(*text, request_error, request_evidence);
+    request = adu_of(*text, request_error, request_evidence, &request_size);
     if (!request || !mo::decode_request(request->frame.pdu).is_complete()) {
       throw cli::usage_error{"--request is not a valid RTU request"};
     }
-    return modbus_io::describe_response(parsed->frame, &request->frame, fc11);
   }
-  return modbus_io::describe_response(parsed->frame, nullptr, fc11);
+  // the length rule of the request's function (alone: of the response's own)
+  const auto size = [&](mb::byte_view in) {
+    const std::uint8_t fc = request ? request->frame.pdu[0] : (in.size() > 1U ? in[1] : 0U);
+    return mo::predict_response_size(in, fc, fc11);
+  };
+  std::string error;
+  cli::record evidence;
+  const auto parsed = adu_of(input, error, evidence, size);
+  if (!parsed) {
+    return cli::outcome::failure(error, evidence);
+  }
+  return modbus_io::describe_response(parsed->frame, request ? &request->frame : nullptr, fc11);
 }
 
-std::vector<std::uint64_t> parse_values(const std::string& text) {
-  std::vector<std::uint64_t> out;
+// --values as numbers: registers 0..65535, or coils on/off (1/0), the only two states of a coil
+// (Modbus Application Protocol V1.1b3 §6.5: FF00 on, 0000 off; any other is refused).
+std::vector<std::uint16_t> parse_values(const std::string& text, bool coils) {
+  std::vector<std::uint16_t> out;
   std::string item;
   for (std::size_t i = 0; i <= text.size(); ++i) {
-    if (i == text.size() || text[i] == ',') {
+    if (i < text.size() && text[i] != ',') {
+      item += static_cast<char>(std::tolower(static_cast<unsigned char>(text[i])));
+      continue;
+    }
+    if (coils) {
+      if (item != "on" && item != "off" && item != "1" && item != "0") {
+        throw cli::usage_error{"--values: a coil is on or off (1 or 0), not \"" + item + "\""};
+      }
+      out.push_back(item == "on" || item == "1" ? 1U : 0U);
+    } else {
       const auto v = cli::parse_uint(item);
       if (!v || *v > 0xFFFF) {
         throw cli::usage_error{"--values takes comma-separated numbers 0..65535"};
       }
-      out.push_back(*v);
-      item.clear();
-    } else {
-      item += text[i];
+      out.push_back(static_cast<std::uint16_t>(*v));
     }
+    item.clear();
   }
   return out;
 }
@@ -234,8 +270,53 @@ std::uint16_t option16(const cli::options& opts, const char* name, std::uint16_t
   return static_cast<std::uint16_t>(*n);
 }
 
-// Builds the request ADU from the options; an error code when the codec refuses it.
-std::vector<std::uint8_t> build_request(const cli::options& opts, std::string& error) {
+// How many --values a function takes: at least `min`, at most `max` (0: none, it takes no
+// --values). A write is never sent with a value the user did not give.
+struct values_rule {
+  std::size_t min;
+  std::size_t max;
+};
+values_rule values_rule_of(std::uint8_t fc) {
+  switch (fc) {
+    case 0x05:
+    case 0x06: return {1, 1};
+    case 0x0F:
+    case 0x10:
+    case 0x17: return {1, static_cast<std::size_t>(-1)};
+    case 0x16: return {2, 2};
+    default: return {0, 0};
+  }
+}
+
+// The --values of function `fc`, checked against what it takes (a usage error otherwise).
+std::vector<std::uint16_t> values_for(const cli::options& opts, std::uint8_t fc) {
+  const values_rule rule = values_rule_of(fc);
+  const auto text = opts.get("values");
+  char fc_text[8];
+  std::snprintf(fc_text, sizeof fc_text, "0x%02X", static_cast<unsigned>(fc));
+  if (rule.max == 0) {
+    if (text) {
+      throw cli::usage_error{std::string("FC ") + fc_text +
+                             " takes no --values (they are for FC 05, 06, 0F, 10, 16, 17)"};
+    }
+    return {};
+  }
+  if (!text) {
+    throw cli::usage_error{
+        std::string("FC ") + fc_text +
+        (fc == 0x16 ? " needs --values AND,OR" : " needs --values: what to write")};
+  }
+  std::vector<std::uint16_t> values = parse_values(*text, fc == 0x05 || fc == 0x0F);
+  if (values.size() < rule.min || values.size() > rule.max) {
+    throw cli::usage_error{std::string("FC ") + fc_text +
+                           (fc == 0x16 ? " takes --values AND,OR" : " takes one value")};
+  }
+  return values;
+}
+
+// Builds the request ADU from the options; a usage error when they are incomplete or the codec
+// refuses them (nothing is sent).
+std::vector<std::uint8_t> build_request(const cli::options& opts) {
   const auto fc_value = cli::parse_uint(opts.get("function").value_or(""));
   if (!fc_value || *fc_value == 0 || *fc_value > 0x7F) {
     throw cli::usage_error{"--function takes a function code 1..127 (decimal or 0x..)"};
@@ -247,10 +328,12 @@ std::vector<std::uint8_t> build_request(const cli::options& opts, std::string& e
   }
   const auto fc = static_cast<std::uint8_t>(*fc_value);
   const std::uint16_t address = option16(opts, "address", 0);
-  const std::vector<std::uint64_t> values =
-      opts.get("values") ? parse_values(*opts.get("values")) : std::vector<std::uint64_t>{};
-  std::vector<std::uint16_t> regs(values.begin(), values.end());
+  const std::vector<std::uint16_t> regs = values_for(opts, fc);
   const mb::span<const std::uint16_t> reg_view(regs.data(), regs.size());
+  const bool raw = fc > 0x06 && fc != 0x0F && fc != 0x10 && fc != 0x16 && fc != 0x17;
+  if (!raw && opts.get("data")) {
+    throw cli::usage_error{"--data is for the function codes without their own options"};
+  }
   std::uint8_t pdu[mo::max_pdu_size] = {};
   mb::result<std::size_t> n = mb::errc::invalid_argument;
   switch (fc) {
@@ -258,30 +341,21 @@ std::vector<std::uint8_t> build_request(const cli::options& opts, std::string& e
     case 0x02:
     case 0x03:
     case 0x04: n = mo::encode_read(fc, address, option16(opts, "quantity", 1), pdu); break;
-    case 0x05:
-      n = mo::encode_write_single_coil(address, !values.empty() && values[0] != 0, pdu);
-      break;
-    case 0x06:
-      n = mo::encode_write_single_register(address, regs.empty() ? 0 : regs[0], pdu);
-      break;
+    case 0x05: n = mo::encode_write_single_coil(address, regs[0] != 0, pdu); break;
+    case 0x06: n = mo::encode_write_single_register(address, regs[0], pdu); break;
     case 0x0F: {
-      std::vector<std::uint8_t> packed((values.size() + 7) / 8, 0);
-      for (std::size_t i = 0; i < values.size(); ++i) {
-        if (values[i] != 0) {
+      std::vector<std::uint8_t> packed((regs.size() + 7) / 8, 0);
+      for (std::size_t i = 0; i < regs.size(); ++i) {
+        if (regs[i] != 0) {
           packed[i / 8] = static_cast<std::uint8_t>(packed[i / 8] | (1U << (i % 8)));
         }
       }
-      n = mo::encode_write_multiple_coils(address, static_cast<std::uint16_t>(values.size()),
+      n = mo::encode_write_multiple_coils(address, static_cast<std::uint16_t>(regs.size()),
                                           mb::byte_view(packed.data(), packed.size()), pdu);
       break;
     }
     case 0x10: n = mo::encode_write_multiple_registers(address, reg_view, pdu); break;
-    case 0x16:
-      if (regs.size() != 2) {
-        throw cli::usage_error{"FC 0x16 takes --values AND,OR"};
-      }
-      n = mo::encode_mask_write_register(address, regs[0], regs[1], pdu);
-      break;
+    case 0x16: n = mo::encode_mask_write_register(address, regs[0], regs[1], pdu); break;
     case 0x17:
       n = mo::encode_read_write_multiple_registers(address, option16(opts, "quantity", 1),
                                                    option16(opts, "write-address", 0), reg_view,
@@ -300,26 +374,16 @@ std::vector<std::uint8_t> build_request(const cli::options& opts, std::string& e
       n = mo::encode_raw(fc, mb::byte_view(data.data(), data.size()), pdu);
     }
   }
-  if (!n) {
-    error = mb::to_string(n.error());
-    return {};
-  }
+  const std::size_t size = cli::built(n, "the request's fields");
   std::uint8_t adu[mo::max_rtu_size] = {};
-  const auto k =
-      mo::encode_rtu(static_cast<std::uint8_t>(*slave), mb::byte_view(pdu, n.value()), adu);
-  if (!k) {
-    error = mb::to_string(k.error());
-    return {};
-  }
-  return std::vector<std::uint8_t>(adu, adu + k.value());
+  const std::size_t k =
+      cli::built(mo::encode_rtu(static_cast<std::uint8_t>(*slave), mb::byte_view(pdu, size), adu),
+                 "--slave " + std::to_string(*slave));
+  return std::vector<std::uint8_t>(adu, adu + k);
 }
 
 int encode_request(const cli::options& opts) {
-  std::string error;
-  const auto adu = build_request(opts, error);
-  if (adu.empty()) {
-    return cli::finish(cli::outcome::failure(error));
-  }
+  const auto adu = build_request(opts);
   cli::record f;
   f.bytes("hex", adu.data(), adu.size());
   if (const auto vcd = opts.get("vcd")) {  // the UART line at the line settings, from 1 us
@@ -336,12 +400,7 @@ int encode_request(const cli::options& opts) {
 // read modbus: one transaction as a client; the response printed like `decode modbus response
 // --request`.
 int read_modbus(const cli::options& opts) {
-  std::string error;
-  const auto adu = build_request(opts, error);
-  if (adu.empty()) {
-    cli::print(cli::outcome::failure(error));
-    return 1;
-  }
+  const auto adu = build_request(opts);
   if (adu[0] == 0) {
     throw cli::usage_error{"read modbus needs a unicast --slave (1..247)"};
   }
@@ -362,7 +421,12 @@ int read_modbus(const cli::options& opts) {
   cli::options decode_opts;
   decode_opts.values["request"] = cli::to_hex(adu.data(), adu.size());
   decode_opts.values["fc11"] = modbus_io::fc11_name(fc11);
-  const cli::outcome o = decode_response_line(cli::to_hex(response, k.value_or(0)), decode_opts);
+  cli::outcome o = decode_response_line(cli::to_hex(response, k.value_or(0)), decode_opts);
+  if (o.ok && (e.pdu[0] & mo::exception_flag) != 0U) {
+    // The server refused the request (Modbus Application Protocol V1.1b3 §7): the transaction
+    // failed, exit status 1, with the exception's fields as the evidence.
+    o = cli::outcome::failure("exception", o.fields);
+  }
   cli::print(o);
   return o.ok ? 0 : 1;
 }

@@ -22,6 +22,7 @@ exchange transact(serial::port& port, std::uint8_t slave, const std::uint8_t* ad
   rx.sent(slave, adu[1]);
   const std::uint32_t deadline = serial::now_us() + static_cast<std::uint32_t>(timeout_ms) * 1000U;
   std::uint8_t buffer[256];
+  std::string failure;
   while (static_cast<std::int32_t>(deadline - serial::now_us()) > 0) {
     const long n = port.read_some(buffer, sizeof buffer, 20);
     if (n < 0) {
@@ -32,7 +33,10 @@ exchange transact(serial::port& port, std::uint8_t slave, const std::uint8_t* ad
       if (r.is_complete()) {
         return {std::vector<std::uint8_t>(r->pdu.begin(), r->pdu.end()), {}};
       }
-      continue;
+      if (r.is_failed()) {  // the silence ended a bad frame: e.g. truncated, crc_mismatch
+        return {{}, mb::to_string(r.error())};
+      }
+      continue;  // only a frame for another address
     }
     std::vector<std::uint8_t> pdu;
     bool framed = false;
@@ -40,6 +44,8 @@ exchange transact(serial::port& port, std::uint8_t slave, const std::uint8_t* ad
       if (r.is_complete()) {
         pdu.assign(r->pdu.begin(), r->pdu.end());
         framed = true;
+      } else {
+        failure = mb::to_string(r.error());  // a valid frame may still follow
       }
       return !framed;
     });
@@ -47,7 +53,8 @@ exchange transact(serial::port& port, std::uint8_t slave, const std::uint8_t* ad
       return {pdu, {}};
     }
   }
-  return {{}, "timeout"};
+  // nothing valid in time: what was wrong with what came, else nothing came
+  return {{}, failure.empty() ? "timeout" : failure};
 }
 
 mo::report_id_format fc11_of(const cli::options& opts, mo::report_id_format fallback) {

@@ -15,7 +15,9 @@
 
 namespace modbus_io {
 
-/// The response PDU to one request ADU, or an error code ("timeout", "read_error", ...).
+/// The response PDU to one request ADU, or an error code: "timeout" (nothing came), the
+/// framer's error for what came instead (a silence ended it: "truncated", "crc_mismatch"...),
+/// "write_error", "read_error".
 struct exchange {
   std::vector<std::uint8_t> pdu;
   std::string error;

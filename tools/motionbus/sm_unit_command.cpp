@@ -17,6 +17,7 @@
 #include <iostream>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "cli.hpp"
@@ -33,12 +34,29 @@ unsigned option(const cli::options& opts, const char* name, unsigned fallback, u
   return static_cast<unsigned>(cli::option_number(opts, name, fallback, max));
 }
 
+// The SM unit's addresses are 1..16 (SM unit guideline §2, "Slave addresses 1-16"): another
+// is a usage error, before anything is sent.
 std::uint8_t slave_of(const cli::options& opts) {
-  const unsigned slave = option(opts, "slave", 1, 247);
-  if (slave == 0) {
-    throw cli::usage_error{"--slave is 1..247"};
+  const unsigned slave = option(opts, "slave", 1, 255);
+  if (slave < sm::min_slave || slave > sm::max_slave) {
+    throw cli::usage_error{"--slave " + std::to_string(slave) +
+                           ": the SM unit's addresses are 1..16 (SM unit guideline, section 2)"};
   }
   return static_cast<std::uint8_t>(slave);
+}
+
+// The password as the unit takes it (§10: 8 to 16 characters, each 0x21..0x7E); a usage error
+// otherwise.
+std::string password_of(const cli::options& opts) {
+  std::string password = opts.get("password").value_or("password");
+  const auto e = sm::check_password(
+      mb::byte_view(reinterpret_cast<const std::uint8_t*>(password.data()), password.size()));
+  if (e != mb::errc::ok) {
+    throw cli::usage_error{
+        "--password takes 8 to 16 characters, each ! (0x21) to ~ (0x7E) (SM unit guideline, "
+        "section 10)"};
+  }
+  return password;
 }
 
 int serve_sm_unit(const cli::options& opts) {
@@ -145,14 +163,15 @@ int read_sm_unit(const cli::options& opts) {
   }
   const mo::report_id_format fc11 =
       modbus_io::fc11_of(opts, mo::report_id_format::two_bytes_no_count);
+  const std::string password = password_of(opts);
   if (!modbus_io::open_port(port, opts)) {
     return 1;
   }
   paced_link link(port, slave, fc11);
   std::uint8_t adu[256] = {};
   std::string error;
-  auto fail = [](const std::string& code) {
-    cli::print(cli::outcome::failure(code));
+  auto fail = [](const std::string& code, cli::record evidence = {}) {
+    cli::print(cli::outcome::failure(code, std::move(evidence)));
     return 1;
   };
   cli::record out;
@@ -160,21 +179,17 @@ int read_sm_unit(const cli::options& opts) {
   if (what == "password") {
     // Reading the password needs the login state (§6 note *1): log in only if logged out,
     // and leave the unit as it was found.
-    std::size_t n = sm::read_login_status(slave, adu).value();
+    std::size_t n = cli::built(sm::read_login_status(slave, adu), "the login status request");
     auto status = link.ask(adu, n, error);
     if (!status.is_complete() || status->exception || status->data.size() != 2) {
       return fail(status.is_complete() ? "exception" : error);
     }
     const bool was_logged_in = mo::register_at(status->data, 0) == sm::input::logged_in;
-    const std::string password = opts.get("password").value_or("password");
     const auto pw =
         mb::byte_view(reinterpret_cast<const std::uint8_t*>(password.data()), password.size());
     auto toggle = [&]() -> std::string {  // writing the password toggles the state (§6)
-      const auto k = sm::login(slave, pw, adu);
-      if (!k) {
-        return mb::to_string(k.error());
-      }
-      const auto r = link.ask(adu, k.value(), error);
+      const std::size_t k = cli::built(sm::login(slave, pw, adu), "the login request");
+      const auto r = link.ask(adu, k, error);
       if (!r.is_complete()) {
         return error;
       }
@@ -186,8 +201,9 @@ int read_sm_unit(const cli::options& opts) {
         return fail(e);
       }
     }
-    n = sm::read_holding_block(slave, sm::holding::password, sm::holding::password_registers, adu)
-            .value();
+    n = cli::built(
+        sm::read_holding_block(slave, sm::holding::password, sm::holding::password_registers, adu),
+        "the password request");
     const auto r = link.ask(adu, n, error);
     std::string text;
     const bool read_ok = r.is_complete() && !r->exception;
@@ -209,8 +225,10 @@ int read_sm_unit(const cli::options& opts) {
     if (!read_error.empty()) {
       return fail(read_error);
     }
-    if (!restore_error.empty()) {
-      return fail("logout_" + restore_error);
+    if (!restore_error.empty()) {  // the password was read, the unit is left logged in
+      cli::record e;
+      e.add("reason", restore_error);
+      return fail("logout_failed", e);
     }
     out.add_bool("logged_in", was_logged_in)
         .add_bool("logged_in_by_read", !was_logged_in)
@@ -222,7 +240,7 @@ int read_sm_unit(const cli::options& opts) {
     }
     return cli::finish(cli::outcome::success(out));
   }
-  std::size_t n = sm::read_instantaneous(slave, adu).value();
+  std::size_t n = cli::built(sm::read_instantaneous(slave, adu), "the data request");
   const auto r = link.ask(adu, n, error);
   if (!r.is_complete()) {
     return fail(error);
@@ -234,7 +252,7 @@ int read_sm_unit(const cli::options& opts) {
   if (!data) {
     return fail(mb::to_string(data.error()));
   }
-  n = sm::read_version(slave, adu).value();
+  n = cli::built(sm::read_version(slave, adu), "the version request");
   const auto v = link.ask(adu, n, error);
   if (!v.is_complete()) {
     return fail(error);

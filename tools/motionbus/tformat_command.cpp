@@ -186,26 +186,29 @@ std::uint8_t data_id_of(const cli::options& opts) {
   return *id;
 }
 
+// The request frame (its size); a usage error when the library refuses the Data ID or the
+// address (an unknown Data ID, an EEPROM address past 127).
+std::size_t request_of(std::uint8_t id, unsigned address, unsigned data,
+                       std::uint8_t (&out)[tf::max_request_size]) {
+  return cli::built(
+      tf::encode_request(static_cast<tf::data_id>(id), static_cast<std::uint8_t>(address),
+                         static_cast<std::uint8_t>(data), out),
+      "--id " + std::to_string(static_cast<unsigned>(id)) + " --address " +
+          std::to_string(address));
+}
+
 int encode_request(const cli::options& opts) {
   const std::uint8_t id = data_id_of(opts);
-  const unsigned address = option_uint(opts, "address", 0, 0xFFFF);
+  const unsigned address = option_uint(opts, "address", 0, 0xFF);
   const unsigned data = option_uint(opts, "data", 0, 0xFF);
-  if (address > 0xFF) {
-    return cli::finish(cli::outcome::failure(mb::to_string(mb::errc::out_of_range)));
-  }
   std::uint8_t out[tf::max_request_size] = {};
-  const auto n =
-      tf::encode_request(static_cast<tf::data_id>(id), static_cast<std::uint8_t>(address),
-                         static_cast<std::uint8_t>(data), out);
-  if (!n) {
-    return cli::finish(cli::outcome::failure(mb::to_string(n.error())));
-  }
+  const std::size_t n = request_of(id, address, data, out);
   cli::record f;
-  f.bytes("hex", out, n.value());
+  f.bytes("hex", out, n);
   if (const auto vcd = opts.get("vcd")) {  // the UART line, 8N1 at --baud, from 1 us
     capture::channel line;
     line.name = "line";
-    capture::uart_levels(std::vector<std::uint8_t>(out, out + n.value()),
+    capture::uart_levels(std::vector<std::uint8_t>(out, out + n),
                          static_cast<double>(cli::option_number(opts, "baud", 2500000, 100000000)),
                          'N', 1, 1e-6, line);
     capture::write_vcd_file(*vcd, {line});
@@ -292,13 +295,8 @@ int serve_encoder(const cli::options& opts) {
 int read_encoder(const cli::options& opts) {
   const std::uint8_t id = data_id_of(opts);
   std::uint8_t request[tf::max_request_size] = {};
-  const auto n = tf::encode_request(
-      static_cast<tf::data_id>(id), static_cast<std::uint8_t>(option_uint(opts, "address", 0, 127)),
-      static_cast<std::uint8_t>(option_uint(opts, "data", 0, 255)), request);
-  if (!n) {
-    cli::print(cli::outcome::failure(mb::to_string(n.error())));
-    return 1;
-  }
+  const std::size_t n = request_of(id, option_uint(opts, "address", 0, 127),
+                                   option_uint(opts, "data", 0, 255), request);
   const int timeout_ms = static_cast<int>(option_uint(opts, "timeout-ms", 200, 60000));
   serial::port port;
   if (!open_device(port, opts)) {
@@ -309,11 +307,11 @@ int read_encoder(const cli::options& opts) {
   ro.echo_mode = opts.has("echo") ? tf::echo::expected : tf::echo::none;
   ro.decode = options_for(opts);
   tf::receiver rx(ro);
-  if (!port.write_all(request, n.value())) {
+  if (!port.write_all(request, n)) {
     std::cerr << "motionbus: write error\n";
     return 1;
   }
-  rx.sent(mb::byte_view(request, n.value()));
+  rx.sent(mb::byte_view(request, n));
   const std::uint32_t deadline = serial::now_us() + static_cast<std::uint32_t>(timeout_ms) * 1000U;
   std::uint8_t buffer[64];
   while (static_cast<std::int32_t>(deadline - serial::now_us()) > 0) {
