@@ -362,14 +362,15 @@ class crc {
   }
 
  private:
-  // How feed_range walks the bytes: one named step per target, chosen here and nowhere else.
-  enum class byte_walk { xor_fold, sliced, pairs, single };
+  // How feed_range walks the bytes: one named walk per target, chosen here and nowhere else.
+  enum class byte_walk { xor_fold, sliced, pairs, counted, indexed };
   static constexpr byte_walk walk =
       (chunk_bits == 8U && kernel::reg_bits == 8U && kernel::template identity_table<8>())
           ? byte_walk::xor_fold
       : (sliced && kernel::can_slice)                     ? byte_walk::sliced
       : (chunk_bits == 8U && detail::unaligned_halfwords) ? byte_walk::pairs
-                                                          : byte_walk::single;
+      : MOTIONBUS_SMALL_CODE                              ? byte_walk::counted
+                                                          : byte_walk::indexed;
 
   // The register after feeding `size` bytes from `at` to `reg` (static, pointer and count: a
   // one-shot CRC keeps its register and arguments in registers, no view on the stack).
@@ -381,8 +382,10 @@ class crc {
       return feed_sliced(reg, at, size);
     } else if constexpr (walk == byte_walk::pairs) {
       return feed_pairs(reg, at, size);
+    } else if constexpr (walk == byte_walk::counted) {
+      return feed_counted(reg, at, size);
     } else {
-      return feed_single(reg, at, size);
+      return feed_indexed(reg, at, size);
     }
   }
 
@@ -417,7 +420,7 @@ class crc {
     for (; i + 4U <= size; i += 4U) {
       reg = kernel::step_slice4(reg, le32(data, i));
     }
-    return feed_single(reg, at + i, size - i);
+    return feed_indexed(reg, at + i, size - i);
   }
 
   // Arm cores with unaligned halfword loads: one load and one loop test for two table steps.
@@ -425,7 +428,7 @@ class crc {
                                             std::size_t size) noexcept {
     std::size_t pairs = size / 2U;
     if (pairs != 0U) {
-      do {  // the test at the end: -Os does not rotate loops
+      do {  // the test at the end, as in feed_counted
         const std::uint32_t w = load_le16(byte_view(at, 2U), 0U);
         reg = step_byte(step_byte(reg, w & 0xFFU), w >> 8U);
         at += 2;
@@ -434,17 +437,28 @@ class crc {
     return (size & 1U) != 0U ? step_byte(reg, *at) : reg;
   }
 
-  // One table (or nibble, or bit) step a byte: the form every target can run.
-  static constexpr std::uint32_t feed_single(std::uint32_t reg, const std::uint8_t* at,
-                                             std::size_t size) noexcept {
+  // One step a byte, the loop test at the end: one branch a byte where -Os does not rotate
+  // loops.
+  static constexpr std::uint32_t feed_counted(std::uint32_t reg, const std::uint8_t* at,
+                                              std::size_t size) noexcept {
     if (size != 0U) {
-      do {  // the test at the end: -Os does not rotate loops
+      do {
         reg = step_byte(reg, *at++);
       } while (--size != 0U);
     }
     return reg;
   }
 
+  // One step a byte, an index loop: the form a host's optimiser unrolls.
+  static constexpr std::uint32_t feed_indexed(std::uint32_t reg, const std::uint8_t* at,
+                                              std::size_t size) noexcept {
+    for (std::size_t i = 0; i < size; ++i) {
+      reg = step_byte(reg, at[i]);
+    }
+    return reg;
+  }
+
+  // One table, nibble or bit step for one byte.
   static constexpr std::uint32_t step_byte(std::uint32_t reg, std::uint32_t byte) noexcept {
     if constexpr (chunk_bits == 8U) {
       return kernel::template step_chunk<8>(reg, byte);
