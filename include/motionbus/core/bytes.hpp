@@ -26,7 +26,7 @@ namespace motionbus {
 
 /// N bytes from `in[at]`, the first byte least significant.
 template <unsigned N>
-MOTIONBUS_INLINE constexpr std::uint64_t load_le(byte_view in, std::size_t at) noexcept {
+constexpr std::uint64_t load_le(byte_view in, std::size_t at) noexcept {
   static_assert(N >= 1U && N <= 8U, "load_le: 1 to 8 bytes");
 #if MOTIONBUS_DIRECT_LOADS
   if (!__builtin_is_constant_evaluated()) {
@@ -47,7 +47,7 @@ MOTIONBUS_INLINE constexpr std::uint64_t load_le(byte_view in, std::size_t at) n
 
 /// N bytes from `in[at]`, the first byte most significant.
 template <unsigned N>
-MOTIONBUS_INLINE constexpr std::uint64_t load_be(byte_view in, std::size_t at) noexcept {
+constexpr std::uint64_t load_be(byte_view in, std::size_t at) noexcept {
   static_assert(N >= 1U && N <= 8U, "load_be: 1 to 8 bytes");
 #if MOTIONBUS_DIRECT_LOADS
   if (!__builtin_is_constant_evaluated()) {
@@ -67,22 +67,21 @@ MOTIONBUS_INLINE constexpr std::uint64_t load_be(byte_view in, std::size_t at) n
 }
 
 /// The 16-bit big-endian value at `in[at]` (a Modbus register, a length field).
+/// Forced inline: the Modbus server reads every register through it, and -Os calls it.
 MOTIONBUS_INLINE constexpr std::uint16_t load_be16(byte_view in, std::size_t at) noexcept {
   return static_cast<std::uint16_t>((in[at] << 8U) | in[at + 1U]);
 }
 /// The 16-bit little-endian value at `in[at]` (a Modbus CRC as sent).
-MOTIONBUS_INLINE constexpr std::uint16_t load_le16(byte_view in, std::size_t at) noexcept {
+constexpr std::uint16_t load_le16(byte_view in, std::size_t at) noexcept {
   return static_cast<std::uint16_t>(in[at] | (in[at + 1U] << 8U));
 }
 /// Writes `v` big-endian at `out[at]` (at + 2 <= out.size(), checked by the caller).
-MOTIONBUS_INLINE constexpr void store_be16(mutable_byte_view out, std::size_t at,
-                                           std::uint16_t v) noexcept {
+constexpr void store_be16(mutable_byte_view out, std::size_t at, std::uint16_t v) noexcept {
   out[at] = static_cast<std::uint8_t>(v >> 8U);
   out[at + 1U] = static_cast<std::uint8_t>(v & 0xFFU);
 }
 /// Writes `v` little-endian at `out[at]` (at + 2 <= out.size(), checked by the caller).
-MOTIONBUS_INLINE constexpr void store_le16(mutable_byte_view out, std::size_t at,
-                                           std::uint16_t v) noexcept {
+constexpr void store_le16(mutable_byte_view out, std::size_t at, std::uint16_t v) noexcept {
   out[at] = static_cast<std::uint8_t>(v & 0xFFU);
   out[at + 1U] = static_cast<std::uint8_t>(v >> 8U);
 }

@@ -61,13 +61,14 @@
 #endif
 #endif
 
-/// Marks a small hot path (a few dozen instructions) that should be inlined into its caller
-/// even where the compiler's heuristics would not (clang does not inline the ID3 decoder).
-/// Both may be defined empty to leave every choice to the compiler (constexpr implies inline).
+/// Forces a short hot function (a few dozen instructions at most) into its callers. Policy
+/// (docs/design.md, "Performance policy"): only where the meter shows it pays, never in
+/// unoptimised builds (debuggers step through calls, and -O0 inlines nothing else).
+/// This and MOTIONBUS_COLD may be defined empty to leave every choice to the compiler.
 #ifndef MOTIONBUS_INLINE
-#if defined(__GNUC__) || defined(__clang__)
+#if (defined(__GNUC__) || defined(__clang__)) && defined(__OPTIMIZE__)
 #define MOTIONBUS_INLINE inline __attribute__((always_inline))
-#elif defined(_MSC_VER)
+#elif defined(_MSC_VER) && !defined(_DEBUG)
 #define MOTIONBUS_INLINE __forceinline
 #else
 #define MOTIONBUS_INLINE inline
@@ -118,25 +119,6 @@
 #define MOTIONBUS_UNROLL(n) MOTIONBUS_PRAGMA(GCC unroll n)
 #else
 #define MOTIONBUS_UNROLL(n)
-#endif
-
-/// Forces inlining in the speed form only (MOTIONBUS_SMALL_CODE 0): where inlining a loop
-/// pays on a host (e.g. a CRC a caller's optimiser can then fold or vectorise) but would cost
-/// flash, and even speed, in a size-optimised build.
-#if MOTIONBUS_SMALL_CODE
-#define MOTIONBUS_SPEED_INLINE inline
-#else
-#define MOTIONBUS_SPEED_INLINE MOTIONBUS_INLINE
-#endif
-
-/// Forces inlining in the size form only (MOTIONBUS_SMALL_CODE 1): a thin wrapper around an
-/// out-of-line loop (a one-shot CRC), so that a size-optimised caller calls the loop with its
-/// arguments in registers; in the speed form the compiler chooses (forcing it there can keep
-/// a host's optimiser from vectorising the loop at the call site).
-#if MOTIONBUS_SMALL_CODE
-#define MOTIONBUS_SIZE_INLINE MOTIONBUS_INLINE
-#else
-#define MOTIONBUS_SIZE_INLINE inline
 #endif
 
 /// 1 where the core counts leading zeros in one instruction (Cortex-M3 and up, x86, AArch64,

@@ -52,6 +52,14 @@ using uint_least_bits_t =
     std::conditional_t<(Bits <= 8U), std::uint8_t,
                        std::conditional_t<(Bits <= 16U), std::uint16_t, std::uint32_t>>;
 
+/// Arm cores whose halfword loads may be unaligned (Cortex-M3, M4, M7; A-profile), where the
+/// byte-table CRC loads two bytes a step (crc::feed_pairs).
+#if MOTIONBUS_DIRECT_LOADS && defined(__ARM_FEATURE_UNALIGNED)
+inline constexpr bool unaligned_halfwords = true;
+#else
+inline constexpr bool unaligned_halfwords = false;
+#endif
+
 constexpr std::uint32_t low_mask32(unsigned width) noexcept {
   return width >= 32U ? 0xFFFFFFFFU : ((std::uint32_t{1} << width) - 1U);
 }
@@ -349,102 +357,120 @@ class crc {
   }
 
   constexpr crc& update(byte_view data) noexcept {
-    reg_ = feed_bytes(reg_, data);
+    reg_ = feed_range(reg_, data.data(), data.size());
     return *this;
   }
 
  private:
-  // The register after feeding `data` to `reg_in` (a static function: a one-shot CRC keeps
-  // its register in a register, no object on the stack). The loop takes a pointer and a
-  // count: where it is not inlined (-Os), its arguments then travel in registers (a view
-  // passed by value is stored to the stack and read back by some compilers).
-  MOTIONBUS_INLINE static constexpr std::uint32_t feed_bytes(std::uint32_t reg_in,
-                                                             byte_view data) noexcept {
-    return feed_range(reg_in, data.data(), data.size());
-  }
-  MOTIONBUS_SPEED_INLINE static constexpr std::uint32_t feed_range(std::uint32_t reg_in,
-                                                                   const std::uint8_t* bytes,
-                                                                   std::size_t size) noexcept {
-    const byte_view data(bytes, size);
-    std::uint32_t reg_out = reg_in;
-    if constexpr (chunk_bits == 8U && kernel::reg_bits == 8U &&
-                  kernel::template identity_table<8>()) {
-      // x^8 + 1 at width 8: each byte step is reg ^= byte, so the CRC is the XOR of the bytes:
-      // fold 8 bytes at a time (the shifts compile to one unaligned load), then the tail.
-      std::uint64_t acc = 0;
-      std::size_t i = 0;
-      for (; i + 8U <= data.size(); i += 8U) {
-        acc ^= load_le<8>(data, i);
-      }
-      for (; i < data.size(); ++i) {
-        acc ^= data[i];
-      }
-      acc ^= acc >> 32U;
-      acc ^= acc >> 16U;
-      acc ^= acc >> 8U;
-      reg_out ^= static_cast<std::uint32_t>(acc & 0xFFU);
-    } else if constexpr (sliced && kernel::can_slice) {
-      std::uint32_t reg = reg_out;
-      std::size_t i = 0;
-      if constexpr (Table == crc_table_size::slice8) {
-        for (; i + 8U <= data.size(); i += 8U) {
-          reg = kernel::step_slice8(reg, le32(data, i), le32(data, i + 4U));
-        }
-      }
-      for (; i + 4U <= data.size(); i += 4U) {
-        reg = kernel::step_slice4(reg, le32(data, i));
-      }
-      for (; i < data.size(); ++i) {
-        reg = kernel::template feed<8>(reg, data[i], 8U);
-      }
-      reg_out = reg;
+  // How feed_range walks the bytes: one named walk per target, chosen here and nowhere else.
+  enum class byte_walk { xor_fold, sliced, pairs, counted, indexed };
+  static constexpr byte_walk walk =
+      (chunk_bits == 8U && kernel::reg_bits == 8U && kernel::template identity_table<8>())
+          ? byte_walk::xor_fold
+      : (sliced && kernel::can_slice)                     ? byte_walk::sliced
+      : (chunk_bits == 8U && detail::unaligned_halfwords) ? byte_walk::pairs
+      : MOTIONBUS_SMALL_CODE                              ? byte_walk::counted
+                                                          : byte_walk::indexed;
+
+  // The register after feeding `size` bytes from `at` to `reg` (static, pointer and count: a
+  // one-shot CRC keeps its register and arguments in registers, no view on the stack).
+  static constexpr std::uint32_t feed_range(std::uint32_t reg, const std::uint8_t* at,
+                                            std::size_t size) noexcept {
+    if constexpr (walk == byte_walk::xor_fold) {
+      return reg ^ xor_fold(at, size);
+    } else if constexpr (walk == byte_walk::sliced) {
+      return feed_sliced(reg, at, size);
+    } else if constexpr (walk == byte_walk::pairs) {
+      return feed_pairs(reg, at, size);
+    } else if constexpr (walk == byte_walk::counted) {
+      return feed_counted(reg, at, size);
     } else {
-      const std::uint8_t* at = bytes;
-      std::size_t left = size;
-#if MOTIONBUS_DIRECT_LOADS && defined(__ARM_FEATURE_UNALIGNED)
-      if constexpr (chunk_bits == 8U) {
-        // Two bytes a step on Arm cores whose halfword loads may be unaligned (Cortex-M3, M4,
-        // M7; A-profile): one load and one loop test for two table steps, 5.6 instructions a
-        // byte on Cortex-M4 against 7 (docs/footprint.md). Not on x86, where the byte loop is
-        // faster (bench/RESULTS.md, session 9).
-        if (!MOTIONBUS_CONSTANT_EVALUATED() && left >= 2U) {
-          std::size_t pairs = left / 2U;
-          left &= 1U;
-          do {
-            std::uint16_t w = 0;
-            __builtin_memcpy(&w, at, 2);  // little-endian (MOTIONBUS_DIRECT_LOADS)
-            at += 2;
-            reg_out = kernel::template step_chunk<8>(reg_out, w & 0xFFU);
-            reg_out = kernel::template step_chunk<8>(reg_out, static_cast<std::uint32_t>(w) >> 8U);
-          } while (--pairs != 0U);
-        }
-      }
-#endif
-#if MOTIONBUS_SMALL_CODE
-      // a loop whose test is at its end: one branch a byte (-Os does not rotate loops)
-      if (left != 0U) {
-        do {
-          if constexpr (chunk_bits == 8U) {
-            reg_out = kernel::template step_chunk<8>(reg_out, *at++);  // one table step
-          } else {
-            reg_out = kernel::template feed<chunk_bits>(reg_out, *at++, 8U);
-          }
-        } while (--left != 0U);
-      }
-#else
-      // an index loop, which a host's optimiser unrolls (13 % faster on x86-64 in the FC03
-      // decode of bench/modbus than the loop above: bench/RESULTS.md, session 9)
-      for (std::size_t i = 0; i < left; ++i) {
-        reg_out = kernel::template feed<chunk_bits>(reg_out, at[i], 8U);
-      }
-#endif
+      return feed_indexed(reg, at, size);
     }
-    return reg_out;
+  }
+
+  // x^8 + 1 at width 8 makes each byte step reg ^= byte: the CRC is the XOR of the bytes,
+  // folded eight at a time from one 64-bit load.
+  static constexpr std::uint32_t xor_fold(const std::uint8_t* at, std::size_t size) noexcept {
+    const byte_view data(at, size);
+    std::uint64_t acc = 0;
+    std::size_t i = 0;
+    for (; i + 8U <= size; i += 8U) {
+      acc ^= load_le<8>(data, i);
+    }
+    for (; i < size; ++i) {
+      acc ^= data[i];
+    }
+    acc ^= acc >> 32U;
+    acc ^= acc >> 16U;
+    acc ^= acc >> 8U;
+    return static_cast<std::uint32_t>(acc & 0xFFU);
+  }
+
+  // Slice tables take four or eight bytes per step with independent lookups (hosts).
+  static constexpr std::uint32_t feed_sliced(std::uint32_t reg, const std::uint8_t* at,
+                                             std::size_t size) noexcept {
+    const byte_view data(at, size);
+    std::size_t i = 0;
+    if constexpr (Table == crc_table_size::slice8) {
+      for (; i + 8U <= size; i += 8U) {
+        reg = kernel::step_slice8(reg, le32(data, i), le32(data, i + 4U));
+      }
+    }
+    for (; i + 4U <= size; i += 4U) {
+      reg = kernel::step_slice4(reg, le32(data, i));
+    }
+    return feed_indexed(reg, at + i, size - i);
+  }
+
+  // Arm cores with unaligned halfword loads: one load and one loop test for two table steps.
+  static constexpr std::uint32_t feed_pairs(std::uint32_t reg, const std::uint8_t* at,
+                                            std::size_t size) noexcept {
+    std::size_t pairs = size / 2U;
+    if (pairs != 0U) {
+      do {  // the test at the end, as in feed_counted
+        const std::uint32_t w = load_le16(byte_view(at, 2U), 0U);
+        reg = step_byte(step_byte(reg, w & 0xFFU), w >> 8U);
+        at += 2;
+      } while (--pairs != 0U);
+    }
+    return (size & 1U) != 0U ? step_byte(reg, *at) : reg;
+  }
+
+  // One step a byte, the loop test at the end: one branch a byte where -Os does not rotate
+  // loops.
+  static constexpr std::uint32_t feed_counted(std::uint32_t reg, const std::uint8_t* at,
+                                              std::size_t size) noexcept {
+    if (size != 0U) {
+      do {
+        reg = step_byte(reg, *at++);
+      } while (--size != 0U);
+    }
+    return reg;
+  }
+
+  // One step a byte, an index loop: the form a host's optimiser unrolls.
+  static constexpr std::uint32_t feed_indexed(std::uint32_t reg, const std::uint8_t* at,
+                                              std::size_t size) noexcept {
+    for (std::size_t i = 0; i < size; ++i) {
+      reg = step_byte(reg, at[i]);
+    }
+    return reg;
+  }
+
+  // One table, nibble or bit step for one byte.
+  static constexpr std::uint32_t step_byte(std::uint32_t reg, std::uint32_t byte) noexcept {
+    if constexpr (chunk_bits == 8U) {
+      return kernel::template step_chunk<8>(reg, byte);
+    } else {
+      return kernel::template feed<chunk_bits>(reg, byte, 8U);
+    }
   }
 
  public:
   /// Feeds the low `count` bits of `bits` in the CRC's bit order (see the file comment).
-  /// A count above 64 is treated as 64.
+  /// A count above 64 is treated as 64. Forced inline: MOTIONBUS_CONSTANT_P then sees a
+  /// count the caller fixes (a BiSS-C frame's CRC).
   MOTIONBUS_INLINE constexpr crc& update_bits(std::uint64_t bits, unsigned count) noexcept {
     const unsigned n = count > 64U ? 64U : count;
     const std::uint64_t v = bits & detail::low_mask64(n);
@@ -497,13 +523,12 @@ class crc {
   }
 
   /// The CRC of everything fed so far (reflection and final XOR applied). Feeding may go on.
-  constexpr value_type value() const noexcept {
-    return value_of(reg_);
-  }
+  constexpr value_type value() const noexcept { return value_of(reg_); }
 
-  /// One-shot CRC of `data`.
-  MOTIONBUS_SIZE_INLINE static constexpr value_type compute(byte_view data) noexcept {
-    return value_of(feed_bytes(initial_register(), data));
+  /// One-shot CRC of `data`. Forced inline: the walk then gets the view's pointer and size in
+  /// registers, not the view through the stack.
+  MOTIONBUS_INLINE static constexpr value_type compute(byte_view data) noexcept {
+    return value_of(feed_range(initial_register(), data.data(), data.size()));
   }
 
   /// One-shot CRC of the low `count` (<= 64) bits of `bits`, fed in the CRC's bit order.
