@@ -680,3 +680,65 @@ TEST_CASE("client framer: result() keeps the last settled result through puts th
   REQUIRE(f.result().is_complete());
   CHECK(f.result()->pdu[3] == 0x2B);
 }
+
+namespace {
+// FC2B/0E response whose declared objects end within 256 bytes while the next object's header
+// is still missing, then filler: the framer must never want more than the largest ADU.
+bytes fc2b_overlong() {
+  bytes line = {0x01, 0x2B, 0x0E, 0x01, 0x01, 0x00, 0x00, 0x02, 0x00, 0xF5};
+  line.resize(line.size() + 290U, 0x00);
+  return line;
+}
+}  // namespace
+
+TEST_CASE("framer: an FC2B response whose objects outgrow 256 bytes fails (no endless loop)") {
+  // issue 23 review §1: at 256 bytes held with the walk unfinished the rule said "need more"
+  const bytes line = fc2b_overlong();
+  for (int by_put = 0; by_put < 2; ++by_put) {
+    CAPTURE(by_put);
+    framer_options options{framer_role::client, 0x01};
+    options.ends = frame_end::length;
+    rtu_client_framer f(options);
+    f.sent(0x01, 0x2B);
+    std::vector<errc> errors;
+    const auto each = [&](const auto& r) {
+      errors.push_back(r.error());
+      return true;
+    };
+    if (by_put != 0) {
+      for (const std::uint8_t b : line) {
+        put_each(f, b, each);
+      }
+    } else {
+      std::size_t at = 0;
+      for (auto r = f.feed(view(line)); !r.is_incomplete(); r = f.feed(view(line).subspan(at))) {
+        at += r.consumed();
+        each(r);
+        CHECK(f.pending() + r.needed() <= max_rtu_size);
+      }
+    }
+    REQUIRE(!errors.empty());
+    CHECK(errors[0] == errc::modbus_pdu_length);
+    CHECK(f.pending() < max_rtu_size);
+  }
+  CHECK(predict_response_size(byte_view(line.data(), max_rtu_size), 0x2B) > max_rtu_size);
+}
+
+TEST_CASE("listener: an FC2B response whose objects outgrow 256 bytes fails, the next frame is heard") {
+  const bytes request = rtu(0x01, {0x2B, 0x0E, 0x01, 0x00});
+  const bytes next = rtu(0x11, {0x03, 0x00, 0x6B, 0x00, 0x03});
+  const bytes line = cat({request, fc2b_overlong(), next});
+  rtu_listener chunked;
+  const auto all = listen_chunks(chunked, line, line.size());
+  bool too_long = false;
+  for (const heard& h : all) {
+    too_long = too_long || h.e.error == errc::modbus_pdu_length;
+  }
+  CHECK(too_long);
+  const auto frames = frames_of(all);
+  REQUIRE(frames.size() >= 2U);
+  CHECK(frames.front().e.pdu == bytes{0x2B, 0x0E, 0x01, 0x00});
+  CHECK(frames.back().e.pdu == bytes{0x03, 0x00, 0x6B, 0x00, 0x03});
+  rtu_listener by_byte;
+  CHECK(listen_bytes(by_byte, line) == all);
+}

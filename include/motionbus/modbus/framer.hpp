@@ -155,7 +155,9 @@ constexpr std::size_t predict_response_size(
       if (w.inside) {
         return w.end + 2U;
       }
-      return w.end > max_rtu_size ? w.end : 0;  // too long (the caller rejects it), or wait
+      // too long (the caller rejects it); objects still arriving in a full frame's worth of
+      // bytes: too long too (never want more than 256 bytes); else wait
+      return w.end > max_rtu_size ? w.end : in.size() >= max_rtu_size ? max_rtu_size + 1U : 0;
     }
     default: return unknown_length;
   }
@@ -552,6 +554,9 @@ class basic_rtu_framer {
           continue;  // garbage: resynchronise
         }
       }
+      if (total == 0U && size >= max_rtu_size) {
+        total = max_rtu_size + 1U;  // a rule never wants more than 256 bytes: too long
+      }
       if (total == 0U) {  // a count byte is still missing
         buf_.want(size + 1U);
         return need_input{1};
@@ -621,7 +626,7 @@ class basic_rtu_framer {
         }
         if (total == 0U || total > size) {
           const std::size_t at_least = total == 0U ? size + 1U : total;
-          if (total > max_rtu_size) {
+          if (at_least > max_rtu_size) {  // never more than 256 bytes wanted: too long
             if (failure.code == errc::ok) {
               failure = decode_failure{errc::modbus_pdu_length, used};
             }
