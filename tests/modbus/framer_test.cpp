@@ -742,3 +742,24 @@ TEST_CASE("listener: an FC2B response whose objects outgrow 256 bytes fails, the
   rtu_listener by_byte;
   CHECK(listen_bytes(by_byte, line) == all);
 }
+
+TEST_CASE("listener: a response behind a corrupted request is heard (its own length, the CRC)") {
+  // issue 23 review §2: with no request pending, a response that carries its own length
+  bytes request = rtu(0x11, {0x03, 0x00, 0x6B, 0x00, 0x03});
+  request[3] ^= 0x40U;
+  const bytes response = rtu(0x11, {0x03, 0x06, 0x02, 0x2B, 0x00, 0x00, 0x00, 0x64});
+  const bytes exception = rtu(0x11, {0x83, 0x02});
+  const bytes fc2b = rtu(0x11, {0x2B, 0x0E, 0x01, 0x01, 0x00, 0x00, 0x01, 0x00, 0x02, 'A', 'B'});
+  for (const bytes& answer : {response, exception, fc2b}) {
+    const bytes line = cat({request, answer, rtu(0x11, {0x06, 0x00, 0x01, 0x00, 0x03})});
+    rtu_listener f;
+    const auto all = listen_chunks(f, line, 5);
+    const auto frames = frames_of(all);
+    REQUIRE(frames.size() == 2U);
+    CHECK(frames[0].response);
+    CHECK(frames[0].e.pdu == bytes(answer.begin() + 1, answer.end() - 2));
+    CHECK(!frames[1].response);  // the next request
+    rtu_listener g;
+    CHECK(listen_bytes(g, line) == all);
+  }
+}

@@ -434,6 +434,13 @@ class basic_rtu_framer {
 
   static constexpr bool listening() noexcept { return Roles == framer_roles::listener; }
 
+  // Responses whose length their own bytes give (a count, FC2B's objects): the listener frames
+  // them with no request pending (MODBUS Application Protocol V1.1b3 §6).
+  static constexpr bool self_sized_response(std::uint8_t f) noexcept {
+    return (f >= 0x01U && f <= 0x04U) || f == 0x0CU || f == 0x11U || f == 0x17U || f == 0x18U ||
+           f == 0x2BU;
+  }
+
   constexpr bool server() const noexcept {
     if constexpr (Roles == framer_roles::server_only) {
       return true;
@@ -614,12 +621,17 @@ class basic_rtu_framer {
         return need_input{2U - size};
       }
       const byte_view held = buf_.view();
-      const bool response_possible =
-          (function_ != 0U && held[0] == options_.address) || (held[1] & exception_flag) != 0U;
+      // The response rule: the pending request's function from its slave; with no request
+      // pending (it was lost, e.g. corrupted), a response that carries its own length, its own
+      // function read as the request's (the CRC decides); an exception from any slave.
+      const std::uint8_t asked = function_ != 0U ? (held[0] == options_.address ? function_ : 0U)
+                                 : self_sized_response(held[1]) ? held[1]
+                                                                : 0U;
+      const bool response_possible = asked != 0U || (held[1] & exception_flag) != 0U;
       std::size_t need = 0;  // the smallest frame size still to be held
       decode_failure failure{errc::ok, used};
       for (unsigned rule = response_possible ? 0U : 1U; rule < 2U; ++rule) {
-        const std::size_t total = rule == 0U ? predict_response_size(held, function_, options_.fc11)
+        const std::size_t total = rule == 0U ? predict_response_size(held, asked, options_.fc11)
                                              : predict_request_size(held);
         if (total == unknown_length) {
           continue;
