@@ -724,7 +724,8 @@ TEST_CASE("framer: an FC2B response whose objects outgrow 256 bytes fails (no en
   CHECK(predict_response_size(byte_view(line.data(), max_rtu_size), 0x2B) > max_rtu_size);
 }
 
-TEST_CASE("listener: an FC2B response whose objects outgrow 256 bytes fails, the next frame is heard") {
+TEST_CASE(
+    "listener: an FC2B response whose objects outgrow 256 bytes fails, the next frame is heard") {
   const bytes request = rtu(0x01, {0x2B, 0x0E, 0x01, 0x00});
   const bytes next = rtu(0x11, {0x03, 0x00, 0x6B, 0x00, 0x03});
   const bytes line = cat({request, fc2b_overlong(), next});

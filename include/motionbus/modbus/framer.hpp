@@ -232,7 +232,14 @@ class basic_rtu_framer {
   /// was taken. Frames for other addresses are skipped silently (skipped()).
   /// With frame_end::silence, bytes the length rule cannot frame are held (never more than
   /// 256) until idle() instead of failing here.
-  constexpr decode_result<rtu_frame> feed(byte_view in) noexcept { return decide(in, 0); }
+  constexpr decode_result<rtu_frame> feed(byte_view in) noexcept {
+    decode_result<rtu_frame> r;
+    std::size_t used = 0;
+    if (!decide(r, in, used)) {
+      r = need_input{buf_.wanted() - buf_.size()};
+    }
+    return r;
+  }
 
   /// The per-byte step (a UART receive interrupt's call): takes `byte`; true when it settles
   /// something, which result() then holds: a frame for this node (complete) or a failure, as
@@ -304,7 +311,9 @@ class basic_rtu_framer {
       // first failure met on the way
       decode_result<rtu_frame> first = need_input{1};
       for (;;) {
-        r = scan(0, true);
+        if (!scan(r, 0, true)) {
+          r = need_input{1};
+        }
         if (!r.is_failed() || buf_.empty()) {
           break;
         }
@@ -377,14 +386,12 @@ class basic_rtu_framer {
     return settle();
   }
   // put()'s decision on the bytes held (the byte taken): scan() decides.
-  // result_ keeps the last settled result when nothing is settled (the contract of result()).
+  // result_ keeps the last settled result when nothing is settled (the contract of result()):
+  // decide() writes it only when something is settled, in place (no local result: a
+  // fixed-role framer's stack is what it was before result() kept anything).
   MOTIONBUS_NOINLINE constexpr bool settle() noexcept {
-    const decode_result<rtu_frame> r = decide(byte_view(), 1);
-    if (r.is_incomplete()) {
-      return false;
-    }
-    emplace_result(result_, [&] { return r; });
-    return true;
+    std::size_t used = 1;
+    return decide(result_, byte_view(), used);
   }
 
   // The last byte of a frame whose size the length rule gave (wanted(), all held) was taken:
@@ -409,22 +416,31 @@ class basic_rtu_framer {
     return true;
   }
 
-  // feed() beyond a byte inside a frame: takes bytes from `in` and decides as often as needed.
-  // `used`: bytes of the caller's input already taken.
-  constexpr decode_result<rtu_frame> decide(byte_view in, std::size_t used) noexcept {
+  // feed() beyond a byte inside a frame: takes bytes from `in` (`used` of them already taken)
+  // and decides as often as needed. True when something is settled, into `out` (nothing else
+  // writes it); false when all of `in` was taken (wanted() bytes are then to be held).
+  constexpr bool decide(decode_result<rtu_frame>& out, byte_view in, std::size_t& used) noexcept {
     for (;;) {
-      if (buf_.size() >= buf_.wanted()) {
-        const decode_result<rtu_frame> r = scan(used, false);
-        if (!r.is_incomplete()) {
-          return r;
-        }
+      if (buf_.size() >= buf_.wanted() && scan(out, used, false)) {
+        return true;
       }
       // here wanted() > size and wanted() <= 256
       if (used >= in.size()) {
-        return need_input{buf_.wanted() - buf_.size()};
+        return false;
       }
       used += buf_.append(in.subspan(used), buf_.wanted() - buf_.size());
     }
+  }
+
+  // `out` = `r` (or the failure `f`), built in place; true.
+  static constexpr bool settled(decode_result<rtu_frame>& out,
+                                const decode_result<rtu_frame>& r) noexcept {
+    emplace_result(out, [&] { return r; });
+    return true;
+  }
+  static constexpr bool settled(decode_result<rtu_frame>& out, const decode_failure& f) noexcept {
+    emplace_result(out, [&] { return decode_result<rtu_frame>(f); });
+    return true;
   }
 
   constexpr void drop_front(std::size_t n) noexcept {
@@ -524,19 +540,21 @@ class basic_rtu_framer {
     return false;
   }
 
-  // Decides on the bytes held. Incomplete: wanted() (> size) is how many to hold before the
-  // next decision. Out of line: inlined into the chunk loop, it made that loop 8 % slower on
-  // x86-64 (bench/RESULTS.md, session 9).
-  MOTIONBUS_NOINLINE constexpr decode_result<rtu_frame> scan(std::size_t used,
-                                                             bool at_end) noexcept {
+  // Decides on the bytes held. True: settled, into `out` (built there: no local result). False
+  // (`out` untouched): wanted() (> size) is how many to hold before the next decision. Out of line:
+  // inlined into the chunk loop, it made that loop 8 % slower on x86-64 (bench/RESULTS.md, session
+  // 9).
+  MOTIONBUS_NOINLINE constexpr bool scan(decode_result<rtu_frame>& out, std::size_t used,
+                                         bool at_end) noexcept {
     phase_ = phase::scanning;
     if constexpr (Roles == framer_roles::listener) {
-      return listen(used, at_end);
+      const decode_result<rtu_frame> r = listen(used, at_end);
+      return !r.is_incomplete() && settled(out, r);
     }
     if (waiting_) {
       if (!at_end && buf_.size() < max_rtu_size) {
         buf_.want(buf_.size() + 1U);
-        return need_input{1};
+        return false;
       }
       waiting_ = false;
       if (!at_end) {
@@ -548,7 +566,7 @@ class basic_rtu_framer {
       buf_.want(2);
       const std::size_t size = buf_.size();
       if (size < 2U) {
-        return need_input{2U - size};
+        return false;
       }
       const byte_view held = buf_.view();
       std::size_t total = predict(held);
@@ -556,7 +574,7 @@ class basic_rtu_framer {
         if (at_end) {
           total = size;  // the t3.5 silence says where it ends
         } else if (wait_for_silence(false)) {
-          return need_input{1};  // no length rule: the silence will tell
+          return false;  // no length rule: the silence will tell
         } else {
           continue;  // garbage: resynchronise
         }
@@ -566,17 +584,17 @@ class basic_rtu_framer {
       }
       if (total == 0U) {  // a count byte is still missing
         buf_.want(size + 1U);
-        return need_input{1};
+        return false;
       }
       if (total < 3U || !pdu_size_ok(total - 3U)) {  // address, PDU, CRC
         if (wait_for_silence(at_end)) {
-          return need_input{1};
+          return false;
         }
-        return decode_failure{errc::modbus_pdu_length, used};
+        return settled(out, decode_failure{errc::modbus_pdu_length, used});
       }
       if (size < total) {
         buf_.want(total);
-        return need_input{total - size};
+        return false;
       }
       if (query_data(total)) {
         const std::size_t at = query_data_end(total, size);
@@ -584,23 +602,24 @@ class basic_rtu_framer {
           total = at;  // the CRC confirms this length
         } else if (at <= max_rtu_size && !at_end) {
           buf_.want(at);
-          return need_input{at - size};
+          return false;
         }
       }
       const decode_result<rtu_frame> f = decode_rtu<Table>(held.first(total));
       if (f.is_failed()) {
         // resynchronise (a frame may start at the next byte), or wait for the silence
         if (wait_for_silence(at_end)) {
-          return need_input{1};
+          return false;
         }
-        return decode_failure{f.error(), used, f.expected(), f.received()};
+        return settled(out, decode_failure{f.error(), used, f.expected(), f.received()});
       }
       if (!for_us(f.value().slave)) {
         drop_front(total);
         ++skipped_;
         continue;
       }
-      return hand_over(f.value(), total, used);
+      emplace_result(out, [&] { return hand_over(f.value(), total, used); });
+      return true;
     }
   }
 
