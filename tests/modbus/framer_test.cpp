@@ -764,3 +764,34 @@ TEST_CASE("listener: a response behind a corrupted request is heard (its own len
     CHECK(listen_bytes(g, line) == all);
   }
 }
+
+TEST_CASE("framer and listener: FC08 Return Query Data of every even length (8 + 2k bytes)") {
+  // issue 23 review §3: the listener frames it (request and echo); the server's incremental
+  // CRC finds the same end as a CRC over the whole frame, byte by byte and in chunks
+  for (std::size_t k = 0; k <= 124U; k += 1U) {
+    CAPTURE(k);
+    bytes pdu = {0x08, 0x00, 0x00};
+    for (std::size_t i = 0; i < 2U + 2U * k; ++i) {  // the data field: 2 bytes, then 2k
+      pdu.push_back(static_cast<std::uint8_t>(0x31U + 7U * i));
+    }
+    const bytes frame = rtu(0x11, pdu);
+    REQUIRE(frame.size() == 8U + 2U * k);
+    const bytes line = cat({frame, frame, rtu(0x11, {0x03, 0x00, 0x6B, 0x00, 0x03})});
+    rtu_listener f;
+    const auto all = listen_chunks(f, line, 1U + k % 13U);
+    const auto frames = frames_of(all);
+    REQUIRE(frames.size() == 3U);
+    CHECK(frames.size() == all.size());
+    CHECK(!frames[0].response);
+    CHECK(frames[1].response);
+    CHECK(frames[0].e.pdu == pdu);
+    CHECK(frames[1].e.pdu == pdu);
+    rtu_listener g;
+    CHECK(listen_bytes(g, line) == all);
+    rtu_server_framer server({framer_role::server, 0x11});
+    const auto served = run_put(server, cat({frame, frame}));
+    REQUIRE(served.size() == 2U);
+    CHECK(served[0].pdu == pdu);
+    CHECK(served[1].pdu == pdu);
+  }
+}

@@ -286,7 +286,8 @@ class basic_rtu_framer {
       return need_input{1};
     }
     if constexpr (Roles == framer_roles::listener) {
-      const decode_result<rtu_frame> r = listen(0, true);
+      phase_ = phase::scanning;
+      const decode_result<rtu_frame> r = listen(0, true, 0);
       if (buf_.empty()) {
         buf_.want(0);
       }
@@ -490,19 +491,26 @@ class basic_rtu_framer {
   }
 
   // The first length 8 + 2k (from `from`, up to `to`) at which the CRC ends a frame, or the
-  // first length past `to` (not yet held). One CRC pass over the bytes held.
-  constexpr std::size_t query_data_end(std::size_t from, std::size_t to) const noexcept {
-    crc16_modbus<Table> c;
-    std::size_t fed = 0;
-    std::size_t at = from;
+  // first length past `to` (not yet held). Incremental: two bytes a step from the CRC of the
+  // bytes before, and where no length is held yet, query_crc_ keeps the CRC of the bytes before
+  // the next length's CRC field, so that the next call (`resume`: from that length, the same
+  // bytes held) goes on from there: O(1) a byte, however long the query data.
+  constexpr std::size_t query_data_end(std::size_t from, std::size_t to, bool resume) noexcept {
     const byte_view held = buf_.view();
+    std::uint16_t c =
+        resume ? query_crc_ : crc16_modbus<Table>::compute(held.first(from - 2U));  // [0, at-2)
+    std::size_t at = from;
     for (; at <= to; at += 2U) {
-      c.update(held.subspan(fed, at - 2U - fed));
-      fed = at - 2U;
-      if (c.value() == load_le16(held, at - 2U)) {
-        break;
+      if (c == load_le16(held, at - 2U)) {
+        return at;
       }
+      // the CRC of two more bytes from register c: for this reflected CRC, the same as from
+      // the initial register (0xFFFF) with c ^ 0xFFFF folded into the two bytes
+      const std::uint8_t two[2] = {static_cast<std::uint8_t>(held[at - 2U] ^ ~c),
+                                   static_cast<std::uint8_t>(held[at - 1U] ^ ~(c >> 8U))};
+      c = crc16_modbus<Table>::compute(byte_view(two, 2));
     }
+    query_crc_ = c;
     return at;
   }
 
@@ -546,9 +554,11 @@ class basic_rtu_framer {
   // 9).
   MOTIONBUS_NOINLINE constexpr bool scan(decode_result<rtu_frame>& out, std::size_t used,
                                          bool at_end) noexcept {
+    // query_crc_ holds for the bytes held when the last decision waited for Return Query Data
+    std::size_t resume_at = phase_ == phase::query_data ? buf_.wanted() : 0U;
     phase_ = phase::scanning;
     if constexpr (Roles == framer_roles::listener) {
-      const decode_result<rtu_frame> r = listen(used, at_end);
+      const decode_result<rtu_frame> r = listen(used, at_end, resume_at);
       return !r.is_incomplete() && settled(out, r);
     }
     if (waiting_) {
@@ -557,12 +567,13 @@ class basic_rtu_framer {
         return false;
       }
       waiting_ = false;
+      resume_at = 0;
       if (!at_end) {
         drop_front(1);  // a full buffer and still no silence: resynchronise
         ++dropped_;
       }
     }
-    for (;;) {
+    for (;; resume_at = 0) {  // a byte dropped: the bytes held changed
       buf_.want(2);
       const std::size_t size = buf_.size();
       if (size < 2U) {
@@ -597,11 +608,13 @@ class basic_rtu_framer {
         return false;
       }
       if (query_data(total)) {
-        const std::size_t at = query_data_end(total, size);
+        const bool resume = resume_at > total;
+        const std::size_t at = query_data_end(resume ? resume_at : total, size, resume);
         if (at <= size) {
           total = at;  // the CRC confirms this length
         } else if (at <= max_rtu_size && !at_end) {
           buf_.want(at);
+          phase_ = phase::query_data;
           return false;
         }
       }
@@ -628,8 +641,10 @@ class basic_rtu_framer {
   // rule; the first rule whose length is held and whose CRC matches frames. Incomplete: the
   // bytes the nearest rule still needs are wanted. Neither: the first failure met, one byte
   // dropped. At a silence (at_end) a rule still waiting is cut short: truncated.
-  constexpr decode_result<rtu_frame> listen(std::size_t used, bool at_end) noexcept {
-    for (;;) {
+  // `resume_at`: see scan().
+  constexpr decode_result<rtu_frame> listen(std::size_t used, bool at_end,
+                                            std::size_t resume_at) noexcept {
+    for (;; resume_at = 0) {  // a byte dropped: the bytes held changed
       const std::size_t size = buf_.size();
       if (size < 2U) {
         if (at_end && size != 0U) {  // one byte starts no frame: garbage
@@ -647,13 +662,25 @@ class basic_rtu_framer {
                                  : self_sized_response(held[1]) ? held[1]
                                                                 : 0U;
       const bool response_possible = asked != 0U || (held[1] & exception_flag) != 0U;
-      std::size_t need = 0;  // the smallest frame size still to be held
+      std::size_t need = 0;       // the smallest frame size still to be held
+      std::size_t query_end = 0;  // FC08 Return Query Data: see query_data_end()
       decode_failure failure{errc::ok, used};
       for (unsigned rule = response_possible ? 0U : 1U; rule < 2U; ++rule) {
-        const std::size_t total = rule == 0U ? predict_response_size(held, asked, options_.fc11)
-                                             : predict_request_size(held);
+        std::size_t total = rule == 0U ? predict_response_size(held, asked, options_.fc11)
+                                       : predict_request_size(held);
         if (total == unknown_length) {
           continue;
+        }
+        if (total == 8U && query_data(size)) {  // the request, or its echo: 8 + 2k bytes
+          if (query_end == 0U) {
+            const bool resume = resume_at > total;
+            query_end = query_data_end(resume ? resume_at : total, size, resume);
+          }
+          if (query_end <= size) {
+            total = query_end;  // the CRC confirms this length
+          } else if (query_end <= max_rtu_size) {
+            total = query_end;  // not held yet: wanted below
+          }
         }
         if (total == 0U || total > size) {
           const std::size_t at_least = total == 0U ? size + 1U : total;
@@ -684,6 +711,9 @@ class basic_rtu_framer {
       }
       if (need != 0U && !at_end) {
         buf_.want(need);
+        if (need == query_end) {
+          phase_ = phase::query_data;  // query_crc_ holds up to need - 2
+        }
         return need_input{need - size};
       }
       drop_front(1);  // resynchronise: a frame may start at the next byte
@@ -709,9 +739,11 @@ class basic_rtu_framer {
     scanning = 0,       // put_other(): anything
     function_code = 1,  // a server's function code (one byte held, two wanted)
     framing = 2,        // the last byte of a frame whose size the length rule gave (wanted())
+    query_data = 3,     // scanning; FC08 Return Query Data up to wanted() - 2 in query_crc_
   };
   phase phase_ = phase::scanning;
-  bool heard_response_ = false;  // listener: see heard_response() (in the padding before dropped_)
+  bool heard_response_ = false;  // listener: see heard_response()
+  std::uint16_t query_crc_ = 0;  // see query_data_end()
   std::size_t dropped_ = 0;
   std::size_t skipped_ = 0;
   decode_result<rtu_frame> result_;  // put()'s
