@@ -670,10 +670,17 @@ TEST_CASE("client framer: result() keeps the last settled result through puts th
   }
   REQUIRE(settled);
   REQUIRE(f.result().is_complete());
+  // until the next call the pdu view shows the frame; after it only what result() keeps by
+  // value is kept (status, slave, CRC): the view may show the next frame's bytes
+  CHECK(bytes(f.result()->pdu.begin(), f.result()->pdu.end()) == bytes{0x03, 0x02, 0x00, 0x2A});
+  const std::uint16_t crc = f.result()->crc;
+  CHECK(crc == load_le16(view(response), response.size() - 2U));
   const bytes next = rtu(0x11, {0x03, 0x02, 0x00, 0x2B});
   for (std::size_t i = 0; i + 1 < next.size(); ++i) {
     CHECK(!f.put(next[i]));
     CHECK(f.result().is_complete());  // still the first response
+    CHECK(f.result()->slave == 0x11U);
+    CHECK(f.result()->crc == crc);
     CHECK(f.result()->pdu.size() == 4U);
   }
   REQUIRE(f.put(next.back()));

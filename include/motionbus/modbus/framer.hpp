@@ -268,7 +268,9 @@ class basic_rtu_framer {
     return put_other(byte);
   }
   /// What the last put() that returned true settled (complete or failed); incomplete before
-  /// any. Valid until the next put() that returns true; a frame's pdu until the next call.
+  /// any. Valid until the next put() that returns true: what it holds by value (status, error
+  /// and evidence, slave, CRC) is kept; a frame's pdu is a view into the buffer, valid only
+  /// until the next call of any kind (after it, the view may show the next frame's bytes).
   constexpr const decode_result<rtu_frame>& result() const noexcept { return result_; }
 
   /// The user's t3.5 timer expired: the bytes held end a frame. Complete: the bytes held as

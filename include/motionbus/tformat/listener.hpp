@@ -85,7 +85,8 @@ class line_listener {
   }
 
   /// The per-byte step: takes `byte`; true when it settles something, which result() then
-  /// holds (as feed() reports it); result() keeps it until the next put() that returns true.
+  /// holds (as feed() reports it); result() keeps it until the next put() that returns true:
+  /// its status and decoded fields; heard::bytes is a view valid only until the next call.
   /// After a failure, frames among the bytes held are reported by feed() of an empty chunk
   /// (put_each() in core/stream.hpp does it).
   constexpr bool put(std::uint8_t byte) noexcept {

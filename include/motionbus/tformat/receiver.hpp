@@ -183,6 +183,11 @@ class receiver {
   /// echo::expected, and the response to the last request came without the echo: it was
   /// delivered (the line does not echo: configure echo::none). See answers_request() for how
   /// it is told; an ID6 response cannot be told from the echo and is taken as the echo.
+  /// Exactly: set only where the bytes held repeat the whole request and then read as its
+  /// response (answers_request()); an IDD response matches the request's three bytes only when
+  /// its EDF equals the request's CRC, so an IDD read is usually decoded as the response with
+  /// the flag left false (bytes that differ from the request are parsed as a response, which
+  /// does not tell a missing echo from a corrupted one).
   constexpr bool echo_missed() const noexcept { return echo_missed_; }
   /// Bytes held for an unfinished frame.
   constexpr std::size_t pending() const noexcept { return buf_.size(); }
