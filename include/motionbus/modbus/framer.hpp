@@ -221,7 +221,7 @@ class basic_rtu_framer {
     function_ = function;
     buf_.want(0);
     buf_.clear();
-    waiting_ = false;
+    waiting_ = 0;
     phase_ = phase::scanning;
   }
 
@@ -289,7 +289,7 @@ class basic_rtu_framer {
     }
     if constexpr (Roles == framer_roles::listener) {
       phase_ = phase::scanning;
-      const decode_result<rtu_frame> r = listen(0, true, 0);
+      const decode_result<rtu_frame> r = listen(0, true);
       if (buf_.empty()) {
         buf_.want(0);
       }
@@ -333,7 +333,7 @@ class basic_rtu_framer {
     dropped_ += buf_.size();
     buf_.want(0);
     buf_.clear();
-    waiting_ = false;
+    waiting_ = 0;
     phase_ = phase::scanning;
     return r;
   }
@@ -345,7 +345,7 @@ class basic_rtu_framer {
   /// listener: whether the last frame handed over was framed as the response to the request
   /// before it (else it was a request). A request other than a broadcast makes the listener
   /// expect its response; a response, or a broadcast, makes it expect a request.
-  constexpr bool heard_response() const noexcept { return heard_response_; }
+  constexpr bool heard_response() const noexcept { return listening() && heard_response_ != 0U; }
 
  private:
   // put() of the last byte of a frame whose size the length rule gave: a frame for this node
@@ -359,7 +359,7 @@ class basic_rtu_framer {
   // function code (the length rule gives the frame's size), or anything scan() must sort out.
   MOTIONBUS_NOINLINE constexpr bool put_other(std::uint8_t byte) noexcept {
     const std::size_t size = buf_.size();
-    if (!listening() && !waiting_ && size < 2U) {
+    if (!listening() && waiting_ == 0U && size < 2U) {
       buf_.push(byte);  // fewer than 2 held: it fits
       if (size == 0U) {
         buf_.want(2);
@@ -448,7 +448,7 @@ class basic_rtu_framer {
 
   constexpr void drop_front(std::size_t n) noexcept {
     buf_.drop(n);
-    waiting_ = false;
+    waiting_ = 0;
   }
 
   static constexpr bool listening() noexcept { return Roles == framer_roles::listener; }
@@ -493,27 +493,36 @@ class basic_rtu_framer {
   }
 
   // The first length 8 + 2k (from `from`, up to `to`) at which the CRC ends a frame, or the
-  // first length past `to` (not yet held). Incremental: two bytes a step from the CRC of the
-  // bytes before, and where no length is held yet, query_crc_ keeps the CRC of the bytes before
-  // the next length's CRC field, so that the next call (`resume`: from that length, the same
-  // bytes held) goes on from there: O(1) a byte, however long the query data.
-  constexpr std::size_t query_data_end(std::size_t from, std::size_t to, bool resume) noexcept {
-    const byte_view held = buf_.view();
-    std::uint16_t c =
-        resume ? query_crc_ : crc16_modbus<Table>::compute(held.first(from - 2U));  // [0, at-2)
+  // first length past `to` (not yet held). `c`: the CRC of the bytes before `from`'s CRC field
+  // on entry, of those before the returned length's on return; two bytes a step, so that a
+  // caller that keeps `c` goes on from where it left: O(1) a byte, however long the data.
+  static constexpr std::size_t query_data_end(byte_view held, std::size_t from, std::size_t to,
+                                              std::uint16_t& c) noexcept {
     std::size_t at = from;
     for (; at <= to; at += 2U) {
       if (c == load_le16(held, at - 2U)) {
         return at;
       }
-      // the CRC of two more bytes from register c: for this reflected CRC, the same as from
-      // the initial register (0xFFFF) with c ^ 0xFFFF folded into the two bytes
+      // two more bytes from register c: for this reflected CRC (no final XOR), the same as
+      // from the initial register 0xFFFF with c ^ 0xFFFF folded into the two bytes
       const std::uint8_t two[2] = {static_cast<std::uint8_t>(held[at - 2U] ^ ~c),
                                    static_cast<std::uint8_t>(held[at - 1U] ^ ~(c >> 8U))};
       c = crc16_modbus<Table>::compute(byte_view(two, 2));
     }
-    query_crc_ = c;
     return at;
+  }
+  // While a server or client waits for the rest of a Return Query Data (phase::query_data),
+  // the CRC so far is kept in the bytes of waiting_ (false during that wait) and
+  // heard_response_ (the listener's only): no byte added to the object.
+  constexpr void keep_query_crc(std::uint16_t c) noexcept {
+    waiting_ = static_cast<std::uint8_t>(c);
+    heard_response_ = static_cast<std::uint8_t>(c >> 8U);
+  }
+  constexpr std::uint16_t take_query_crc() noexcept {
+    const auto c = static_cast<std::uint16_t>(waiting_ | (heard_response_ << 8U));
+    waiting_ = 0;
+    heard_response_ = 0;
+    return c;
   }
 
   // Hands `frame` (a view of the first `total` bytes held) over and drops those bytes from the
@@ -526,7 +535,7 @@ class basic_rtu_framer {
   }
   MOTIONBUS_INLINE constexpr void hand_over_bytes(std::size_t total) noexcept {
     buf_.drop(total, 2);
-    waiting_ = false;
+    waiting_ = 0;
     // a server's next function code takes put()'s inline path when it is the next byte but one
     if (server() && buf_.size() < 2U) {
       buf_.reserve(max_fixed_request);
@@ -542,7 +551,7 @@ class basic_rtu_framer {
   constexpr bool wait_for_silence(bool at_end) noexcept {
     if (options_.ends == frame_end::silence && !at_end && buf_.size() < max_rtu_size) {
       buf_.want(buf_.size() + 1U);
-      waiting_ = true;  // no more length decisions on these bytes until idle() or a full buffer
+      waiting_ = 1;  // no more length decisions on these bytes until idle() or a full buffer
       return true;
     }
     drop_front(1);
@@ -556,19 +565,24 @@ class basic_rtu_framer {
   // 9).
   MOTIONBUS_NOINLINE constexpr bool scan(decode_result<rtu_frame>& out, std::size_t used,
                                          bool at_end) noexcept {
-    // query_crc_ holds for the bytes held when the last decision waited for Return Query Data
-    std::size_t resume_at = phase_ == phase::query_data ? buf_.wanted() : 0U;
+    // the last decision waited for Return Query Data: its CRC so far, up to wanted() - 2
+    std::size_t resume_at = 0;
+    std::uint16_t query_crc = 0;
+    if (phase_ == phase::query_data) {
+      resume_at = buf_.wanted();
+      query_crc = take_query_crc();
+    }
     phase_ = phase::scanning;
     if constexpr (Roles == framer_roles::listener) {
-      const decode_result<rtu_frame> r = listen(used, at_end, resume_at);
+      const decode_result<rtu_frame> r = listen(used, at_end);
       return !r.is_incomplete() && settled(out, r);
     }
-    if (waiting_) {
+    if (waiting_ != 0U) {
       if (!at_end && buf_.size() < max_rtu_size) {
         buf_.want(buf_.size() + 1U);
         return false;
       }
-      waiting_ = false;
+      waiting_ = 0;
       resume_at = 0;
       if (!at_end) {
         drop_front(1);  // a full buffer and still no silence: resynchronise
@@ -611,11 +625,13 @@ class basic_rtu_framer {
       }
       if (query_data(total)) {
         const bool resume = resume_at > total;
-        const std::size_t at = query_data_end(resume ? resume_at : total, size, resume);
+        std::uint16_t c = resume ? query_crc : crc16_modbus<Table>::compute(held.first(total - 2U));
+        const std::size_t at = query_data_end(held, resume ? resume_at : total, size, c);
         if (at <= size) {
           total = at;  // the CRC confirms this length
         } else if (at <= max_rtu_size && !at_end) {
           buf_.want(at);
+          keep_query_crc(c);
           phase_ = phase::query_data;
           return false;
         }
@@ -643,10 +659,9 @@ class basic_rtu_framer {
   // rule; the first rule whose length is held and whose CRC matches frames. Incomplete: the
   // bytes the nearest rule still needs are wanted. Neither: the first failure met, one byte
   // dropped. At a silence (at_end) a rule still waiting is cut short: truncated.
-  // `resume_at`: see scan().
-  constexpr decode_result<rtu_frame> listen(std::size_t used, bool at_end,
-                                            std::size_t resume_at) noexcept {
-    for (;; resume_at = 0) {  // a byte dropped: the bytes held changed
+  // (A Return Query Data is searched from its first length at each decision: a host's tool.)
+  constexpr decode_result<rtu_frame> listen(std::size_t used, bool at_end) noexcept {
+    for (;;) {
       const std::size_t size = buf_.size();
       if (size < 2U) {
         if (at_end && size != 0U) {  // one byte starts no frame: garbage
@@ -675,8 +690,8 @@ class basic_rtu_framer {
         }
         if (total == 8U && query_data(size)) {  // the request, or its echo: 8 + 2k bytes
           if (query_end == 0U) {
-            const bool resume = resume_at > total;
-            query_end = query_data_end(resume ? resume_at : total, size, resume);
+            std::uint16_t c = crc16_modbus<Table>::compute(held.first(total - 2U));
+            query_end = query_data_end(held, total, size, c);
           }
           if (query_end <= size) {
             total = query_end;  // the CRC confirms this length
@@ -702,8 +717,8 @@ class basic_rtu_framer {
           }
           continue;
         }
-        heard_response_ = rule == 0U;
-        if (heard_response_ || f.value().slave == broadcast_address) {
+        heard_response_ = rule == 0U ? 1U : 0U;
+        if (rule == 0U || f.value().slave == broadcast_address) {
           function_ = 0;  // a request comes next
         } else {
           options_.address = f.value().slave;
@@ -713,9 +728,6 @@ class basic_rtu_framer {
       }
       if (need != 0U && !at_end) {
         buf_.want(need);
-        if (need == query_end) {
-          phase_ = phase::query_data;  // query_crc_ holds up to need - 2
-        }
         return need_input{need - size};
       }
       drop_front(1);  // resynchronise: a frame may start at the next byte
@@ -733,7 +745,9 @@ class basic_rtu_framer {
   frame_buffer<max_rtu_size> buf_;  // first: put() stores at the object's address
   framer_options options_;
   std::uint8_t function_ = 0;
-  bool waiting_ = false;  // the length rule failed on the bytes held: only idle() decides
+  // A bool (the length rule failed on the bytes held: only idle() decides), or the CRC's low
+  // byte while a Return Query Data is awaited (keep_query_crc())
+  std::uint8_t waiting_ = 0;
   // The largest request the function code alone sizes (fixed_request_size).
   static constexpr std::size_t max_fixed_request = 10;
   // What put() decides at the next byte push_before() refuses.
@@ -741,11 +755,11 @@ class basic_rtu_framer {
     scanning = 0,       // put_other(): anything
     function_code = 1,  // a server's function code (one byte held, two wanted)
     framing = 2,        // the last byte of a frame whose size the length rule gave (wanted())
-    query_data = 3,     // scanning; FC08 Return Query Data up to wanted() - 2 in query_crc_
+    query_data = 3,     // scanning, FC08 Return Query Data awaited: see keep_query_crc()
   };
   phase phase_ = phase::scanning;
-  bool heard_response_ = false;  // listener: see heard_response()
-  std::uint16_t query_crc_ = 0;  // see query_data_end()
+  // listener: a bool, see heard_response(); else the CRC's high byte (keep_query_crc())
+  std::uint8_t heard_response_ = 0;
   std::size_t dropped_ = 0;
   std::size_t skipped_ = 0;
   decode_result<rtu_frame> result_;  // put()'s
