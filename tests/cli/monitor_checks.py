@@ -337,6 +337,18 @@ def tformat_abnormal(cli):
           f"{kinds} {summary}")
 
 
+def tformat_truncated_request(cli):
+    """issue 23 review §8: an ID3 request left unanswered, then an IDD request cut short by the
+    silence: a request error (dir request), not a response to the ID3 request."""
+    frames, summary = monitor_written(cli, "tformat", [(bytes.fromhex("1AEA06"), 0.5)],
+                                      "--gap-us", "100000", "--response-ms", "5000")
+    cut = [f for f in frames if f.get("error") == "truncated"]
+    s = summary[0] if summary else {}
+    check("tformat: a request cut short is a request's failure, not a response's",
+          len(cut) == 1 and cut[0].get("dir") == "request" and s.get("responses") == 0,
+          f"{frames} {summary}")
+
+
 def tformat_echo_missing(cli):
     """issue 23: read tformat --echo on a line that does not echo: the response, not a timeout."""
     tap = Tap()
@@ -362,6 +374,7 @@ def main():
     else:
         tformat(cli)
         tformat_abnormal(cli)
+        tformat_truncated_request(cli)
         tformat_echo_missing(cli)
     if failures:
         print(f"{len(failures)} check(s) failed")
