@@ -693,10 +693,8 @@ class basic_rtu_framer {
             std::uint16_t c = crc16_modbus<Table>::compute(held.first(total - 2U));
             query_end = query_data_end(held, total, size, c);
           }
-          if (query_end <= size) {
-            total = query_end;  // the CRC confirms this length
-          } else if (query_end <= max_rtu_size) {
-            total = query_end;  // not held yet: wanted below
+          if (query_end <= max_rtu_size) {
+            total = query_end;  // held: the CRC confirms this length; else wanted below
           }
         }
         if (total == 0U || total > size) {
