@@ -113,6 +113,7 @@ void check_listener(const mo::framer_options& options, const std::uint8_t* strea
         MOTIONBUS_FUZZ_CHECK(guard < 100000);
         const auto r = chunked.feed(in.subspan(taken));
         if (r.is_incomplete()) {
+          MOTIONBUS_FUZZ_CHECK(chunked.pending() + r.needed() <= mo::max_rtu_size);
           fed = at + in.size();
           break;
         }
@@ -179,7 +180,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       MOTIONBUS_FUZZ_CHECK(guard < 100000);
       const auto r = f.feed(in);
       MOTIONBUS_FUZZ_CHECK(f.pending() <= mo::max_rtu_size);
-      if (r.is_incomplete()) {
+      if (r.is_incomplete()) {  // never more than the largest ADU wanted
+        MOTIONBUS_FUZZ_CHECK(f.pending() + r.needed() <= mo::max_rtu_size);
         break;
       }
       MOTIONBUS_FUZZ_CHECK(r.consumed() <= in.size());

@@ -343,6 +343,9 @@ def tformat_abnormal(cli, work):
         (bytes([0x02]), True, 0x80, "framing_error"),  # ID0, delimiter error: ca1
         (bytes([0xA2]), False, 0x00, "unknown_data_id"),  # ID4
         (bytes([0xEA, 0x06, 0x00]), False, 0x00, "crc_mismatch"),  # IDD, bad CRC
+        # Table 6 No. 4: a parity error in an EEPROM request's CF: sized by its Data ID
+        (bytes([0xB2, 0x00, 0x32, 0x12]), False, 0x40, "parity"),  # ID6
+        (bytes([0x6A, 0x06, 0xEC]), False, 0x40, "parity"),  # IDD
     ]
     frames = []
     t = 100e-6

@@ -288,10 +288,14 @@ def modbus_lost(cli):
     request = crc16(bytes.fromhex("110300000002"))
     exception = crc16(bytes.fromhex("118302"))
     third = crc16(bytes.fromhex("110400010001"))
-    for gap, name in ((0.02, "5 x t3.5"), (0.005, "5 ms")):
+    # The silence the monitor reports (--gap-us) far from the gaps written, either way, so that
+    # a busy machine cannot move a gap across it: every gap a silence (2 ms against 200 ms),
+    # then none (1 s against 5 ms).
+    for gap, gap_us, name in ((0.2, "2000", "200 ms (silences)"),
+                              (0.005, "1000000", "5 ms (no silence)")):
         frames, summary = monitor_written(
             cli, "modbus", [(bytes(bad), gap), (request, gap), (exception, gap), (third, 0.1)],
-            "--response-ms", "2000")
+            "--response-ms", "5000", "--gap-us", gap_us)
         kinds = [(f.get("dir"), f.get("ok"), f.get("error")) for f in frames
                  if f.get("error") != "no_response"]  # (the third request's, at the end)
         check(f"modbus: a corrupted request, then request, exception, request {name} apart: "
@@ -299,9 +303,21 @@ def modbus_lost(cli):
               kinds == [("?", False, "crc_mismatch"), ("request", True, None),
                         ("response", True, None), ("request", True, None)]
               and frames[2].get("exception") == 2, f"{kinds}")
+    # issue 23 review §2: the response to a corrupted request (it carries its own length)
+    response = crc16(bytes.fromhex("1103040000002A"))
+    for gap, gap_us, name in ((0.2, "2000", "silences"), (0.005, "1000000", "no silence")):
+        frames, summary = monitor_written(
+            cli, "modbus", [(bytes(bad), gap), (response, gap), (request, 0.1)],
+            "--response-ms", "5000", "--gap-us", gap_us)
+        kinds = [(f.get("dir"), f.get("ok"), f.get("error")) for f in frames
+                 if f.get("error") != "no_response"]  # (the request's, at the end)
+        check(f"modbus: the response behind a corrupted request is reported ({name})",
+              kinds == [("?", False, "crc_mismatch"), ("response", True, None),
+                        ("request", True, None)], f"{kinds}")
     garbage = bytes([0x00, 0xFF, 0x11, 0x10, 0x55])
     write = crc16(bytes.fromhex("010600010003"))
-    frames, summary = monitor_written(cli, "modbus", [(garbage + write, 0.02), (write, 0.1)])
+    frames, summary = monitor_written(cli, "modbus", [(garbage + write, 0.005), (write, 0.1)],
+                                      "--gap-us", "1000000")
     kinds = [(f.get("dir"), f.get("ok")) for f in frames]
     check("modbus: an FC06 exchange right after garbage is reported",
           kinds == [("?", False), ("request", True), ("response", True)], f"{kinds}")
@@ -319,6 +335,18 @@ def tformat_abnormal(cli):
           kinds == [("request", True, 13, None), ("response", True, 3, True)]
           and s.get("missing_responses") == 0 and s.get("garbage_bytes") == 0,
           f"{kinds} {summary}")
+
+
+def tformat_truncated_request(cli):
+    """issue 23 review §8: an ID3 request left unanswered, then an IDD request cut short by the
+    silence: a request error (dir request), not a response to the ID3 request."""
+    frames, summary = monitor_written(cli, "tformat", [(bytes.fromhex("1AEA06"), 0.5)],
+                                      "--gap-us", "100000", "--response-ms", "5000")
+    cut = [f for f in frames if f.get("error") == "truncated"]
+    s = summary[0] if summary else {}
+    check("tformat: a request cut short is a request's failure, not a response's",
+          len(cut) == 1 and cut[0].get("dir") == "request" and s.get("responses") == 0,
+          f"{frames} {summary}")
 
 
 def tformat_echo_missing(cli):
@@ -346,6 +374,7 @@ def main():
     else:
         tformat(cli)
         tformat_abnormal(cli)
+        tformat_truncated_request(cli)
         tformat_echo_missing(cli)
     if failures:
         print(f"{len(failures)} check(s) failed")

@@ -670,13 +670,135 @@ TEST_CASE("client framer: result() keeps the last settled result through puts th
   }
   REQUIRE(settled);
   REQUIRE(f.result().is_complete());
+  // until the next call the pdu view shows the frame; after it only what result() keeps by
+  // value is kept (status, slave, CRC): the view may show the next frame's bytes
+  CHECK(bytes(f.result()->pdu.begin(), f.result()->pdu.end()) == bytes{0x03, 0x02, 0x00, 0x2A});
+  const std::uint16_t crc = f.result()->crc;
+  CHECK(crc == load_le16(view(response), response.size() - 2U));
   const bytes next = rtu(0x11, {0x03, 0x02, 0x00, 0x2B});
   for (std::size_t i = 0; i + 1 < next.size(); ++i) {
     CHECK(!f.put(next[i]));
     CHECK(f.result().is_complete());  // still the first response
+    CHECK(f.result()->slave == 0x11U);
+    CHECK(f.result()->crc == crc);
     CHECK(f.result()->pdu.size() == 4U);
   }
   REQUIRE(f.put(next.back()));
   REQUIRE(f.result().is_complete());
   CHECK(f.result()->pdu[3] == 0x2B);
+}
+
+namespace {
+// FC2B/0E response whose declared objects end within 256 bytes while the next object's header
+// is still missing, then filler: the framer must never want more than the largest ADU.
+bytes fc2b_overlong() {
+  bytes line = {0x01, 0x2B, 0x0E, 0x01, 0x01, 0x00, 0x00, 0x02, 0x00, 0xF5};
+  line.resize(line.size() + 290U, 0x00);
+  return line;
+}
+}  // namespace
+
+TEST_CASE("framer: an FC2B response whose objects outgrow 256 bytes fails (no endless loop)") {
+  // issue 23 review §1: at 256 bytes held with the walk unfinished the rule said "need more"
+  const bytes line = fc2b_overlong();
+  for (int by_put = 0; by_put < 2; ++by_put) {
+    CAPTURE(by_put);
+    framer_options options{framer_role::client, 0x01};
+    options.ends = frame_end::length;
+    rtu_client_framer f(options);
+    f.sent(0x01, 0x2B);
+    std::vector<errc> errors;
+    const auto each = [&](const auto& r) {
+      errors.push_back(r.error());
+      return true;
+    };
+    if (by_put != 0) {
+      for (const std::uint8_t b : line) {
+        put_each(f, b, each);
+      }
+    } else {
+      std::size_t at = 0;
+      for (auto r = f.feed(view(line)); !r.is_incomplete(); r = f.feed(view(line).subspan(at))) {
+        at += r.consumed();
+        each(r);
+        CHECK(f.pending() + r.needed() <= max_rtu_size);
+      }
+    }
+    REQUIRE(!errors.empty());
+    CHECK(errors[0] == errc::modbus_pdu_length);
+    CHECK(f.pending() < max_rtu_size);
+  }
+  CHECK(predict_response_size(byte_view(line.data(), max_rtu_size), 0x2B) > max_rtu_size);
+}
+
+TEST_CASE(
+    "listener: an FC2B response whose objects outgrow 256 bytes fails, the next frame is heard") {
+  const bytes request = rtu(0x01, {0x2B, 0x0E, 0x01, 0x00});
+  const bytes next = rtu(0x11, {0x03, 0x00, 0x6B, 0x00, 0x03});
+  const bytes line = cat({request, fc2b_overlong(), next});
+  rtu_listener chunked;
+  const auto all = listen_chunks(chunked, line, line.size());
+  bool too_long = false;
+  for (const heard& h : all) {
+    too_long = too_long || h.e.error == errc::modbus_pdu_length;
+  }
+  CHECK(too_long);
+  const auto frames = frames_of(all);
+  REQUIRE(frames.size() >= 2U);
+  CHECK(frames.front().e.pdu == bytes{0x2B, 0x0E, 0x01, 0x00});
+  CHECK(frames.back().e.pdu == bytes{0x03, 0x00, 0x6B, 0x00, 0x03});
+  rtu_listener by_byte;
+  CHECK(listen_bytes(by_byte, line) == all);
+}
+
+TEST_CASE("listener: a response behind a corrupted request is heard (its own length, the CRC)") {
+  // issue 23 review §2: with no request pending, a response that carries its own length
+  bytes request = rtu(0x11, {0x03, 0x00, 0x6B, 0x00, 0x03});
+  request[3] ^= 0x40U;
+  const bytes response = rtu(0x11, {0x03, 0x06, 0x02, 0x2B, 0x00, 0x00, 0x00, 0x64});
+  const bytes exception = rtu(0x11, {0x83, 0x02});
+  const bytes fc2b = rtu(0x11, {0x2B, 0x0E, 0x01, 0x01, 0x00, 0x00, 0x01, 0x00, 0x02, 'A', 'B'});
+  for (const bytes& answer : {response, exception, fc2b}) {
+    const bytes line = cat({request, answer, rtu(0x11, {0x06, 0x00, 0x01, 0x00, 0x03})});
+    rtu_listener f;
+    const auto all = listen_chunks(f, line, 5);
+    const auto frames = frames_of(all);
+    REQUIRE(frames.size() == 2U);
+    CHECK(frames[0].response);
+    CHECK(frames[0].e.pdu == bytes(answer.begin() + 1, answer.end() - 2));
+    CHECK(!frames[1].response);  // the next request
+    rtu_listener g;
+    CHECK(listen_bytes(g, line) == all);
+  }
+}
+
+TEST_CASE("framer and listener: FC08 Return Query Data of every even length (8 + 2k bytes)") {
+  // issue 23 review §3: the listener frames it (request and echo); the server's incremental
+  // CRC finds the same end as a CRC over the whole frame, byte by byte and in chunks
+  for (std::size_t k = 0; k <= 124U; k += 1U) {
+    CAPTURE(k);
+    bytes pdu = {0x08, 0x00, 0x00};
+    for (std::size_t i = 0; i < 2U + 2U * k; ++i) {  // the data field: 2 bytes, then 2k
+      pdu.push_back(static_cast<std::uint8_t>(0x31U + 7U * i));
+    }
+    const bytes frame = rtu(0x11, pdu);
+    REQUIRE(frame.size() == 8U + 2U * k);
+    const bytes line = cat({frame, frame, rtu(0x11, {0x03, 0x00, 0x6B, 0x00, 0x03})});
+    rtu_listener f;
+    const auto all = listen_chunks(f, line, 1U + k % 13U);
+    const auto frames = frames_of(all);
+    REQUIRE(frames.size() == 3U);
+    CHECK(frames.size() == all.size());
+    CHECK(!frames[0].response);
+    CHECK(frames[1].response);
+    CHECK(frames[0].e.pdu == pdu);
+    CHECK(frames[1].e.pdu == pdu);
+    rtu_listener g;
+    CHECK(listen_bytes(g, line) == all);
+    rtu_server_framer server({framer_role::server, 0x11});
+    const auto served = run_put(server, cat({frame, frame}));
+    REQUIRE(served.size() == 2U);
+    CHECK(served[0].pdu == pdu);
+    CHECK(served[1].pdu == pdu);
+  }
 }

@@ -137,6 +137,9 @@ TEST_CASE("listener: the abnormal requests of Tables 5 and 6, paired with their 
       {{0xEA, 0x06, 0x00}, errc::crc_mismatch, 0x00},        // IDD, bad CRC
       {{0x32, 0x04, 0x99, 0x00}, errc::crc_mismatch, 0x00},  // ID6, bad CRC
       {with_crc({0xEA, 0x86}), errc::reserved_bits, 0x00},   // busy bit in a request
+      // Table 6 No. 4: a parity error in an EEPROM request's CF, sized by its Data ID
+      {{0xB2, 0x00, 0x32, 0x12}, errc::tformat_parity, sf::ca0},  // ID6
+      {{0x6A, 0x06, 0xEC}, errc::tformat_parity, sf::ca0},        // IDD
   };
   bytes line;
   for (const exchange& x : table) {
@@ -249,4 +252,24 @@ TEST_CASE("listener put(): byte by byte, the results of feed() in chunks (random
     }
   }
   CHECK(heard_frames > 5000U);
+}
+
+TEST_CASE("listener: the silence drops the rest of a rejected response (no phantom requests)") {
+  // issue 23 review §5: an ID0 request, a response whose CRC is wrong holding 1A and 02
+  const bytes response = {0x02, 0x00, 0x1A, 0x02, 0x00, 0x55};  // CRC should be 0x18
+  const bytes line = cat({{0x02}, response});
+  for (std::size_t chunk = 1; chunk <= line.size(); ++chunk) {
+    CAPTURE(chunk);
+    line_listener l;
+    const auto out = chunks(l, line, chunk);
+    REQUIRE(out.size() == 2U);
+    CHECK(out[0].ok);
+    CHECK(!out[0].response);
+    CHECK(out[1].error == errc::crc_mismatch);
+    CHECK(l.pending() == 0U);
+    CHECK(l.dropped() == response.size());
+    CHECK(!l.expecting_response());
+    line_listener b;
+    CHECK(one_by_one(b, line) == out);
+  }
 }

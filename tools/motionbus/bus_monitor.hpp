@@ -233,7 +233,7 @@ class line_monitor {
     }
     e.bytes("bytes", bad.data(), bad.size());
     cli::print(cli::outcome::failure(failure_.empty() ? "garbage" : failure_, e),
-               at(time, self().rejected_run(!failure_.empty(), bad[0])));
+               at(time, self().rejected_run(!failure_.empty(), failure_ == "truncated", bad[0])));
     failure_.clear();
   }
 
@@ -272,7 +272,7 @@ class modbus_monitor : public line_monitor<modbus_monitor, mo::rtu_listener> {
 
   static std::size_t size_of(const mo::rtu_frame& f) { return f.pdu.size() + 3U; }
   // Bytes the listener dropped: a frame no rule and CRC confirmed, of either direction.
-  const char* rejected_run(bool failed, std::uint8_t slave) {
+  const char* rejected_run(bool failed, bool /*truncated*/, std::uint8_t slave) {
     if (failed) {
       ++t_.by_key[slave].errors;
     }
@@ -358,10 +358,17 @@ class tformat_monitor : public line_monitor<tformat_monitor, tf::line_listener> 
 
   static std::size_t size_of(const tf::heard& h) { return h.bytes.size(); }
   // Bytes the listener dropped: a rejected response (the listener rejects only responses; it
-  // answers the request before it), or garbage.
-  const char* rejected_run(bool failed, std::uint8_t /*cf*/) {
+  // answers the request before it), a request cut short (truncated, its CF no response's:
+  // neither the request's nor ID3's, or no request pending), or garbage.
+  const char* rejected_run(bool failed, bool truncated, std::uint8_t cf) {
     if (!failed) {
       return "?";
+    }
+    const bool response_start =
+        pending_ && !request_.empty() && (cf == request_[0] || cf == tf::control_fields[3]);
+    if (truncated && !response_start) {
+      ++t_.by_key[tf::data_id_code(cf)].errors;
+      return "request";
     }
     if (pending_) {
       ++t_.responses;

@@ -60,9 +60,10 @@ int decode_line(Monitor& m, const std::vector<capture::uart_byte>& bytes, std::u
     if (!first && silent > 0 && us(silent) >= gap_us) {
       m.tick(us(b.start), us(silent));
     }
-    const char* uart_error =
+    // the UART's error: the name the frame fails with (error: cli.error_names finds it)
+    const char* error =
         b.parity_error ? "parity_error" : (b.framing_error ? "framing_error" : nullptr);
-    m.byte_at(b.value, us(b.start), uart_error);
+    m.byte_at(b.value, us(b.start), error);
     last_end = b.end;
     first = false;
   }

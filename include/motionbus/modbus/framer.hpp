@@ -155,7 +155,9 @@ constexpr std::size_t predict_response_size(
       if (w.inside) {
         return w.end + 2U;
       }
-      return w.end > max_rtu_size ? w.end : 0;  // too long (the caller rejects it), or wait
+      // too long (the caller rejects it); objects still arriving in a full frame's worth of
+      // bytes: too long too (never want more than 256 bytes); else wait
+      return w.end > max_rtu_size ? w.end : in.size() >= max_rtu_size ? max_rtu_size + 1U : 0;
     }
     default: return unknown_length;
   }
@@ -219,7 +221,7 @@ class basic_rtu_framer {
     function_ = function;
     buf_.want(0);
     buf_.clear();
-    waiting_ = false;
+    waiting_ = 0;
     phase_ = phase::scanning;
   }
 
@@ -230,7 +232,14 @@ class basic_rtu_framer {
   /// was taken. Frames for other addresses are skipped silently (skipped()).
   /// With frame_end::silence, bytes the length rule cannot frame are held (never more than
   /// 256) until idle() instead of failing here.
-  constexpr decode_result<rtu_frame> feed(byte_view in) noexcept { return decide(in, 0); }
+  constexpr decode_result<rtu_frame> feed(byte_view in) noexcept {
+    decode_result<rtu_frame> r;
+    std::size_t used = 0;
+    if (!decide(r, in, used)) {
+      r = need_input{buf_.wanted() - buf_.size()};
+    }
+    return r;
+  }
 
   /// The per-byte step (a UART receive interrupt's call): takes `byte`; true when it settles
   /// something, which result() then holds: a frame for this node (complete) or a failure, as
@@ -259,7 +268,9 @@ class basic_rtu_framer {
     return put_other(byte);
   }
   /// What the last put() that returned true settled (complete or failed); incomplete before
-  /// any. Valid until the next put() that returns true; a frame's pdu until the next call.
+  /// any. Valid until the next put() that returns true: what it holds by value (status, error
+  /// and evidence, slave, CRC) is kept; a frame's pdu is a view into the buffer, valid only
+  /// until the next call of any kind (after it, the view may show the next frame's bytes).
   constexpr const decode_result<rtu_frame>& result() const noexcept { return result_; }
 
   /// The user's t3.5 timer expired: the bytes held end a frame. Complete: the bytes held as
@@ -277,6 +288,7 @@ class basic_rtu_framer {
       return need_input{1};
     }
     if constexpr (Roles == framer_roles::listener) {
+      phase_ = phase::scanning;
       const decode_result<rtu_frame> r = listen(0, true);
       if (buf_.empty()) {
         buf_.want(0);
@@ -302,7 +314,9 @@ class basic_rtu_framer {
       // first failure met on the way
       decode_result<rtu_frame> first = need_input{1};
       for (;;) {
-        r = scan(0, true);
+        if (!scan(r, 0, true)) {
+          r = need_input{1};
+        }
         if (!r.is_failed() || buf_.empty()) {
           break;
         }
@@ -319,7 +333,7 @@ class basic_rtu_framer {
     dropped_ += buf_.size();
     buf_.want(0);
     buf_.clear();
-    waiting_ = false;
+    waiting_ = 0;
     phase_ = phase::scanning;
     return r;
   }
@@ -331,7 +345,7 @@ class basic_rtu_framer {
   /// listener: whether the last frame handed over was framed as the response to the request
   /// before it (else it was a request). A request other than a broadcast makes the listener
   /// expect its response; a response, or a broadcast, makes it expect a request.
-  constexpr bool heard_response() const noexcept { return heard_response_; }
+  constexpr bool heard_response() const noexcept { return listening() && heard_response_ != 0U; }
 
  private:
   // put() of the last byte of a frame whose size the length rule gave: a frame for this node
@@ -345,7 +359,7 @@ class basic_rtu_framer {
   // function code (the length rule gives the frame's size), or anything scan() must sort out.
   MOTIONBUS_NOINLINE constexpr bool put_other(std::uint8_t byte) noexcept {
     const std::size_t size = buf_.size();
-    if (!listening() && !waiting_ && size < 2U) {
+    if (!listening() && waiting_ == 0U && size < 2U) {
       buf_.push(byte);  // fewer than 2 held: it fits
       if (size == 0U) {
         buf_.want(2);
@@ -375,14 +389,12 @@ class basic_rtu_framer {
     return settle();
   }
   // put()'s decision on the bytes held (the byte taken): scan() decides.
-  // result_ keeps the last settled result when nothing is settled (the contract of result()).
+  // result_ keeps the last settled result when nothing is settled (the contract of result()):
+  // decide() writes it only when something is settled, in place (no local result: a
+  // fixed-role framer's stack is what it was before result() kept anything).
   MOTIONBUS_NOINLINE constexpr bool settle() noexcept {
-    const decode_result<rtu_frame> r = decide(byte_view(), 1);
-    if (r.is_incomplete()) {
-      return false;
-    }
-    emplace_result(result_, [&] { return r; });
-    return true;
+    std::size_t used = 1;
+    return decide(result_, byte_view(), used);
   }
 
   // The last byte of a frame whose size the length rule gave (wanted(), all held) was taken:
@@ -407,30 +419,46 @@ class basic_rtu_framer {
     return true;
   }
 
-  // feed() beyond a byte inside a frame: takes bytes from `in` and decides as often as needed.
-  // `used`: bytes of the caller's input already taken.
-  constexpr decode_result<rtu_frame> decide(byte_view in, std::size_t used) noexcept {
+  // feed() beyond a byte inside a frame: takes bytes from `in` (`used` of them already taken)
+  // and decides as often as needed. True when something is settled, into `out` (nothing else
+  // writes it); false when all of `in` was taken (wanted() bytes are then to be held).
+  constexpr bool decide(decode_result<rtu_frame>& out, byte_view in, std::size_t& used) noexcept {
     for (;;) {
-      if (buf_.size() >= buf_.wanted()) {
-        const decode_result<rtu_frame> r = scan(used, false);
-        if (!r.is_incomplete()) {
-          return r;
-        }
+      if (buf_.size() >= buf_.wanted() && scan(out, used, false)) {
+        return true;
       }
       // here wanted() > size and wanted() <= 256
       if (used >= in.size()) {
-        return need_input{buf_.wanted() - buf_.size()};
+        return false;
       }
       used += buf_.append(in.subspan(used), buf_.wanted() - buf_.size());
     }
   }
 
+  // `out` = `r` (or the failure `f`), built in place; true.
+  static constexpr bool settled(decode_result<rtu_frame>& out,
+                                const decode_result<rtu_frame>& r) noexcept {
+    emplace_result(out, [&] { return r; });
+    return true;
+  }
+  static constexpr bool settled(decode_result<rtu_frame>& out, const decode_failure& f) noexcept {
+    emplace_result(out, [&] { return decode_result<rtu_frame>(f); });
+    return true;
+  }
+
   constexpr void drop_front(std::size_t n) noexcept {
     buf_.drop(n);
-    waiting_ = false;
+    waiting_ = 0;
   }
 
   static constexpr bool listening() noexcept { return Roles == framer_roles::listener; }
+
+  // Responses whose length their own bytes give (a count, FC2B's objects): the listener frames
+  // them with no request pending (MODBUS Application Protocol V1.1b3 §6).
+  static constexpr bool self_sized_response(std::uint8_t f) noexcept {
+    return (f >= 0x01U && f <= 0x04U) || f == 0x0CU || f == 0x11U || f == 0x17U || f == 0x18U ||
+           f == 0x2BU;
+  }
 
   constexpr bool server() const noexcept {
     if constexpr (Roles == framer_roles::server_only) {
@@ -465,20 +493,36 @@ class basic_rtu_framer {
   }
 
   // The first length 8 + 2k (from `from`, up to `to`) at which the CRC ends a frame, or the
-  // first length past `to` (not yet held). One CRC pass over the bytes held.
-  constexpr std::size_t query_data_end(std::size_t from, std::size_t to) const noexcept {
-    crc16_modbus<Table> c;
-    std::size_t fed = 0;
+  // first length past `to` (not yet held). `c`: the CRC of the bytes before `from`'s CRC field
+  // on entry, of those before the returned length's on return; two bytes a step, so that a
+  // caller that keeps `c` goes on from where it left: O(1) a byte, however long the data.
+  static constexpr std::size_t query_data_end(byte_view held, std::size_t from, std::size_t to,
+                                              std::uint16_t& c) noexcept {
     std::size_t at = from;
-    const byte_view held = buf_.view();
     for (; at <= to; at += 2U) {
-      c.update(held.subspan(fed, at - 2U - fed));
-      fed = at - 2U;
-      if (c.value() == load_le16(held, at - 2U)) {
-        break;
+      if (c == load_le16(held, at - 2U)) {
+        return at;
       }
+      // two more bytes from register c: for this reflected CRC (no final XOR), the same as
+      // from the initial register 0xFFFF with c ^ 0xFFFF folded into the two bytes
+      const std::uint8_t two[2] = {static_cast<std::uint8_t>(held[at - 2U] ^ ~c),
+                                   static_cast<std::uint8_t>(held[at - 1U] ^ ~(c >> 8U))};
+      c = crc16_modbus<Table>::compute(byte_view(two, 2));
     }
     return at;
+  }
+  // While a server or client waits for the rest of a Return Query Data (phase::query_data),
+  // the CRC so far is kept in the bytes of waiting_ (false during that wait) and
+  // heard_response_ (the listener's only): no byte added to the object.
+  constexpr void keep_query_crc(std::uint16_t c) noexcept {
+    waiting_ = static_cast<std::uint8_t>(c);
+    heard_response_ = static_cast<std::uint8_t>(c >> 8U);
+  }
+  constexpr std::uint16_t take_query_crc() noexcept {
+    const auto c = static_cast<std::uint16_t>(waiting_ | (heard_response_ << 8U));
+    waiting_ = 0;
+    heard_response_ = 0;
+    return c;
   }
 
   // Hands `frame` (a view of the first `total` bytes held) over and drops those bytes from the
@@ -491,7 +535,7 @@ class basic_rtu_framer {
   }
   MOTIONBUS_INLINE constexpr void hand_over_bytes(std::size_t total) noexcept {
     buf_.drop(total, 2);
-    waiting_ = false;
+    waiting_ = 0;
     // a server's next function code takes put()'s inline path when it is the next byte but one
     if (server() && buf_.size() < 2U) {
       buf_.reserve(max_fixed_request);
@@ -507,7 +551,7 @@ class basic_rtu_framer {
   constexpr bool wait_for_silence(bool at_end) noexcept {
     if (options_.ends == frame_end::silence && !at_end && buf_.size() < max_rtu_size) {
       buf_.want(buf_.size() + 1U);
-      waiting_ = true;  // no more length decisions on these bytes until idle() or a full buffer
+      waiting_ = 1;  // no more length decisions on these bytes until idle() or a full buffer
       return true;
     }
     drop_front(1);
@@ -515,31 +559,41 @@ class basic_rtu_framer {
     return false;
   }
 
-  // Decides on the bytes held. Incomplete: wanted() (> size) is how many to hold before the
-  // next decision. Out of line: inlined into the chunk loop, it made that loop 8 % slower on
-  // x86-64 (bench/RESULTS.md, session 9).
-  MOTIONBUS_NOINLINE constexpr decode_result<rtu_frame> scan(std::size_t used,
-                                                             bool at_end) noexcept {
+  // Decides on the bytes held. True: settled, into `out` (built there: no local result). False
+  // (`out` untouched): wanted() (> size) is how many to hold before the next decision. Out of line:
+  // inlined into the chunk loop, it made that loop 8 % slower on x86-64 (bench/RESULTS.md, session
+  // 9).
+  MOTIONBUS_NOINLINE constexpr bool scan(decode_result<rtu_frame>& out, std::size_t used,
+                                         bool at_end) noexcept {
+    // the last decision waited for Return Query Data: its CRC so far, up to wanted() - 2
+    std::size_t resume_at = 0;
+    std::uint16_t query_crc = 0;
+    if (phase_ == phase::query_data) {
+      resume_at = buf_.wanted();
+      query_crc = take_query_crc();
+    }
     phase_ = phase::scanning;
     if constexpr (Roles == framer_roles::listener) {
-      return listen(used, at_end);
+      const decode_result<rtu_frame> r = listen(used, at_end);
+      return !r.is_incomplete() && settled(out, r);
     }
-    if (waiting_) {
+    if (waiting_ != 0U) {
       if (!at_end && buf_.size() < max_rtu_size) {
         buf_.want(buf_.size() + 1U);
-        return need_input{1};
+        return false;
       }
-      waiting_ = false;
+      waiting_ = 0;
+      resume_at = 0;
       if (!at_end) {
         drop_front(1);  // a full buffer and still no silence: resynchronise
         ++dropped_;
       }
     }
-    for (;;) {
+    for (;; resume_at = 0) {  // a byte dropped: the bytes held changed
       buf_.want(2);
       const std::size_t size = buf_.size();
       if (size < 2U) {
-        return need_input{2U - size};
+        return false;
       }
       const byte_view held = buf_.view();
       std::size_t total = predict(held);
@@ -547,48 +601,56 @@ class basic_rtu_framer {
         if (at_end) {
           total = size;  // the t3.5 silence says where it ends
         } else if (wait_for_silence(false)) {
-          return need_input{1};  // no length rule: the silence will tell
+          return false;  // no length rule: the silence will tell
         } else {
           continue;  // garbage: resynchronise
         }
       }
+      if (total == 0U && size >= max_rtu_size) {
+        total = max_rtu_size + 1U;  // a rule never wants more than 256 bytes: too long
+      }
       if (total == 0U) {  // a count byte is still missing
         buf_.want(size + 1U);
-        return need_input{1};
+        return false;
       }
       if (total < 3U || !pdu_size_ok(total - 3U)) {  // address, PDU, CRC
         if (wait_for_silence(at_end)) {
-          return need_input{1};
+          return false;
         }
-        return decode_failure{errc::modbus_pdu_length, used};
+        return settled(out, decode_failure{errc::modbus_pdu_length, used});
       }
       if (size < total) {
         buf_.want(total);
-        return need_input{total - size};
+        return false;
       }
       if (query_data(total)) {
-        const std::size_t at = query_data_end(total, size);
+        const bool resume = resume_at > total;
+        std::uint16_t c = resume ? query_crc : crc16_modbus<Table>::compute(held.first(total - 2U));
+        const std::size_t at = query_data_end(held, resume ? resume_at : total, size, c);
         if (at <= size) {
           total = at;  // the CRC confirms this length
         } else if (at <= max_rtu_size && !at_end) {
           buf_.want(at);
-          return need_input{at - size};
+          keep_query_crc(c);
+          phase_ = phase::query_data;
+          return false;
         }
       }
       const decode_result<rtu_frame> f = decode_rtu<Table>(held.first(total));
       if (f.is_failed()) {
         // resynchronise (a frame may start at the next byte), or wait for the silence
         if (wait_for_silence(at_end)) {
-          return need_input{1};
+          return false;
         }
-        return decode_failure{f.error(), used, f.expected(), f.received()};
+        return settled(out, decode_failure{f.error(), used, f.expected(), f.received()});
       }
       if (!for_us(f.value().slave)) {
         drop_front(total);
         ++skipped_;
         continue;
       }
-      return hand_over(f.value(), total, used);
+      emplace_result(out, [&] { return hand_over(f.value(), total, used); });
+      return true;
     }
   }
 
@@ -597,6 +659,7 @@ class basic_rtu_framer {
   // rule; the first rule whose length is held and whose CRC matches frames. Incomplete: the
   // bytes the nearest rule still needs are wanted. Neither: the first failure met, one byte
   // dropped. At a silence (at_end) a rule still waiting is cut short: truncated.
+  // (A Return Query Data is searched from its first length at each decision: a host's tool.)
   constexpr decode_result<rtu_frame> listen(std::size_t used, bool at_end) noexcept {
     for (;;) {
       const std::size_t size = buf_.size();
@@ -609,19 +672,34 @@ class basic_rtu_framer {
         return need_input{2U - size};
       }
       const byte_view held = buf_.view();
-      const bool response_possible =
-          (function_ != 0U && held[0] == options_.address) || (held[1] & exception_flag) != 0U;
-      std::size_t need = 0;  // the smallest frame size still to be held
+      // The response rule: the pending request's function from its slave; with no request
+      // pending (it was lost, e.g. corrupted), a response that carries its own length, its own
+      // function read as the request's (the CRC decides); an exception from any slave.
+      const std::uint8_t asked = function_ != 0U ? (held[0] == options_.address ? function_ : 0U)
+                                 : self_sized_response(held[1]) ? held[1]
+                                                                : 0U;
+      const bool response_possible = asked != 0U || (held[1] & exception_flag) != 0U;
+      std::size_t need = 0;       // the smallest frame size still to be held
+      std::size_t query_end = 0;  // FC08 Return Query Data: see query_data_end()
       decode_failure failure{errc::ok, used};
       for (unsigned rule = response_possible ? 0U : 1U; rule < 2U; ++rule) {
-        const std::size_t total = rule == 0U ? predict_response_size(held, function_, options_.fc11)
-                                             : predict_request_size(held);
+        std::size_t total = rule == 0U ? predict_response_size(held, asked, options_.fc11)
+                                       : predict_request_size(held);
         if (total == unknown_length) {
           continue;
         }
+        if (total == 8U && query_data(size)) {  // the request, or its echo: 8 + 2k bytes
+          if (query_end == 0U) {
+            std::uint16_t c = crc16_modbus<Table>::compute(held.first(total - 2U));
+            query_end = query_data_end(held, total, size, c);
+          }
+          if (query_end <= max_rtu_size) {
+            total = query_end;  // held: the CRC confirms this length; else wanted below
+          }
+        }
         if (total == 0U || total > size) {
           const std::size_t at_least = total == 0U ? size + 1U : total;
-          if (total > max_rtu_size) {
+          if (at_least > max_rtu_size) {  // never more than 256 bytes wanted: too long
             if (failure.code == errc::ok) {
               failure = decode_failure{errc::modbus_pdu_length, used};
             }
@@ -637,8 +715,8 @@ class basic_rtu_framer {
           }
           continue;
         }
-        heard_response_ = rule == 0U;
-        if (heard_response_ || f.value().slave == broadcast_address) {
+        heard_response_ = rule == 0U ? 1U : 0U;
+        if (rule == 0U || f.value().slave == broadcast_address) {
           function_ = 0;  // a request comes next
         } else {
           options_.address = f.value().slave;
@@ -665,7 +743,9 @@ class basic_rtu_framer {
   frame_buffer<max_rtu_size> buf_;  // first: put() stores at the object's address
   framer_options options_;
   std::uint8_t function_ = 0;
-  bool waiting_ = false;  // the length rule failed on the bytes held: only idle() decides
+  // A bool (the length rule failed on the bytes held: only idle() decides), or the CRC's low
+  // byte while a Return Query Data is awaited (keep_query_crc())
+  std::uint8_t waiting_ = 0;
   // The largest request the function code alone sizes (fixed_request_size).
   static constexpr std::size_t max_fixed_request = 10;
   // What put() decides at the next byte push_before() refuses.
@@ -673,9 +753,11 @@ class basic_rtu_framer {
     scanning = 0,       // put_other(): anything
     function_code = 1,  // a server's function code (one byte held, two wanted)
     framing = 2,        // the last byte of a frame whose size the length rule gave (wanted())
+    query_data = 3,     // scanning, FC08 Return Query Data awaited: see keep_query_crc()
   };
   phase phase_ = phase::scanning;
-  bool heard_response_ = false;  // listener: see heard_response() (in the padding before dropped_)
+  // listener: a bool, see heard_response(); else the CRC's high byte (keep_query_crc())
+  std::uint8_t heard_response_ = 0;
   std::size_t dropped_ = 0;
   std::size_t skipped_ = 0;
   decode_result<rtu_frame> result_;  // put()'s

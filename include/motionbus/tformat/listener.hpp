@@ -85,7 +85,8 @@ class line_listener {
   }
 
   /// The per-byte step: takes `byte`; true when it settles something, which result() then
-  /// holds (as feed() reports it); result() keeps it until the next put() that returns true.
+  /// holds (as feed() reports it); result() keeps it until the next put() that returns true:
+  /// its status and decoded fields; heard::bytes is a view valid only until the next call.
   /// After a failure, frames among the bytes held are reported by feed() of an empty chunk
   /// (put_each() in core/stream.hpp does it).
   constexpr bool put(std::uint8_t byte) noexcept {
@@ -104,8 +105,14 @@ class line_listener {
   /// more: the encoder answers about 3 us after the request (PROTOCOL_NOTES §1.1), so the next
   /// frame after a silence is a request. Report a silence longer than the line's turnaround
   /// (and, on a host, than its delivery delays: the bus monitor's --gap-us).
+  /// Bytes held while rescanning a rejected response (no response found in them yet) are the
+  /// rest of that response: dropped (counted in dropped()), never read as requests.
   constexpr decode_result<heard> idle() noexcept {
-    resync_ = false;
+    if (resync_) {
+      resync_ = false;
+      dropped_ += buf_.size();
+      buf_.drop(buf_.size(), 1);
+    }
     if (buf_.empty()) {
       expecting_ = false;  // the encoder answers at once (about 3 us): after a silence, a request
       return need_input{1};
@@ -188,7 +195,12 @@ class line_listener {
       h.req.id = id;
       h.req.cf = b0;
       std::size_t n = 1;
-      if (!parity_ok(b0)) {
+      // A parity error in an EEPROM request's CF (Table 6 No. 4): its Data ID as read still
+      // sizes it (ADF, EDF, CRC follow), so that those bytes are not read as new requests.
+      // Choice: an EEPROM ID read with a parity error is taken as that request (one bit flipped
+      // in cc4); any other CF with a parity error is one byte.
+      const bool eeprom = id == data_id::eeprom_write || id == data_id::eeprom_read;
+      if (!parity_ok(b0) && !eeprom) {
         h.request_error = errc::tformat_parity;
       } else if (!is_known(id)) {
         h.request_error = errc::tformat_unknown_data_id;
@@ -207,7 +219,7 @@ class line_listener {
         if (q.is_complete()) {
           h.req = q.value();
         } else {
-          h.request_error = q.error();
+          h.request_error = parity_ok(b0) ? q.error() : errc::tformat_parity;
           h.req.crc = buf_[n - 1U];
           h.req.address = buf_[1];
           h.req.edf = n == 4U ? buf_[2] : std::uint8_t{0};

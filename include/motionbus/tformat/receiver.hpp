@@ -120,7 +120,14 @@ class receiver {
   /// taken; the receiver rescans from the frame's second byte on the next call (call again,
   /// even with an empty `in`, until it reports incomplete). Incomplete: all of `in` was taken.
   /// Each byte is copied once; a frame is decoded only when its last byte has arrived.
-  constexpr decode_result<response> feed(byte_view in) noexcept { return decide(in, 0); }
+  constexpr decode_result<response> feed(byte_view in) noexcept {
+    decode_result<response> r;
+    std::size_t used = 0;
+    if (!decide(r, in, used)) {
+      r = need_input{buf_.wanted() - buf_.size()};
+    }
+    return r;
+  }
 
   /// The per-byte step (a UART receive interrupt's call): takes `byte`; true when it settles
   /// something, which result() then holds: a response (complete) or a rejected frame (failed,
@@ -176,6 +183,11 @@ class receiver {
   /// echo::expected, and the response to the last request came without the echo: it was
   /// delivered (the line does not echo: configure echo::none). See answers_request() for how
   /// it is told; an ID6 response cannot be told from the echo and is taken as the echo.
+  /// Exactly: set only where the bytes held repeat the whole request and then read as its
+  /// response (answers_request()); an IDD response matches the request's three bytes only when
+  /// its EDF equals the request's CRC, so an IDD read is usually decoded as the response with
+  /// the flag left false (bytes that differ from the request are parsed as a response, which
+  /// does not tell a missing echo from a corrupted one).
   constexpr bool echo_missed() const noexcept { return echo_missed_; }
   /// Bytes held for an unfinished frame.
   constexpr std::size_t pending() const noexcept { return buf_.size(); }
@@ -208,54 +220,46 @@ class receiver {
   // put() of a byte that decide() must sort out with the bytes held. Fewer than 11 bytes are
   // held after every decision (a frame is decided when complete, a rejected one drops its first
   // byte), so the byte fits, and is taken first.
-  // result_ keeps the last settled result when nothing is settled (the contract of result()).
+  // result_ keeps the last settled result when nothing is settled (the contract of result()):
+  // decide() writes it only when something is settled, in place (no local result: the stack
+  // of put() is that of a fixed-role receiver before result() kept anything).
   MOTIONBUS_NOINLINE constexpr bool put_held(std::uint8_t byte) noexcept {
     buf_.push(byte);
-    const decode_result<response> r = decide(byte_view(), 1);
-    if (r.is_incomplete()) {
-      return false;
-    }
-    emplace_result(result_, [&] { return r; });
-    return true;
+    std::size_t used = 1;
+    return decide(result_, byte_view(), used);
   }
 
-  // feed() of anything else: takes bytes from `in` and decides as often as needed.
-  // `used`: bytes of the caller's input already taken.
-  constexpr decode_result<response> decide(byte_view in, std::size_t used) noexcept {
+  // feed() of anything else: takes bytes from `in` (`used` of them already taken) and decides
+  // as often as needed. True when something is settled, into `out` (nothing else writes it);
+  // false when all of `in` was taken (wanted() bytes are then to be held).
+  constexpr bool decide(decode_result<response>& out, byte_view in, std::size_t& used) noexcept {
     for (;;) {
-      if (buf_.size() >= buf_.wanted()) {  // enough held to decide something
-        if (framing_) {
-          decode_result<response> r;
-          finish(used, r);
-          return r;
-        }
-        const decode_result<response> r = scan(used);
-        if (!r.is_incomplete()) {
-          return r;
-        }
-        continue;  // scan() raised the bytes wanted
+      // enough held to decide something: a frame's last byte, or scan() found a frame held
+      if (buf_.size() >= buf_.wanted() && (framing_ || scan() == 0U)) {
+        finish(used, out);
+        return true;
       }
       if (used >= in.size()) {
-        return need_input{buf_.wanted() - buf_.size()};
+        return false;
       }
       used += buf_.append(in.subspan(used), buf_.wanted() - buf_.size());
     }
   }
 
-  // Decides on the bytes held (at least wanted()): skips an echo, drops garbage, decodes a
-  // complete frame. Incomplete: the bytes wanted were raised to those needed before the next
-  // decision.
-  constexpr decode_result<response> scan(std::size_t used) noexcept {
+  // Decides on the bytes held (at least wanted()): skips an echo, drops garbage, finds a
+  // frame. 0: a complete frame is held at the front (framing_, for finish()); else the bytes
+  // wanted were raised to those needed before the next decision (at least the count returned).
+  constexpr std::size_t scan() noexcept {
     for (;;) {
       buf_.want(1);
       const std::size_t held = buf_.size();
       if (held == 0U) {
-        return need_input{1};
+        return 1;
       }
       if (echo_pending_) {
         const std::size_t more = settle_echo(held);
         if (more != 0U) {
-          return need_input{more};
+          return more;
         }
         continue;  // the echo skipped, or none: parse the bytes held as a response
       }
@@ -269,11 +273,9 @@ class receiver {
       buf_.want(frame_size);
       framing_ = true;
       if (held < frame_size) {
-        return need_input{frame_size - held};
+        return frame_size - held;
       }
-      decode_result<response> r;
-      finish(used, r);
-      return r;
+      return 0;
     }
   }
 
