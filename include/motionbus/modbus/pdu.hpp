@@ -6,7 +6,7 @@
 // sent, to check the answer against it. It enforces every limit of the specification and says
 // which exception a server answers (exception_for); decode_request<function_set> compiles
 // only the functions a device serves. The rest is in one header per role:
-//   modbus/pdu_client.hpp  requests out (encode_*), responses in (decode_response)
+//   modbus/pdu_client.hpp  requests out (encode_*), responses in (decode_response_for)
 //   modbus/pdu_server.hpp  responses out (encode_*_response, encode_exception)
 // PDUs are function code + data, at most 253 bytes; register values are big-endian on the
 // wire. Decoded values that carry data (packed coils, register bytes, opaque payloads) are
