@@ -90,7 +90,8 @@ TEST_CASE("SM unit: instantaneous data with units and signedness, version, login
                      0xFF, 0xE7, 0x00, 0x0A, 0x03, 0xD5, 0x00, 0x32, 0x00, 0x7B};
   std::uint8_t req[256] = {};
   const std::size_t n = sm::read_instantaneous(1, req).value();
-  const auto r = mo::decode_response_for(byte_view(req + 1, n - 3), byte_view(pdu.data(), pdu.size()));
+  const auto r =
+      mo::decode_response_for(byte_view(req + 1, n - 3), byte_view(pdu.data(), pdu.size()));
   REQUIRE(r.is_complete());
   const auto v = sm::decode_instantaneous(r.value());
   REQUIRE(v.ok());
@@ -109,7 +110,9 @@ TEST_CASE("SM unit: instantaneous data with units and signedness, version, login
 
   const bytes version_pdu = {0x11, 0x01, 0x00};
   const bytes fc11 = {0x11};
-  const auto vr = mo::decode_response_for(byte_view(fc11.data(), 1), byte_view(version_pdu.data(), 3), mo::report_id_format::two_bytes_no_count);
+  const auto vr =
+      mo::decode_response_for(byte_view(fc11.data(), 1), byte_view(version_pdu.data(), 3),
+                              mo::report_id_format::two_bytes_no_count);
   REQUIRE(vr.is_complete());
   CHECK(sm::decode_version(vr.value()).value().upper == 1);
   CHECK(sm::decode_version(vr.value()).value().lower == 0);

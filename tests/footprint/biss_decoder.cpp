@@ -10,6 +10,7 @@ namespace bs = motionbus::biss;
 
 extern "C" unsigned probe_entry(const std::uint32_t* capture, unsigned bits, bs::slave_data* d) {
   const auto r =
-      bs::decode_frame(mb::span<const std::uint32_t>(capture, 2), bits, bs::absys_layout, *d);
+      bs::decode_frame(mb::span<const std::uint32_t>(capture, 2), bits, bs::absys_layout);
+  *d = r->slaves[0];  // the slave's data, kept as a firmware keeps it
   return r.is_complete() ? static_cast<unsigned>(r->start) : static_cast<unsigned>(r.error());
 }

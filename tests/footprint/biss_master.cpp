@@ -10,9 +10,9 @@ namespace bs = motionbus::biss;
 
 extern "C" unsigned probe_entry(const std::uint32_t* capture, unsigned bits,
                                 bs::control_master* control, unsigned char* registers) {
-  bs::slave_data d;
   const auto r =
-      bs::decode_frame(mb::span<const std::uint32_t>(capture, 2), bits, bs::absys_layout, d);
+      bs::decode_frame(mb::span<const std::uint32_t>(capture, 2), bits, bs::absys_layout);
+  const bs::slave_data& d = r->slaves[0];
   if (!control->busy()) {
     (void)control->start_read(0, 0x7E, mb::mutable_byte_view(registers, 2));
   }

@@ -20,7 +20,8 @@ TEST_CASE("FC07 read exception status, FC0B comm event counter, FC0C comm event 
   auto r = decode_response_for(view(q07), view(r07));
   REQUIRE(r.is_complete());
   CHECK(r->status == 0x6D);
-  CHECK(decode_response_for(view(q07), view({0x07, 0x6D, 0x00})).error() == errc::modbus_byte_count);
+  CHECK(decode_response_for(view(q07), view({0x07, 0x6D, 0x00})).error() ==
+        errc::modbus_byte_count);
 
   const bytes q0b = {0x0B};
   const bytes r0b = {0x0B, 0xFF, 0xFF, 0x01, 0x08};
@@ -37,9 +38,9 @@ TEST_CASE("FC07 read exception status, FC0B comm event counter, FC0C comm event 
   CHECK(r->message_count == 0x0121);
   CHECK(r->data.size() == 2);
   CHECK(r->data[0] == 0x20);
-  CHECK(
-      decode_response_for(view(q0c), view({0x0C, 0x09, 0x00, 0x00, 0x01, 0x08, 0x01, 0x21, 0x20, 0x00}))
-          .error() == errc::modbus_byte_count);
+  CHECK(decode_response_for(view(q0c),
+                            view({0x0C, 0x09, 0x00, 0x00, 0x01, 0x08, 0x01, 0x21, 0x20, 0x00}))
+            .error() == errc::modbus_byte_count);
 }
 
 TEST_CASE("FC08 diagnostics: sub-functions, echo of query data, data lengths") {

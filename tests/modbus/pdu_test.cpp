@@ -229,7 +229,8 @@ TEST_CASE("client: exceptions pass through, mismatches and counts are errors") {
   r = decode_response_for(view(fc11), view(standard));
   REQUIRE(r.is_complete());
   CHECK(r->data.size() == 3);
-  CHECK(decode_response_for(view(fc11), view({0x11, 0x05, 0xAA})).error() == errc::modbus_byte_count);
+  CHECK(decode_response_for(view(fc11), view({0x11, 0x05, 0xAA})).error() ==
+        errc::modbus_byte_count);
   const bytes sm_unit = {0x11, 0x01, 0x00};  // Ver.1.0.0
   r = decode_response_for(view(fc11), view(sm_unit), report_id_format::two_bytes_no_count);
   REQUIRE(r.is_complete());

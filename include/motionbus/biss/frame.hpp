@@ -157,7 +157,7 @@ struct chain_frame {
   std::size_t start = 0;
   bool cds = false;       ///< the CDS bit
   std::size_t count = 0;  ///< slaves decoded: the chain's length
-  slave_data slaves[N];  ///< each default-initialised (slave_data's own initialisers)
+  slave_data slaves[N];   ///< each default-initialised (slave_data's own initialisers)
 
   /// Clocks of Ack (at least 1; more for the slave's processing time).
   constexpr std::size_t ack_bits() const noexcept { return start - line_delay; }

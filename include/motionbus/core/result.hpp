@@ -82,6 +82,9 @@ struct decode_failure {
 /// The value and the failure's evidence share storage; value() of a result that is not
 /// complete returns a value-initialised T held in read-only storage (never undefined
 /// behaviour, never a copy).
+// The constructors, complete(), complete_value(), set_value() and emplace_result() are forced
+// inline: each is a few stores into the caller's object, which a call would move through the
+// stack (the T-format receiver's meter figures rise 6 to 20 % without).
 template <class T, input_unit Unit = input_unit::bytes>
 class [[nodiscard]] decode_result {
   static_assert(std::is_default_constructible<T>::value,
@@ -148,7 +151,7 @@ class [[nodiscard]] decode_result {
       r_.status_ = decode_status::complete;
       r_.count_ = consumed;
       if (MOTIONBUS_CONSTANT_EVALUATED()) {
-        r_.u_.value = T{};  // a trivial assignment makes the value the active member
+        r_.u_ = storage(T{});  // the value becomes the active member (C++17 constexpr rules)
       } else {
         // Storage for the value, not initialised (the caller sets each member): a byte array
         // begun there creates the trivially copyable T implicitly.
@@ -185,11 +188,9 @@ class [[nodiscard]] decode_result {
   constexpr explicit operator bool() const noexcept { return is_complete(); }
 
   /// The decoded value; value-initialised unless complete.
-  MOTIONBUS_INLINE constexpr const T& value() const noexcept {
-    return is_complete() ? u_.value : empty_;
-  }
-  MOTIONBUS_INLINE constexpr const T& operator*() const noexcept { return value(); }
-  MOTIONBUS_INLINE constexpr const T* operator->() const noexcept { return &value(); }
+  constexpr const T& value() const noexcept { return is_complete() ? u_.value : empty_; }
+  constexpr const T& operator*() const noexcept { return value(); }
+  constexpr const T* operator->() const noexcept { return &value(); }
   /// Complete: bytes used by the value. Failed: bytes the caller may drop. Else 0.
   template <input_unit U = Unit, std::enable_if_t<U == input_unit::bytes, int> = 0>
   constexpr std::size_t consumed() const noexcept {
@@ -236,7 +237,7 @@ class [[nodiscard]] decode_result {
     return is_incomplete() ? (count_ == 0U ? 1U : count_) : 0U;  // 0: default-constructed
   }
   template <class Fill>
-  MOTIONBUS_INLINE constexpr void set_complete(std::size_t consumed, Fill& fill) noexcept {
+  constexpr void set_complete(std::size_t consumed, Fill& fill) noexcept {
     status_ = decode_status::complete;
     count_ = consumed;
     T v{};  // filled where the compiler keeps it (registers, for a small T)

@@ -170,6 +170,7 @@ constexpr decode_result<response> decode_status_frame(byte_view in, data_id id,
 // The ID3 response (the one polled every control cycle), from one 64-bit little-endian
 // load of fields 0..7 plus fields 8..10, the CRC (the XOR of fields 0..9) folded in the same
 // register. Same checks, same order as decode_status_frame, which the tests pin it to.
+// Forced inline: straight-line code (a few dozen instructions) the receiver runs per frame.
 MOTIONBUS_INLINE constexpr decode_result<response> decode_read_all(
     byte_view in, const decode_options& opt) noexcept {
   const std::uint64_t w = load_le<8>(in, 0);
@@ -331,7 +332,8 @@ MOTIONBUS_INLINE constexpr decode_result<response> decode_response_small(
 /// code, parity or unknown Data ID; crc_mismatch (expected = computed, received = sent);
 /// reserved_bits (SF bits 0..3 set); out_of_range (ABS/ABM bits above the resolution set).
 /// A busy EEPROM is state (response::busy), not an error. MOTIONBUS_SMALL_CODE picks the
-/// form (core/config.hpp); both return the same results.
+/// form (core/config.hpp); both return the same results. Forced inline, as the two forms it
+/// forwards to: the polled IDs decode in the caller (the meter's ID3 figure is 58, 90 called).
 #if MOTIONBUS_SMALL_CODE
 MOTIONBUS_INLINE constexpr decode_result<response> decode_response(
     byte_view in, const decode_options& opt = {}) noexcept {
