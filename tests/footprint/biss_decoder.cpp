@@ -11,6 +11,9 @@ namespace bs = motionbus::biss;
 extern "C" unsigned probe_entry(const std::uint32_t* capture, unsigned bits, bs::slave_data* d) {
   const auto r =
       bs::decode_frame(mb::span<const std::uint32_t>(capture, 2), bits, bs::absys_layout);
+  if (!r.is_complete()) {
+    return static_cast<unsigned>(r.error());
+  }
   *d = r->slaves[0];  // the slave's data, kept as a firmware keeps it
-  return r.is_complete() ? static_cast<unsigned>(r->start) : static_cast<unsigned>(r.error());
+  return static_cast<unsigned>(r->start);
 }

@@ -217,7 +217,9 @@ MOTIONBUS_INLINE constexpr frame_result<N> decode_chain(span<const Word> words,
   chain_frame<N>& info = o.complete_in_place(end);
   info.line_delay = ack;
   info.start = start;
-  info.count = chain.size();
+  if constexpr (N > 1U) {
+    info.count = chain.size();
+  }
   for (std::size_t i = chain.size(); i < N; ++i) {  // complete_in_place sets no member
     info.slaves[i] = slave_data{};
   }
