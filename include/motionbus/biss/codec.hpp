@@ -286,17 +286,16 @@ MOTIONBUS_INLINE constexpr frame_result<N> decode_chain(span<const Word> words,
 }  // namespace detail
 
 /// Decodes the sensor data frame of a chain from a raw SL capture of `bit_count` samples
-/// (clipped to the words given). See the file comment for the outcomes.
+/// (clipped to the words given). See the file comment for the outcomes. Forced inline, as
+/// every decode_frame form: it hands the caller's layouts on to decode_chain.
 template <crc_table_size Table = default_crc_table, class Word>
-constexpr frame_result<max_chain> decode_frame(span<const Word> words, std::size_t bit_count,
-                                               span<const slave_layout> chain,
-                                               const decode_options& opt = {},
-                                               bit_order order = bit_order::msb_first) noexcept {
+MOTIONBUS_INLINE constexpr frame_result<max_chain> decode_frame(
+    span<const Word> words, std::size_t bit_count, span<const slave_layout> chain,
+    const decode_options& opt = {}, bit_order order = bit_order::msb_first) noexcept {
   return detail::decode_chain<Table, max_chain, Word>(words, bit_count, chain, opt, order);
 }
 
-/// Single-slave form: the slave's data is `slaves[0]`. Forced inline (as the forms below
-/// over span<Word> and arrays): it hands the caller's constant layout on to decode_chain.
+/// Single-slave form: the slave's data is `slaves[0]`.
 template <crc_table_size Table = default_crc_table, class Word>
 MOTIONBUS_INLINE constexpr frame_result<1> decode_frame(
     span<const Word> words, std::size_t bit_count, const slave_layout& layout,
@@ -309,17 +308,15 @@ MOTIONBUS_INLINE constexpr frame_result<1> decode_frame(
 // for those, so these forward (chain and single-slave forms).
 template <crc_table_size Table = default_crc_table, class Word,
           class = std::enable_if_t<!std::is_const<Word>::value>>
-constexpr frame_result<max_chain> decode_frame(span<Word> words, std::size_t bit_count,
-                                               span<const slave_layout> chain,
-                                               const decode_options& opt = {},
-                                               bit_order order = bit_order::msb_first) noexcept {
+MOTIONBUS_INLINE constexpr frame_result<max_chain> decode_frame(
+    span<Word> words, std::size_t bit_count, span<const slave_layout> chain,
+    const decode_options& opt = {}, bit_order order = bit_order::msb_first) noexcept {
   return decode_frame<Table, Word>(span<const Word>(words), bit_count, chain, opt, order);
 }
 template <crc_table_size Table = default_crc_table, class Word, std::size_t N>
-constexpr frame_result<max_chain> decode_frame(const Word (&words)[N], std::size_t bit_count,
-                                               span<const slave_layout> chain,
-                                               const decode_options& opt = {},
-                                               bit_order order = bit_order::msb_first) noexcept {
+MOTIONBUS_INLINE constexpr frame_result<max_chain> decode_frame(
+    const Word (&words)[N], std::size_t bit_count, span<const slave_layout> chain,
+    const decode_options& opt = {}, bit_order order = bit_order::msb_first) noexcept {
   return decode_frame<Table, Word>(span<const Word>(words, N), bit_count, chain, opt, order);
 }
 template <crc_table_size Table = default_crc_table, class Word,
