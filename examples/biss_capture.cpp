@@ -77,16 +77,16 @@ void decode(const std::string& text, const bs::slave_layout& layout) {
   for (std::size_t i = 0; i < samples.size(); ++i) {
     words[i / 32U] |= static_cast<std::uint32_t>(samples[i]) << (31U - i % 32U);
   }
-  bs::slave_data d;
   const auto r = bs::decode_frame(mb::span<const std::uint32_t>(words.data(), words.size()),
-                                  samples.size(), layout, d);
+                                  samples.size(), layout);
+  const bs::slave_data& d = r->slaves[0];
   if (r.is_incomplete()) {
-    std::printf("incomplete: %zu more samples needed\n", r.needed());
+    std::printf("incomplete: %zu more samples needed\n", r.needed_bits());
   } else if (r.is_failed()) {
     std::printf("error: %s", mb::to_string(r.error()));
     if (r.error() == mb::errc::crc_mismatch) {
-      std::printf(" (received 0x%02X, data calls for 0x%02X)", static_cast<unsigned>(d.crc),
-                  static_cast<unsigned>(d.crc_computed));
+      std::printf(" (received 0x%02X, data calls for 0x%02X)", static_cast<unsigned>(r.received()),
+                  static_cast<unsigned>(r.expected()));
     }
     std::printf("\n");
   } else {

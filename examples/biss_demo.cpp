@@ -26,10 +26,11 @@ class session {
     if (!n.ok()) {
       return n.error();
     }
-    const auto r = bs::decode_frame(words, 64, ab::layout, last_);
+    const auto r = bs::decode_frame(words, 64, ab::layout);
     if (!r.is_complete()) {
       return r.is_failed() ? r.error() : mb::errc::no_frame;
     }
+    last_ = r->slaves[0];
     line_delay_ = r->line_delay;
     enc_.control(master_.step(r->cds));
     ++frames_;
@@ -112,7 +113,7 @@ int main() {
   const auto dev = ab::decode_device_id(device);
   check(sn.error(), "serial number decode");
   check(dev.error(), "device ID decode");
-  if (sn.ok() && dev.ok()) {
+  if (sn.is_complete() && dev.is_complete()) {
     std::printf(
         "  identity: manufacturer \"%c%c\", slave revision 0x%02X, profile 0x%02X%02X "
         "(BP3, %u-bit data), serial %.3s %u %c, device ID %u\n",
@@ -126,9 +127,9 @@ int main() {
   check(s.write(ab::reg::bank_select, ab::bank::eds_bp3), "bank select");
   check(s.read(0x00, bank, bs::bank_size), "EDS BP3");
   const auto bp3 = bs::decode_bp3(mb::byte_view(bank, bs::bank_size));
-  check(common.error(), "EDS common part decode");
-  check(bp3.error(), "EDS BP3 decode");
-  if (common.ok() && bp3.ok()) {
+  check(common.is_incomplete() ? mb::errc::truncated : common.error(), "EDS common part decode");
+  check(bp3.is_incomplete() ? mb::errc::truncated : bp3.error(), "EDS BP3 decode");
+  if (common.is_complete() && bp3.is_complete()) {
     const bs::crc_format crc = bs::crc_from_eds(bp3->crc_poly, bp3->crc_start);
     std::printf(
         "  EDS: version %u, %u banks, BP3 in bank 0x%02X; %s encoder, %u x 2^%u = %llu "

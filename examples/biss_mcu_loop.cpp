@@ -50,13 +50,13 @@ int main() {
     encoder.set_position(encoder.absolute_position() + 3U);  // the shaft turns
     std::uint32_t rx[2];
     spi_transfer(rx, cycle);
-    bs::slave_data d;
-    const auto r = bs::decode_frame(mb::span<const std::uint32_t>(rx, 2), 64, ab::layout, d);
+    const auto r = bs::decode_frame(mb::span<const std::uint32_t>(rx, 2), 64, ab::layout);
     if (!r.is_complete()) {
       ++bad_frames;  // a real drive would count this toward its encoder-fault limit
       set_cdm(false);
       continue;
     }
+    const bs::slave_data& d = r->slaves[0];
     position = static_cast<std::uint32_t>(d.single_turn);
     // register access, one bit per frame
     if (!control.busy()) {
@@ -84,7 +84,8 @@ int main() {
     }
   }
   const auto profile = bs::decode_bp3(mb::byte_view(bp3, bs::bank_size));
-  if (job != finished || !profile.ok() || manufacturer[0] != 'A' || manufacturer[1] != 'm') {
+  if (job != finished || !profile.is_complete() || manufacturer[0] != 'A' ||
+      manufacturer[1] != 'm') {
     std::printf("register read did not complete\n");
     return 1;
   }

@@ -29,10 +29,11 @@ std::size_t line_delay = 0;
 bool frame() {
   std::uint32_t words[2] = {0xFFFFFFFFU, 0xFFFFFFFFU};
   const auto n = encoder.frame(words, 2, 1);  // a line delay of 2 bits, Ack 1
-  const auto r = bs::decode_frame(words, 64, ab::layout, last);
+  const auto r = bs::decode_frame(words, 64, ab::layout);
   if (!n.ok() || !r.is_complete()) {
     return false;
   }
+  last = r->slaves[0];
   line_delay = r->line_delay;
   encoder.control(master.step(r->cds));
   return true;
@@ -114,7 +115,7 @@ int main() {
   result("bank select", write(ab::reg::bank_select, ab::bank::eds_bp3));
   result("eds bp3", read(0x00, bank, bs::bank_size));
   const auto bp3 = bs::decode_bp3(mb::byte_view(bank, bs::bank_size));
-  if (common.ok() && bp3.ok()) {
+  if (common.is_complete() && bp3.is_complete()) {
     const bs::crc_format crc = bs::crc_from_eds(bp3->crc_poly, bp3->crc_start);
     report::text("eds version ");
     report::dec(common->version);

@@ -27,32 +27,32 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const mb::byte_view in(data, size);
   std::uint8_t out[bs::bank_size] = {};
   const auto c = bs::decode_eds_common(in);
-  if (c.ok()) {
+  if (c.is_complete()) {
     MOTIONBUS_FUZZ_CHECK(size >= bs::bank_size);
     MOTIONBUS_FUZZ_CHECK(bs::encode_eds_common(*c, mb::mutable_byte_view(out, bs::bank_size)) ==
                          mb::errc::ok);
     const auto again = bs::decode_eds_common(mb::byte_view(out, bs::bank_size), {true});
-    MOTIONBUS_FUZZ_CHECK(again.ok() && *again == *c);
+    MOTIONBUS_FUZZ_CHECK(again.is_complete() && *again == *c);
     for (std::size_t i = 0; i < bs::bank_size - 1U; ++i) {
       MOTIONBUS_FUZZ_CHECK(out[i] == (common_defined(i) ? data[i] : 0U));
     }
   } else {
-    MOTIONBUS_FUZZ_CHECK(c.error() ==
-                         (size < bs::bank_size ? mb::errc::truncated : mb::errc::biss_eds));
+    MOTIONBUS_FUZZ_CHECK(size < bs::bank_size ? c.needed() == bs::bank_size - size
+                                              : c.error() == mb::errc::biss_eds);
   }
   const auto p = bs::decode_bp3(in);
-  if (p.ok()) {
+  if (p.is_complete()) {
     MOTIONBUS_FUZZ_CHECK(bs::encode_bp3(*p, mb::mutable_byte_view(out, bs::bank_size)) ==
                          mb::errc::ok);
     const auto again = bs::decode_bp3(mb::byte_view(out, bs::bank_size), {true});
-    MOTIONBUS_FUZZ_CHECK(again.ok() && *again == *p);
+    MOTIONBUS_FUZZ_CHECK(again.is_complete() && *again == *p);
     for (std::size_t i = 0; i < bs::bank_size - 1U; ++i) {
       MOTIONBUS_FUZZ_CHECK(out[i] == (bp3_defined(i) ? data[i] : 0U));
     }
     MOTIONBUS_FUZZ_CHECK(p->layout().validate() == mb::errc::ok);
   } else {
-    MOTIONBUS_FUZZ_CHECK(p.error() ==
-                         (size < bs::bank_size ? mb::errc::truncated : mb::errc::biss_eds));
+    MOTIONBUS_FUZZ_CHECK(size < bs::bank_size ? p.needed() == bs::bank_size - size
+                                              : p.error() == mb::errc::biss_eds);
   }
   return 0;
 }

@@ -48,7 +48,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       MOTIONBUS_FUZZ_CHECK((reply[0] & 0x7FU) == (pdu[0] & 0x7FU));
       continue;
     }
-    const auto d = mo::decode_response(reply, pdu, mo::report_id_format::two_bytes_no_count);
+    const auto d = mo::decode_response_for(pdu, reply, mo::report_id_format::two_bytes_no_count);
     MOTIONBUS_FUZZ_CHECK(d.is_complete());
   }
   return 0;

@@ -22,7 +22,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const mb::byte_view pdu(data + 1 + request_size, size - 1 - request_size);
   const auto format = (data[0] & 0x80U) != 0 ? mo::report_id_format::two_bytes_no_count
                                              : mo::report_id_format::standard;
-  const auto r = mo::decode_response(pdu, request, format);
+  const auto r = mo::decode_response_for(request, pdu, format);
   const auto sent = mo::decode_request(request);
   if (sent.is_complete()) {
     const mo::request& s = sent.value();

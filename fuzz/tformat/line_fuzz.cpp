@@ -40,17 +40,17 @@ void run(const std::uint8_t* data, std::size_t size, mb::bit_order order) {
     if (r.is_incomplete()) {
       break;
     }
-    MOTIONBUS_FUZZ_CHECK(r.consumed() <= total && r.consumed() > from);
+    MOTIONBUS_FUZZ_CHECK(r.consumed_bits() <= total && r.consumed_bits() > from);
     if (r.is_complete()) {
       std::uint8_t bytes[tf::max_response_size] = {};
       const auto n = tf::encode_response(r.value().frame, bytes);
       MOTIONBUS_FUZZ_CHECK(n.ok());
       if (!(r.value().frame.layout().eeprom() && r.value().frame.busy)) {
-        check_round_trip<Word, tf::response>(words, order, r.value().start_bit, r.consumed(), bytes,
-                                             n.value());
+        check_round_trip<Word, tf::response>(words, order, r.value().start_bit, r.consumed_bits(),
+                                             bytes, n.value());
       }
     }
-    from = r.consumed();
+    from = r.consumed_bits();
   }
   const auto q = tf::decode_request_line(view, order, total, 0);
   if (q.is_complete()) {
@@ -58,7 +58,7 @@ void run(const std::uint8_t* data, std::size_t size, mb::bit_order order) {
     const auto n =
         tf::encode_request(q.value().frame.id, q.value().frame.address, q.value().frame.edf, bytes);
     MOTIONBUS_FUZZ_CHECK(n.ok());
-    check_round_trip<Word, tf::request>(words, order, q.value().start_bit, q.consumed(), bytes,
+    check_round_trip<Word, tf::request>(words, order, q.value().start_bit, q.consumed_bits(), bytes,
                                         n.value());
   }
 }

@@ -15,10 +15,18 @@ TEST_CASE("EDS common part: a checksum that does not match, when asked to verify
   REQUIRE(encode_eds_common(eds_common{}, mutable_byte_view(bank, bank_size)) == errc::ok);
   eds_options verify;
   verify.verify_checksum = true;
-  CHECK(decode_eds_common(byte_view(bank, bank_size), verify).ok());
+  CHECK(decode_eds_common(byte_view(bank, bank_size), verify).is_complete());
   bank[0x3F] = static_cast<std::uint8_t>(bank[0x3F] + 1U);
-  CHECK(decode_eds_common(byte_view(bank, bank_size), verify).error() == errc::biss_eds);
-  CHECK(decode_eds_common(byte_view(bank, bank_size)).ok());  // not verified by default
+  const auto bad = decode_eds_common(byte_view(bank, bank_size), verify);
+  CHECK(bad.error() == errc::biss_eds);
+  CHECK(bad.consumed() == bank_size);
+  CHECK(bad.expected() == bank_checksum(byte_view(bank, bank_size)));  // the evidence
+  CHECK(bad.received() == bank[0x3F]);
+  CHECK(decode_eds_common(byte_view(bank, bank_size)).is_complete());  // not verified by default
+  CHECK(decode_eds_common(byte_view(bank, bank_size)).consumed() == bank_size);
+  const auto part = decode_eds_common(byte_view(bank, 40));  // a decoder's "need more input"
+  CHECK(part.is_incomplete());
+  CHECK(part.needed() == bank_size - 40U);
   CHECK(encode_eds_common(eds_common{}, mutable_byte_view(bank, bank_size - 1U)) ==
         errc::buffer_too_small);
 }

@@ -33,20 +33,27 @@ decode_result<frame> toy_decode(byte_view in) {
   return decode_result<frame>::complete(frame{in[1], 7}, 2);
 }
 
-// The same toy decoder, its result built in place.
+// The same toy decoder, its result settled in place through an outcome.
 decode_result<frame> toy_build(byte_view in) {
-  return decode_result<frame>::build([in](decode_result<frame>::outcome o) {
-    if (in.empty()) {
-      return o.need(2);
-    }
-    if (in[0] != 0x55) {
-      return o.fail(errc::no_frame, 1);
-    }
-    if (in.size() < 2) {
-      return o.need(1);
-    }
+  decode_result<frame> r = need_input{1};
+  decode_result<frame>::outcome o(r);
+  if (in.empty()) {
+    o.need(2);
+  } else if (in[0] != 0x55) {
+    o.fail(errc::no_frame, 1);
+  } else if (in.size() < 2) {
+    o.need(1);
+  } else {
     o.complete(2, [&](frame& f) { f.id = in[1]; });
-  });
+  }
+  return r;
+}
+
+template <class T, class Steps>
+decode_result<T> settled(Steps steps) {
+  decode_result<T> r = need_input{1};
+  steps(typename decode_result<T>::outcome(r));
+  return r;
 }
 
 }  // namespace
@@ -67,26 +74,46 @@ TEST_CASE("decode_result built in place: the same outcomes as the converting con
     }
   }
   // Steps that settle nothing: incomplete, 1 unit needed, the value reads as value-initialised.
-  const auto idle = decode_result<frame>::build([](decode_result<frame>::outcome) {});
+  const auto idle = settled<frame>([](decode_result<frame>::outcome) {});
   CHECK(idle.is_incomplete());
   CHECK(idle.needed() == 1);
   CHECK(idle.consumed() == 0);
   CHECK(idle.error() == errc::ok);
   CHECK(idle->id == 0);
   // fail carries evidence; an ok code is never reported as success; need(0) needs 1.
-  const auto crc = decode_result<int>::build(
+  const auto crc = settled<int>(
       [](decode_result<int>::outcome o) { o.fail(errc::crc_mismatch, 4, 0x4B, 0x12); });
   CHECK(crc.is_failed());
   CHECK(crc.expected() == 0x4B);
   CHECK(crc.received() == 0x12);
   CHECK(crc.consumed() == 4);
-  const auto odd =
-      decode_result<int>::build([](decode_result<int>::outcome o) { o.fail(errc::ok, 0); });
+  const auto odd = settled<int>([](decode_result<int>::outcome o) { o.fail(errc::ok, 0); });
   CHECK(odd.is_failed());
   CHECK(odd.error() == errc::invalid_argument);
-  const auto zero = decode_result<int>::build([](decode_result<int>::outcome o) { o.need(0); });
+  const auto zero = settled<int>([](decode_result<int>::outcome o) { o.need(0); });
   CHECK(zero.is_incomplete());
   CHECK(zero.needed() == 1);
+  // complete_in_place: the value is the caller's to set, member by member, in the result.
+  const auto whole = settled<frame>([](decode_result<frame>::outcome o) {
+    frame& f = o.complete_in_place(2);
+    f.id = 3;
+    f.position = 9;
+  });
+  CHECK(whole.is_complete());
+  CHECK(whole.consumed() == 2);
+  CHECK(whole->id == 3);
+  CHECK(whole->position == 9);
+}
+
+TEST_CASE("a decoder counting bits says so: consumed_bits(), needed_bits()") {
+  using bit_result = decode_result<int, input_unit::bits>;
+  const bit_result done = bit_result::complete(7, 42);
+  CHECK(done.consumed_bits() == 42);
+  const bit_result more = need_input{9};
+  CHECK(more.needed_bits() == 9);
+  CHECK(more.consumed_bits() == 0);
+  const bit_result bad = decode_failure{errc::biss_no_ack, 64};
+  CHECK(bad.consumed_bits() == 64);
 }
 
 TEST_CASE("decode_result: complete, incomplete and failed") {

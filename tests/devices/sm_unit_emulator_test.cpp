@@ -160,7 +160,7 @@ TEST_CASE("SM unit emulator: broadcasts, other addresses, warnings, data over ti
     const std::size_t n = sm::read_instantaneous(1, req).value();
     const bytes resp = b.serve(byte_view(req, n));
     const auto r =
-        mo::decode_response(byte_view(resp.data(), resp.size()), byte_view(req + 1, n - 3));
+        mo::decode_response_for(byte_view(req + 1, n - 3), byte_view(resp.data(), resp.size()));
     REQUIRE(r.is_complete());
     return sm::decode_instantaneous(r.value()).value();
   };

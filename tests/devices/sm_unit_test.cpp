@@ -90,7 +90,8 @@ TEST_CASE("SM unit: instantaneous data with units and signedness, version, login
                      0xFF, 0xE7, 0x00, 0x0A, 0x03, 0xD5, 0x00, 0x32, 0x00, 0x7B};
   std::uint8_t req[256] = {};
   const std::size_t n = sm::read_instantaneous(1, req).value();
-  const auto r = mo::decode_response(byte_view(pdu.data(), pdu.size()), byte_view(req + 1, n - 3));
+  const auto r =
+      mo::decode_response_for(byte_view(req + 1, n - 3), byte_view(pdu.data(), pdu.size()));
   REQUIRE(r.is_complete());
   const auto v = sm::decode_instantaneous(r.value());
   REQUIRE(v.ok());
@@ -109,8 +110,9 @@ TEST_CASE("SM unit: instantaneous data with units and signedness, version, login
 
   const bytes version_pdu = {0x11, 0x01, 0x00};
   const bytes fc11 = {0x11};
-  const auto vr = mo::decode_response(byte_view(version_pdu.data(), 3), byte_view(fc11.data(), 1),
-                                      mo::report_id_format::two_bytes_no_count);
+  const auto vr =
+      mo::decode_response_for(byte_view(fc11.data(), 1), byte_view(version_pdu.data(), 3),
+                              mo::report_id_format::two_bytes_no_count);
   REQUIRE(vr.is_complete());
   CHECK(sm::decode_version(vr.value()).value().upper == 1);
   CHECK(sm::decode_version(vr.value()).value().lower == 0);
@@ -119,7 +121,7 @@ TEST_CASE("SM unit: instantaneous data with units and signedness, version, login
   std::uint16_t regs[8] = {};
   std::uint8_t wreq[64] = {};
   const std::size_t wn = mo::encode_write_multiple_registers(200, regs, wreq).value();
-  const auto le = mo::decode_response(byte_view(login_error.data(), 2), byte_view(wreq, wn));
+  const auto le = mo::decode_response_for(byte_view(wreq, wn), byte_view(login_error.data(), 2));
   REQUIRE(le.is_complete());
   CHECK(sm::is_login_error(le.value()));
   CHECK(sm::decode_instantaneous(le.value()).error() == errc::modbus_mismatch);

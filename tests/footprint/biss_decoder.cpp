@@ -5,11 +5,17 @@
 
 #include <motionbus/biss/codec.hpp>
 
+#include <new>
+
 namespace mb = motionbus;
 namespace bs = motionbus::biss;
 
-extern "C" unsigned probe_entry(const std::uint32_t* capture, unsigned bits, bs::slave_data* d) {
-  const auto r =
-      bs::decode_frame(mb::span<const std::uint32_t>(capture, 2), bits, bs::absys_layout, *d);
-  return r.is_complete() ? static_cast<unsigned>(r->start) : static_cast<unsigned>(r.error());
+// The result is built in the caller's object (C++17's guaranteed copy elision), as where a
+// firmware keeps what it decoded.
+extern "C" unsigned probe_entry(const std::uint32_t* capture, unsigned bits,
+                                bs::frame_result<1>* out) {
+  ::new (static_cast<void*>(out)) bs::frame_result<1>(
+      bs::decode_frame(mb::span<const std::uint32_t>(capture, 2), bits, bs::absys_layout));
+  return out->is_complete() ? static_cast<unsigned>((*out)->start)
+                            : static_cast<unsigned>(out->error());
 }

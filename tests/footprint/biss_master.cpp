@@ -10,12 +10,11 @@ namespace bs = motionbus::biss;
 
 extern "C" unsigned probe_entry(const std::uint32_t* capture, unsigned bits,
                                 bs::control_master* control, unsigned char* registers) {
-  bs::slave_data d;
   const auto r =
-      bs::decode_frame(mb::span<const std::uint32_t>(capture, 2), bits, bs::absys_layout, d);
+      bs::decode_frame(mb::span<const std::uint32_t>(capture, 2), bits, bs::absys_layout);
   if (!control->busy()) {
     (void)control->start_read(0, 0x7E, mb::mutable_byte_view(registers, 2));
   }
   const bool cdm = control->step(r.is_complete() && r->cds);
-  return (r.is_complete() ? static_cast<unsigned>(d.single_turn) : 0U) + (cdm ? 1U : 0U);
+  return (r.is_complete() ? static_cast<unsigned>(r->slaves[0].single_turn) : 0U) + (cdm ? 1U : 0U);
 }

@@ -50,11 +50,10 @@ mb::byte_view input() {
 // firmware keeps what it decoded), and an unmeasured `op_report_*` call copies it into
 // meter_out.
 mb::decode_result<tf::response> tformat_result = mb::need_input{};
-mb::decode_result<tf::line_frame<tf::response>> line_result = mb::need_input{};
+tf::line_result<tf::response> line_result = mb::need_input{};
 mb::decode_result<md::rtu_frame> rtu_result = mb::need_input{};
 mb::decode_result<md::response> client_result = mb::need_input{};
-mb::decode_result<bs::frame_info> biss_result = mb::need_input{};
-bs::slave_data biss_data;
+bs::frame_result<1> biss_result = mb::need_input{};
 
 // Constructs the result of `call()` in `slot` (no temporary, no copy).
 template <class R, class Call>
@@ -344,12 +343,12 @@ METER_OP void op_biss_decode_frame() {
   keep(biss_result, [] {
     return bs::decode_frame(
         mb::span<const std::uint32_t>(reinterpret_cast<const std::uint32_t*>(meter_in), 2),
-        meter_in_size, bs::absys_layout, biss_data);
+        meter_in_size, bs::absys_layout);
   });
 }
 METER_OP void op_report_biss() {
   const auto& r = biss_result;
-  const auto& d = biss_data;
+  const auto& d = r->slaves[0];
   meter_out[0] = static_cast<std::uint32_t>(r.status());
   meter_out[1] = static_cast<std::uint32_t>(r.error());
   if (r.is_complete()) {

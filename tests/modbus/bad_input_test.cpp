@@ -70,8 +70,9 @@ TEST_CASE("CVE class: truncated PDUs and minimum-length FC 07/11") {
   // a client must not read an FC11 byte count beyond the PDU
   const bytes req = {0x11};
   const bytes resp = {0x11, 0xFF, 0x01};
-  CHECK(decode_response(byte_view(resp.data(), resp.size()), byte_view(req.data(), 1)).error() ==
-        errc::modbus_byte_count);
+  CHECK(
+      decode_response_for(byte_view(req.data(), 1), byte_view(resp.data(), resp.size())).error() ==
+      errc::modbus_byte_count);
 }
 
 TEST_CASE("CVE class: oversize ADUs and PDUs") {

@@ -119,16 +119,16 @@ TEST_CASE("server: every spec example request decodes, and its response encodes 
 TEST_CASE("client: every spec example response decodes against its request") {
   for (const auto& ex : spec_examples()) {
     CAPTURE(ex.name);
-    const auto r = decode_response(view(ex.response), view(ex.request));
+    const auto r = decode_response_for(view(ex.request), view(ex.response));
     REQUIRE(r.is_complete());
     CHECK(!r->exception);
     CHECK(r->function == ex.request[0]);
   }
   const auto examples = spec_examples();  // decoded views refer to these bytes: keep them alive
-  const auto fc03 = decode_response(view(examples[2].response), view(examples[2].request));
+  const auto fc03 = decode_response_for(view(examples[2].request), view(examples[2].response));
   CHECK(register_at(fc03->data, 0) == 0x022B);
   CHECK(register_at(fc03->data, 2) == 0x0064);
-  const auto fc01 = decode_response(view(examples[0].response), view(examples[0].request));
+  const auto fc01 = decode_response_for(view(examples[0].request), view(examples[0].response));
   CHECK(fc01->data.size() == 3);
   CHECK(bit_at(fc01->data, 0));   // coil 20 on (0xCD bit 0)
   CHECK(!bit_at(fc01->data, 1));  // coil 21 off
@@ -197,48 +197,49 @@ TEST_CASE("every prefix of every spec request is rejected; the whole request dec
 
 TEST_CASE("client: exceptions pass through, mismatches and counts are errors") {
   const bytes req = spec_examples()[2].request;  // FC03 read 3 registers
-  auto r = decode_response(view({0x83, 0x02}), view(req));
+  auto r = decode_response_for(view(req), view({0x83, 0x02}));
   REQUIRE(r.is_complete());
   CHECK(r->exception);
   CHECK(r->exception_code == 0x02);
-  r = decode_response(view({0x83, 0x42}), view(req));  // unknown code: unchanged
+  r = decode_response_for(view(req), view({0x83, 0x42}));  // unknown code: unchanged
   CHECK(r->exception_code == 0x42);
-  CHECK(decode_response(view({0x83}), view(req)).error() == errc::truncated);
-  CHECK(decode_response(view({0x84, 0x02}), view(req)).error() == errc::modbus_mismatch);
-  CHECK(decode_response(view({0x04, 0x06, 0, 0, 0, 0, 0, 0}), view(req)).error() ==
+  CHECK(decode_response_for(view(req), view({0x83})).error() == errc::truncated);
+  CHECK(decode_response_for(view(req), view({0x84, 0x02})).error() == errc::modbus_mismatch);
+  CHECK(decode_response_for(view(req), view({0x04, 0x06, 0, 0, 0, 0, 0, 0})).error() ==
         errc::modbus_mismatch);
-  CHECK(decode_response(view({0x03, 0x04, 0, 0, 0, 0}), view(req)).error() ==
+  CHECK(decode_response_for(view(req), view({0x03, 0x04, 0, 0, 0, 0})).error() ==
         errc::modbus_byte_count);
-  CHECK(decode_response(view({0x03, 0x06, 0, 0, 0, 0}), view(req)).error() == errc::truncated);
-  CHECK(decode_response(view({0x03, 0x06, 0, 0, 0, 0, 0, 0, 0}), view(req)).error() ==
+  CHECK(decode_response_for(view(req), view({0x03, 0x06, 0, 0, 0, 0})).error() == errc::truncated);
+  CHECK(decode_response_for(view(req), view({0x03, 0x06, 0, 0, 0, 0, 0, 0, 0})).error() ==
         errc::modbus_byte_count);
   // FC01 for 19 coils: 3 bytes, the top 5 bits of the last must be 0
   const bytes fc01 = spec_examples()[0].request;
-  CHECK(decode_response(view({0x01, 0x03, 0xCD, 0x6B, 0x0D}), view(fc01)).error() ==
+  CHECK(decode_response_for(view(fc01), view({0x01, 0x03, 0xCD, 0x6B, 0x0D})).error() ==
         errc::reserved_bits);
   // echoes
   const bytes fc06 = spec_examples()[5].request;
-  CHECK(decode_response(view({0x06, 0x00, 0x01, 0x00, 0x04}), view(fc06)).error() ==
+  CHECK(decode_response_for(view(fc06), view({0x06, 0x00, 0x01, 0x00, 0x04})).error() ==
         errc::modbus_mismatch);
   const bytes fc10 = spec_examples()[7].request;
-  CHECK(decode_response(view({0x10, 0x00, 0x01, 0x00, 0x03}), view(fc10)).error() ==
+  CHECK(decode_response_for(view(fc10), view({0x10, 0x00, 0x01, 0x00, 0x03})).error() ==
         errc::modbus_mismatch);
   // FC11: standard (byte count) and the SM unit's two bytes without a count
   const bytes fc11 = {0x11};
   const bytes standard = {0x11, 0x03, 0xAA, 0xBB, 0xFF};
-  r = decode_response(view(standard), view(fc11));
+  r = decode_response_for(view(fc11), view(standard));
   REQUIRE(r.is_complete());
   CHECK(r->data.size() == 3);
-  CHECK(decode_response(view({0x11, 0x05, 0xAA}), view(fc11)).error() == errc::modbus_byte_count);
+  CHECK(decode_response_for(view(fc11), view({0x11, 0x05, 0xAA})).error() ==
+        errc::modbus_byte_count);
   const bytes sm_unit = {0x11, 0x01, 0x00};  // Ver.1.0.0
-  r = decode_response(view(sm_unit), view(fc11), report_id_format::two_bytes_no_count);
+  r = decode_response_for(view(fc11), view(sm_unit), report_id_format::two_bytes_no_count);
   REQUIRE(r.is_complete());
   CHECK(r->data[0] == 0x01);
   CHECK(r->data[1] == 0x00);
-  CHECK(decode_response(view({0x11, 0x01}), view(fc11), report_id_format::two_bytes_no_count)
+  CHECK(decode_response_for(view(fc11), view({0x11, 0x01}), report_id_format::two_bytes_no_count)
             .error() == errc::truncated);
   // an invalid request cannot be matched
-  CHECK(decode_response(view({0x03, 0x02, 0, 0}), view({0x03, 0x00})).error() ==
+  CHECK(decode_response_for(view({0x03, 0x00}), view({0x03, 0x02, 0, 0})).error() ==
         errc::invalid_argument);
 }
 
@@ -277,7 +278,7 @@ TEST_CASE("client, one function: read and write decoders agree with decode_respo
     for (const bytes& a : answers) {
       CAPTURE(ex.name);
       CAPTURE(a.size());
-      const auto generic = decode_response(view(a), view(ex.request));
+      const auto generic = decode_response_for(view(ex.request), view(a));
       const auto one =
           read ? decode_read_response(view(a), f, q.quantity)
                : decode_write_response(view(a), f, q.address, f <= 0x06U ? q.value : q.quantity);
@@ -449,7 +450,7 @@ TEST_CASE("client: a response without its request, every check it carries itself
 namespace {
 
 errc decode_error(const bytes& response, const bytes& request) {
-  return decode_response(view(response), view(request)).error();
+  return decode_response_for(view(request), view(response)).error();
 }
 
 }  // namespace
@@ -554,11 +555,11 @@ TEST_CASE("server: FC2B with another MEI type is passed on; a lone 0x2B is trunc
 TEST_CASE("client: functions other than reads and writes, each length and echo rule") {
   // Exception response and a response to another function, for a non-read/write request.
   const bytes fc07 = {0x07};
-  auto r = decode_response(view({0x87, 0x01}), view(fc07));
+  auto r = decode_response_for(view(fc07), view({0x87, 0x01}));
   REQUIRE(r.is_complete());
   CHECK(r->exception);
   CHECK(r->exception_code == 0x01);
-  r = decode_response(view({0x0B, 0x00, 0x00, 0x00, 0x00}), view(fc07));
+  r = decode_response_for(view(fc07), view({0x0B, 0x00, 0x00, 0x00, 0x00}));
   CHECK(r.error() == errc::modbus_mismatch);
   CHECK(r.expected() == 0x07);
   CHECK(r.received() == 0x0B);
@@ -579,7 +580,7 @@ TEST_CASE("client: functions other than reads and writes, each length and echo r
   CHECK(decode_error({0x08, 0x00, 0x00, 0xA5, 0x38}, echo) == errc::modbus_mismatch);
   const bytes counter = {0x08, 0x00, 0x0B, 0x00, 0x00};
   CHECK(decode_error({0x08, 0x00, 0x0B, 0x00}, counter) == errc::modbus_byte_count);
-  CHECK(decode_response(view({0x08, 0x00, 0x0B, 0x00, 0x07}), view(counter)).is_complete());
+  CHECK(decode_response_for(view(counter), view({0x08, 0x00, 0x0B, 0x00, 0x07})).is_complete());
   // FC0B: status and event count, 5 bytes
   const bytes fc0b = {0x0B};
   CHECK(decode_error({0x0B, 0xFF, 0xFF}, fc0b) == errc::truncated);
@@ -613,7 +614,7 @@ TEST_CASE("client: functions other than reads and writes, each length and echo r
   CHECK(decode_error({0x11}, {0x11}) == errc::truncated);
   // any other function: the data, raw
   const bytes user = {0x41, 0x01};
-  r = decode_response(view({0x41, 0x09, 0x08}), view(user));
+  r = decode_response_for(view(user), view({0x41, 0x09, 0x08}));
   REQUIRE(r.is_complete());
   CHECK(r->data.size() == 2);
 }

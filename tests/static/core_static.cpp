@@ -155,15 +155,18 @@ static_assert(fail().is_failed() && fail().error() == mb::errc::crc_mismatch &&
               "failed");
 static_assert(mb::decode_result<int>::complete(5, 4).value() == 5, "complete");
 constexpr mb::decode_result<int> built(int step) {
-  return mb::decode_result<int>::build([step](mb::decode_result<int>::outcome o) {
-    if (step == 0) {
-      return o.need(3);
-    }
-    if (step == 1) {
-      return o.fail(mb::errc::crc_mismatch, 2, 1, 2);
-    }
+  mb::decode_result<int> r = mb::need_input{1};
+  mb::decode_result<int>::outcome o(r);
+  if (step == 0) {
+    o.need(3);
+  } else if (step == 1) {
+    o.fail(mb::errc::crc_mismatch, 2, 1, 2);
+  } else if (step == 2) {
     o.complete(4, [](int& v) { v = 5; });
-  });
+  } else {
+    o.complete_in_place(4) = 6;  // in constant evaluation, value-initialised first
+  }
+  return r;
 }
 static_assert(built(0).is_incomplete() && built(0).needed() == 3, "built in place: incomplete");
 static_assert(built(1).is_failed() && built(1).error() == mb::errc::crc_mismatch &&
@@ -171,6 +174,9 @@ static_assert(built(1).is_failed() && built(1).error() == mb::errc::crc_mismatch
               "built in place: failed");
 static_assert(built(2).is_complete() && built(2).value() == 5 && built(2).consumed() == 4,
               "built in place: complete");
+static_assert(built(3).is_complete() && built(3).value() == 6, "built in place: in place");
+static_assert(mb::decode_result<int, mb::input_unit::bits>::complete(1, 9).consumed_bits() == 9,
+              "a bit-counted result");
 static_assert(mb::result<int>(mb::errc::truncated).error() == mb::errc::truncated, "result error");
 static_assert(mb::to_string(mb::errc::crc_mismatch)[0] == 'c', "error names");
 

@@ -67,7 +67,7 @@ void line_round_trip(bit_order order) {
     CAPTURE(idle);
     REQUIRE(r.is_complete());
     CHECK(r->start_bit == idle);
-    CHECK(r.consumed() == idle + 110U);
+    CHECK(r.consumed_bits() == idle + 110U);
     CHECK(r->frame.abs == 0x012345);
     CHECK(r->frame.abm == 0x1234);
     CHECK(r->frame.almc == 0x80);
@@ -110,7 +110,7 @@ TEST_CASE("line: a 0 not followed by the sync code is skipped; framing errors ar
   words = pack<std::uint8_t>(bad, bit_order::msb_first);
   r = decode_response_line(span<const std::uint8_t>(words.data(), words.size()));
   CHECK(r.error() == errc::tformat_delimiter);
-  CHECK(r.consumed() == 2 + 20);
+  CHECK(r.consumed_bits() == 2 + 20);
   // a bad start bit in the third field
   bad = line_bits(frame, 2);
   bad[2 + 20] = 1;
@@ -127,7 +127,7 @@ TEST_CASE("line: a 0 not followed by the sync code is skipped; framing errors ar
   const std::vector<std::uint8_t> idle(8, 0xFF);
   r = decode_response_line(span<const std::uint8_t>(idle.data(), idle.size()));
   CHECK(r.error() == errc::no_frame);
-  CHECK(r.consumed() == 64);
+  CHECK(r.consumed_bits() == 64);
 }
 
 TEST_CASE("line: every truncation of a frame needs more bits") {

@@ -93,9 +93,9 @@ cli::outcome describe_samples(const std::vector<std::uint8_t>& samples,
       words[i / 8U] = static_cast<std::uint8_t>(words[i / 8U] | (0x80U >> (i % 8U)));
     }
   }
-  bs::slave_data d;
   const auto r = bs::decode_frame(mb::span<const std::uint8_t>(words.data(), words.size()),
-                                  bits->size(), layout, d);
+                                  bits->size(), layout);
+  const bs::slave_data& d = r->slaves[0];
   if (r.is_incomplete()) {
     // The capture is all there is: name what it lacks.
     std::size_t ack = 0;

@@ -71,8 +71,8 @@ struct outcome {
 /// The failure of a decode_result with its evidence: `expected` and `received` (in hex,
 /// `digits` wide, in text) when the error carries them (a CRC computed and received, a CF or an
 /// address that does not match the request).
-template <class T>
-outcome failure_of(const motionbus::decode_result<T>& r, int digits = 2) {
+template <class T, motionbus::input_unit Unit>
+outcome failure_of(const motionbus::decode_result<T, Unit>& r, int digits = 2) {
   record e;
   if (r.expected() != r.received()) {
     e.hex("expected", r.expected(), digits).hex("received", r.received(), digits);

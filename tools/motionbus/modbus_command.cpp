@@ -149,7 +149,7 @@ cli::outcome describe_response(const mo::rtu_frame& frame, const mo::rtu_frame* 
     if (q.is_complete()) {
       request = q.value();
     }
-    r = mo::decode_response(pdu, request_adu->pdu, fc11);
+    r = mo::decode_response_for(request_adu->pdu, pdu, fc11);
   } else {
     r = mo::decode_response_unpaired(pdu, fc11);  // no request: what the response carries
   }

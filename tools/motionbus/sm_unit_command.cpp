@@ -137,8 +137,8 @@ class paced_link {
       return mb::decode_failure{mb::errc::truncated, 0};
     }
     pdu_ = e.pdu;
-    const auto r = mo::decode_response(mb::byte_view(pdu_.data(), pdu_.size()),
-                                       mb::byte_view(adu + 1, size - 3U), fc11_);
+    const auto r = mo::decode_response_for(mb::byte_view(adu + 1, size - 3U),
+                                           mb::byte_view(pdu_.data(), pdu_.size()), fc11_);
     if (!r.is_complete()) {
       error = mb::to_string(r.error());
     }

@@ -115,7 +115,8 @@ class basic_control_master {
 
   /// Starts a read of out.size() (1..128) registers from `address` onward (sequential access
   /// beyond one byte). errc::biss_busy while an access runs; invalid_argument for an ID above
-  /// 7, an address above 0x7F, an empty buffer or one running past 0x7F.
+  /// 7, an address above 0x7F, an empty buffer or one running past 0x7F. (A bare errc: an
+  /// argument check with no value and no evidence; the access's outcome is error().)
   constexpr errc start_read(std::uint8_t slave_id, std::uint8_t address,
                             mutable_byte_view out) noexcept {
     const errc e = check(slave_id, address, out.size());

@@ -196,52 +196,59 @@ struct field_writer {
 
 }  // namespace detail
 
-/// Parses the common part from one 64-byte bank. Errors: truncated (fewer than 64 bytes),
-/// biss_eds (EDS length 0, no data channel, data length 0 or above 64 bits, a zero CRC
-/// polynomial, or a bad checksum when verified).
-constexpr result<eds_common> decode_eds_common(byte_view bank,
-                                               const eds_options& opt = {}) noexcept {
+namespace detail {
+// A bank parsed by `fields` into a T, then `valid(T)`: incomplete below 64 bytes, biss_eds
+// for a value `valid` refuses or (when verified) a checksum that does not match, with the
+// checksum computed as expected() and the one in 0x3F as received().
+template <class T, class Fields, class Valid>
+constexpr decode_result<T> decode_bank(byte_view bank, const eds_options& opt, Fields fields,
+                                       Valid valid) noexcept {
   if (bank.size() < bank_size) {
-    return errc::truncated;
+    return need_input{bank_size - bank.size()};
   }
-  eds_common e;
-  detail::common_fields(e, detail::field_reader{bank});
-  if (e.length == 0U || e.channels == 0U || e.data_length == 0U || e.data_length > max_data_bits ||
-      e.crc_poly == 0U) {
-    return errc::biss_eds;
+  T v;
+  fields(v, field_reader{bank});
+  if (!valid(v)) {
+    return decode_failure{errc::biss_eds, bank_size};
   }
-  if (opt.verify_checksum && bank[0x3F] != bank_checksum(bank)) {
-    return errc::biss_eds;
+  const std::uint8_t sum = bank_checksum(bank);
+  if (opt.verify_checksum && bank[0x3F] != sum) {
+    return decode_failure{errc::biss_eds, bank_size, sum, bank[0x3F]};
   }
-  return e;
+  return decode_result<T>::complete(v, bank_size);
+}
+}  // namespace detail
+
+/// Parses the common part from one 64-byte bank. Complete: consumed() = 64. Incomplete: fewer
+/// than 64 bytes (needed() the rest). Failed: biss_eds (EDS length 0, no data channel, data
+/// length 0 or above 64 bits, a zero CRC polynomial, or a bad checksum when verified: the
+/// computed and stored checksums as expected() and received()).
+constexpr decode_result<eds_common> decode_eds_common(byte_view bank,
+                                                      const eds_options& opt = {}) noexcept {
+  return detail::decode_bank<eds_common>(
+      bank, opt, [](eds_common& v, auto r) { detail::common_fields(v, r); },
+      [](const eds_common& e) {
+        return e.length != 0U && e.channels != 0U && e.data_length != 0U &&
+               e.data_length <= max_data_bits && e.crc_poly != 0U;
+      });
 }
 
-/// Parses the BP3 profile from one 64-byte bank. Errors: truncated, biss_eds (version other
-/// than 2 or 3, encoder type other than rotary/linear, SIP_RES above 20, data lengths summing
-/// to 0 or above 64 bits, a CRC polynomial wider than 16 bits or zero, a start value that does
-/// not fit it, a bad checksum when verified).
-constexpr result<bp3_profile> decode_bp3(byte_view bank, const eds_options& opt = {}) noexcept {
-  if (bank.size() < bank_size) {
-    return errc::truncated;
-  }
-  if (bank[0x08] > 0x01U) {
-    return errc::biss_eds;  // EN_TYP: rotary or linear
-  }
-  bp3_profile p;
-  detail::bp3_fields(p, detail::field_reader{bank});
-  const unsigned bits = static_cast<unsigned>(p.mt_length) + p.coarse_length + p.fine_length;
-  if ((p.version != 0x02U && p.version != 0x03U) || p.sip_resolution > 20U || bits == 0U ||
-      bits > max_data_bits || p.crc_poly == 0U || p.crc_poly >= (1U << max_crc_bits)) {
-    return errc::biss_eds;
-  }
-  const crc_format f = crc_from_eds(p.crc_poly, 0);
-  if ((p.crc_start >> f.width) != 0U) {
-    return errc::biss_eds;
-  }
-  if (opt.verify_checksum && bank[0x3F] != bank_checksum(bank)) {
-    return errc::biss_eds;
-  }
-  return p;
+/// Parses the BP3 profile from one 64-byte bank. Complete, incomplete and a bad checksum as
+/// decode_eds_common; biss_eds also for a version other than 2 or 3, an encoder type other
+/// than rotary/linear, SIP_RES above 20, data lengths summing to 0 or above 64 bits, a CRC
+/// polynomial wider than 16 bits or zero, a start value that does not fit it.
+constexpr decode_result<bp3_profile> decode_bp3(byte_view bank,
+                                                const eds_options& opt = {}) noexcept {
+  return detail::decode_bank<bp3_profile>(
+      bank, opt, [](bp3_profile& v, auto r) { detail::bp3_fields(v, r); },
+      [bank](const bp3_profile& p) {
+        const unsigned bits = static_cast<unsigned>(p.mt_length) + p.coarse_length + p.fine_length;
+        return bank[0x08] <= 0x01U &&  // EN_TYP: rotary or linear
+               (p.version == 0x02U || p.version == 0x03U) && p.sip_resolution <= 20U &&
+               bits != 0U && bits <= max_data_bits && p.crc_poly != 0U &&
+               p.crc_poly < (1U << max_crc_bits) &&
+               (p.crc_start >> crc_from_eds(p.crc_poly, 0).width) == 0U;
+      });
 }
 
 namespace detail {

@@ -24,6 +24,7 @@
 #include "motionbus/core/config.hpp"
 #include "motionbus/core/crc.hpp"
 #include "motionbus/core/errc.hpp"
+#include "motionbus/core/result.hpp"
 
 namespace motionbus {
 namespace biss {
@@ -141,19 +142,50 @@ struct slave_data {
   constexpr bool warning() const noexcept { return !nw; }
 };
 
-/// A frame found in a capture: where it lies and what the whole chain shares.
-struct frame_info {
+/// A decoded frame of a chain of at most N slaves: where it lies in the capture, what the
+/// chain shares, and each slave's data in chain order (size() of them, slave 1 first; the
+/// rest value-initialised). decode_frame returns chain_frame<1> for one layout and
+/// chain_frame<max_chain> for a chain. (The end of the frame, just past the last CRC, is the
+/// decode result's consumed_bits().)
+namespace detail {
+// The number of slaves a chain_frame holds: stored for a chain, the constant 1 for one slave
+// (one store fewer on the single-slave path, which the meter counts).
+template <std::size_t N>
+struct slave_count {
+  std::size_t count = 0;  ///< slaves decoded: the chain's length
+};
+template <>
+struct slave_count<1> {
+  static constexpr std::size_t count = 1;
+};
+}  // namespace detail
+
+template <std::size_t N>
+struct chain_frame : detail::slave_count<N> {
+  static_assert(N >= 1U && N <= max_chain, "a BiSS chain has 1 to max_chain slaves");
   /// The line delay in whole bits: the idle samples before the Ack, which is the index of
   /// the first Ack bit.
   std::size_t line_delay = 0;
   /// Index of the Start bit: line delay + Ack length.
   std::size_t start = 0;
-  bool cds = false;  ///< the CDS bit
-  // (The end of the frame, just past the last CRC, is the decode result's consumed().)
+  bool cds = false;      ///< the CDS bit
+  slave_data slaves[N];  ///< each default-initialised (slave_data's own initialisers)
 
   /// Clocks of Ack (at least 1; more for the slave's processing time).
   constexpr std::size_t ack_bits() const noexcept { return start - line_delay; }
+  /// Slaves decoded: the chain's length (`count`).
+  constexpr std::size_t size() const noexcept { return this->count; }
+  constexpr const slave_data& operator[](std::size_t i) const noexcept { return slaves[i]; }
+  constexpr const slave_data* begin() const noexcept { return slaves; }
+  constexpr const slave_data* end() const noexcept { return slaves + this->count; }
 };
+
+/// The frame of one slave (decode_frame with a single layout): its data is `slaves[0]`.
+using single_frame = chain_frame<1>;
+
+/// What decode_frame returns: counted in bits of the capture (consumed_bits(), needed_bits()).
+template <std::size_t N>
+using frame_result = decode_result<chain_frame<N>, input_unit::bits>;
 
 }  // namespace biss
 }  // namespace motionbus

@@ -127,30 +127,31 @@ constexpr bool ascii(byte_view in, std::size_t at, std::size_t n, char* out) noe
 }
 }  // namespace detail
 
-/// Decodes the 8 bytes read from 0x44..0x4B (more are ignored). errc::truncated for fewer,
-/// errc::out_of_range for a byte above 0x7F where ASCII belongs.
-constexpr result<serial_number> decode_serial_number(byte_view regs) noexcept {
+/// Decodes the 8 bytes read from 0x44..0x4B (more are ignored). Complete: consumed() = 8.
+/// Incomplete: fewer bytes (needed() the rest). Failed: errc::out_of_range for a byte above
+/// 0x7F where ASCII belongs.
+constexpr decode_result<serial_number> decode_serial_number(byte_view regs) noexcept {
   if (regs.size() < serial_number_size) {
-    return errc::truncated;
+    return need_input{serial_number_size - regs.size()};
   }
   serial_number s;
   if (!detail::ascii(regs, 0, 3, s.prefix) || !detail::ascii(regs, 7, 1, &s.suffix)) {
-    return errc::out_of_range;
+    return decode_failure{errc::out_of_range, serial_number_size};
   }
   s.number = static_cast<std::uint32_t>(load_be<4>(regs, 3));
-  return s;
+  return decode_result<serial_number>::complete(s, serial_number_size);
 }
-/// Decodes the 8 bytes read from 0x75..0x7C, with the errors of decode_serial_number.
-constexpr result<device_id> decode_device_id(byte_view regs) noexcept {
+/// Decodes the 8 bytes read from 0x75..0x7C, with the outcomes of decode_serial_number.
+constexpr decode_result<device_id> decode_device_id(byte_view regs) noexcept {
   if (regs.size() < device_id_size) {
-    return errc::truncated;
+    return need_input{device_id_size - regs.size()};
   }
   device_id d;
   if (!detail::ascii(regs, 0, 2, d.prefix) || !detail::ascii(regs, 6, 2, d.suffix)) {
-    return errc::out_of_range;
+    return decode_failure{errc::out_of_range, device_id_size};
   }
   d.number = static_cast<std::uint32_t>(load_be<4>(regs, 2));
-  return d;
+  return decode_result<device_id>::complete(d, device_id_size);
 }
 
 /// Vendor values.

@@ -1,6 +1,7 @@
 // motionbus — the client's side of the Modbus PDU codec (MODBUS Application Protocol
 // Specification V1.1b3 §6): encode_* build requests into a caller's buffer;
-// decode_response(pdu, request) checks an answer against the request it belongs to, and
+// decode_response_for(request, pdu) checks an answer against the request it belongs to (the
+// request first, as in T-format's decode_response_for), and
 // decode_response_unpaired(pdu) checks what a response carries on its own (a bus monitor).
 // Vocabulary in modbus/pdu.hpp.
 #ifndef MOTIONBUS_MODBUS_PDU_CLIENT_HPP
@@ -257,7 +258,7 @@ constexpr bool response_head(byte_view pdu, std::uint8_t function, response& r, 
 /// invalid_argument (`function` is not a read), modbus_mismatch (another function; expected =
 /// sent, received = received function), truncated, modbus_byte_count (byte count vs quantity
 /// vs bytes present), reserved_bits (unused high bits of the last bit byte set).
-/// Links only what a client of these functions needs (decode_response handles every function
+/// Links only what a client of these functions needs (decode_response_for handles every function
 /// from the request bytes).
 constexpr decode_result<response> decode_read_response(byte_view pdu, std::uint8_t function,
                                                        std::uint16_t quantity) noexcept {
@@ -474,15 +475,16 @@ constexpr void response_body(byte_view pdu, std::uint8_t f, const request* q, re
 
 }  // namespace detail
 
-/// Decodes a complete response PDU to `sent` (the request as encoded, itself decodable).
+/// Decodes a complete response PDU to `sent` (the request as encoded, itself decodable): the
+/// request first, the bytes that answer it second, as tformat::decode_response_for.
 /// Complete: the response; an exception response (function | 0x80, any code) is a complete
 /// response with `exception` set. Failed (consumed = PDU size): modbus_pdu_length,
 /// invalid_argument (`sent` is no valid request), modbus_mismatch (function or echoed fields
 /// differ from the request), truncated, modbus_byte_count (byte count vs quantity vs bytes
 /// present), reserved_bits (unused high bits of a bit response set).
 /// `fc11`: the FC11 layout (report_id_format::two_bytes_no_count for the Tsubaki SM unit).
-constexpr decode_result<response> decode_response(
-    byte_view pdu, byte_view sent, report_id_format fc11 = report_id_format::standard) noexcept {
+constexpr decode_result<response> decode_response_for(
+    byte_view sent, byte_view pdu, report_id_format fc11 = report_id_format::standard) noexcept {
   const std::size_t n = pdu.size();
   if (!pdu_size_ok(n)) {
     return decode_failure{errc::modbus_pdu_length, n};
@@ -517,7 +519,7 @@ constexpr decode_result<response> decode_response(
 /// check the response carries itself (byte counts against the bytes present, fixed sizes,
 /// FC08 query data of even length, FC2B objects inside the PDU, the FC11 layout `fc11`), none
 /// that needs the request (quantities, echoed fields). Bit reads report quantity = 8 x byte
-/// count. Complete and failed as decode_response (no modbus_mismatch from echoes, no
+/// count. Complete and failed as decode_response_for (no modbus_mismatch from echoes, no
 /// invalid_argument, no reserved_bits).
 constexpr decode_result<response> decode_response_unpaired(
     byte_view pdu, report_id_format fc11 = report_id_format::standard) noexcept {

@@ -170,6 +170,7 @@ constexpr decode_result<response> decode_status_frame(byte_view in, data_id id,
 // The ID3 response (the one polled every control cycle), from one 64-bit little-endian
 // load of fields 0..7 plus fields 8..10, the CRC (the XOR of fields 0..9) folded in the same
 // register. Same checks, same order as decode_status_frame, which the tests pin it to.
+// Forced inline: straight-line code (a few dozen instructions) the receiver runs per frame.
 MOTIONBUS_INLINE constexpr decode_result<response> decode_read_all(
     byte_view in, const decode_options& opt) noexcept {
   const std::uint64_t w = load_le<8>(in, 0);
@@ -331,7 +332,8 @@ MOTIONBUS_INLINE constexpr decode_result<response> decode_response_small(
 /// code, parity or unknown Data ID; crc_mismatch (expected = computed, received = sent);
 /// reserved_bits (SF bits 0..3 set); out_of_range (ABS/ABM bits above the resolution set).
 /// A busy EEPROM is state (response::busy), not an error. MOTIONBUS_SMALL_CODE picks the
-/// form (core/config.hpp); both return the same results.
+/// form (core/config.hpp); both return the same results. Forced inline, as the two forms it
+/// forwards to: the polled IDs decode in the caller (the meter's ID3 figure is 58, 90 called).
 #if MOTIONBUS_SMALL_CODE
 MOTIONBUS_INLINE constexpr decode_result<response> decode_response(
     byte_view in, const decode_options& opt = {}) noexcept {
@@ -397,47 +399,35 @@ constexpr bool valid_request(byte_view request_frame) noexcept {
 
 }  // namespace detail
 
-/// Checks a decoded response against the request frame that was sent: errc::ok, or
-/// tformat_communication_alarm when the encoder flags ca0/ca1 (the request arrived corrupted:
-/// send it again; spec §6.3.2), tformat_cf_mismatch, tformat_address_mismatch (EEPROM), or
-/// tformat_data_mismatch (ID6 not echoing the data while not busy). An empty or malformed
-/// `request_frame` is errc::invalid_argument. `expected`/`received` get the evidence.
-constexpr errc check_response(byte_view request_frame, const response& v,
-                              std::uint32_t* expected = nullptr,
-                              std::uint32_t* received = nullptr) noexcept {
+/// Checks a decoded response against the request frame that was sent. A complete `r` stays
+/// complete, or fails (consuming the whole response) with tformat_communication_alarm when the
+/// encoder flags ca0/ca1 (the request arrived corrupted: send it again; spec §6.3.2),
+/// tformat_cf_mismatch, tformat_address_mismatch (EEPROM) or tformat_data_mismatch (ID6 not
+/// echoing the data while not busy), the request's and the response's field as expected() and
+/// received(). An incomplete or failed `r` is returned as it is. An empty or malformed
+/// `request_frame` is errc::invalid_argument (consumed 0), whatever `r` is.
+constexpr decode_result<response> check_response(byte_view request_frame,
+                                                 const decode_result<response>& r) noexcept {
   if (!detail::valid_request(request_frame)) {
-    return errc::invalid_argument;
-  }
-  std::uint32_t want = 0;
-  std::uint32_t got = 0;
-  const errc e = detail::check_against(request_frame.data(), v, want, got);
-  if (expected != nullptr) {
-    *expected = want;
-  }
-  if (received != nullptr) {
-    *received = got;
-  }
-  return e;
-}
-
-/// decode_response, then check_response against the request frame that was sent. A failed
-/// check consumes the whole response.
-constexpr decode_result<response> decode_response_for(byte_view request_frame, byte_view in,
-                                                      const decode_options& opt = {}) noexcept {
-  if (check_response(request_frame, response{}) == errc::invalid_argument) {
     return decode_failure{errc::invalid_argument, 0};
   }
-  const decode_result<response> r = decode_response(in, opt);
   if (!r.is_complete()) {
     return r;
   }
   std::uint32_t want = 0;
   std::uint32_t got = 0;
-  const errc e = check_response(request_frame, r.value(), &want, &got);
+  const errc e = detail::check_against(request_frame.data(), r.value(), want, got);
   if (e != errc::ok) {
     return decode_failure{e, r.consumed(), want, got};
   }
   return r;
+}
+
+/// decode_response checked against the request frame that was sent (check_response): the
+/// request first, the bytes that answer it second, as modbus::decode_response_for.
+constexpr decode_result<response> decode_response_for(byte_view request_frame, byte_view in,
+                                                      const decode_options& opt = {}) noexcept {
+  return check_response(request_frame, decode_response(in, opt));
 }
 
 // ---------------------------------------------------------------------------------------------

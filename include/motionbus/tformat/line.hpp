@@ -33,6 +33,11 @@ struct line_frame {
   std::size_t start_bit = 0;
 };
 
+/// What the line decoders return: counted in bits of the stream (consumed_bits(),
+/// needed_bits()).
+template <class T>
+using line_result = decode_result<line_frame<T>, input_unit::bits>;
+
 /// Writes `frame` (field bytes) as line bits into `out` from bit `bit_offset`, preceded by
 /// `idle_bits` ones. Returns the bits written (idle included); buffer_too_small writes nothing.
 template <class Word>
@@ -78,10 +83,10 @@ struct line_fields {
 };
 
 // Finds the frame start at or after `from` and collects its fields' data bytes, checking every
-// start and delimiter bit. Complete: consumed = bit index just after the last delimiter.
+// start and delimiter bit. Complete: consumed_bits() = bit index just after the last delimiter.
 template <class Word>
-constexpr decode_result<line_fields> collect_fields(const basic_bit_reader<Word>& stream,
-                                                    std::size_t from, bool response) noexcept {
+constexpr decode_result<line_fields, input_unit::bits> collect_fields(
+    const basic_bit_reader<Word>& stream, std::size_t from, bool response) noexcept {
   const bit_order order = stream.order();
   const std::size_t end = stream.size();
   std::size_t i = from;
@@ -136,60 +141,58 @@ constexpr decode_result<line_fields> collect_fields(const basic_bit_reader<Word>
       }
     }
   }
-  return decode_result<line_fields>::complete(f, i + expected * field_bits);
+  return decode_result<line_fields, input_unit::bits>::complete(f, i + expected * field_bits);
 }
 
 }  // namespace detail
 
 /// Finds and decodes a response in a sampled bit stream: `words` packed in `order`, the first
 /// `bit_count` bits valid (default: all), searching from bit `from`. Complete: the response
-/// and its start bit; consumed = the bit just after its last delimiter. Incomplete: the stream
-/// ends inside the frame. Failed: no_frame (no start found; consumed = all bits),
-/// tformat_start_bit / tformat_delimiter (a field's framing bit is wrong; consumed = the bit
+/// and its start bit; consumed_bits() = the bit just after its last delimiter. Incomplete: the
+/// stream ends inside the frame. Failed: no_frame (no start found; consumed_bits() = all bits),
+/// tformat_start_bit / tformat_delimiter (a field's framing bit is wrong; consumed_bits() = the bit
 /// after that field), or any decode_response error.
 template <class Word>
-constexpr decode_result<line_frame<response>> decode_response_line(
+constexpr line_result<response> decode_response_line(
     span<const Word> words, bit_order order = bit_order::msb_first,
     std::size_t bit_count = static_cast<std::size_t>(-1), std::size_t from = 0,
     const decode_options& opt = {}) noexcept {
   const basic_bit_reader<Word> stream(words, order, 0, bit_count);
   const auto f = detail::collect_fields(stream, from, true);
   if (f.is_incomplete()) {
-    return need_input{f.needed()};
+    return need_input{f.needed_bits()};
   }
   if (f.is_failed()) {
-    return decode_failure{f.error(), f.consumed()};
+    return decode_failure{f.error(), f.consumed_bits()};
   }
   const auto r = decode_response(byte_view(f.value().bytes, f.value().count), opt);
   if (!r.is_complete()) {
-    return decode_failure{r.is_failed() ? r.error() : errc::truncated, f.consumed(), r.expected(),
-                          r.received()};
+    return decode_failure{r.is_failed() ? r.error() : errc::truncated, f.consumed_bits(),
+                          r.expected(), r.received()};
   }
-  return decode_result<line_frame<response>>::complete({r.value(), f.value().start_bit},
-                                                       f.consumed());
+  return line_result<response>::complete({r.value(), f.value().start_bit}, f.consumed_bits());
 }
 
 /// Encoder side: finds and decodes a request in a sampled bit stream (as decode_response_line).
 /// A tformat_delimiter failure is what the encoder answers with ID3 data and ca1 set.
 template <class Word>
-constexpr decode_result<line_frame<request>> decode_request_line(
+constexpr line_result<request> decode_request_line(
     span<const Word> words, bit_order order = bit_order::msb_first,
     std::size_t bit_count = static_cast<std::size_t>(-1), std::size_t from = 0) noexcept {
   const basic_bit_reader<Word> stream(words, order, 0, bit_count);
   const auto f = detail::collect_fields(stream, from, false);
   if (f.is_incomplete()) {
-    return need_input{f.needed()};
+    return need_input{f.needed_bits()};
   }
   if (f.is_failed()) {
-    return decode_failure{f.error(), f.consumed()};
+    return decode_failure{f.error(), f.consumed_bits()};
   }
   const auto r = decode_request(byte_view(f.value().bytes, f.value().count));
   if (!r.is_complete()) {
-    return decode_failure{r.is_failed() ? r.error() : errc::truncated, f.consumed(), r.expected(),
-                          r.received()};
+    return decode_failure{r.is_failed() ? r.error() : errc::truncated, f.consumed_bits(),
+                          r.expected(), r.received()};
   }
-  return decode_result<line_frame<request>>::complete({r.value(), f.value().start_bit},
-                                                      f.consumed());
+  return line_result<request>::complete({r.value(), f.value().start_bit}, f.consumed_bits());
 }
 
 }  // namespace tformat
