@@ -155,7 +155,8 @@ class [[nodiscard]] decode_result {
       } else {
         // Storage for the value, not initialised (the caller sets each member): a byte array
         // begun there creates the trivially copyable T implicitly.
-        ::new (static_cast<void*>(&r_.u_.value)) unsigned char[sizeof(T)];
+        T& slot = r_.u_.value;
+        ::new (static_cast<void*>(&slot)) unsigned char[sizeof(T)];
       }
       return r_.u_.value;
     }
