@@ -115,13 +115,13 @@ cli::outcome describe_samples(const std::vector<std::uint8_t>& samples,
     return cli::failure_of(r, 2);
   }
   cli::record f;
-  f.add("position", static_cast<std::int64_t>(d.single_turn));
+  f.add("position", d.single_turn);
   f.add("ne", d.ne ? 1 : 0);
   f.add("nw", d.nw ? 1 : 0);
   f.add("cds", r->cds ? 1 : 0);
-  f.hex("crc", static_cast<std::int64_t>(d.crc));
-  f.add("start", static_cast<std::int64_t>(r->start));
-  f.add("ack_bits", static_cast<std::int64_t>(r->ack_bits()));
+  f.hex("crc", d.crc);
+  f.add("start", r->start);
+  f.add("ack_bits", r->ack_bits());
   return cli::outcome::success(f);
 }
 

@@ -31,12 +31,12 @@ void set_output_format(format f) {
   current_format() = f;
 }
 
-record& record::add(const std::string& key, std::int64_t value) {
+record& record::add_integer(const std::string& key, std::int64_t value) {
   json_[key] = value;
   text_.emplace_back(key, std::to_string(value));
   return *this;
 }
-record& record::hex(const std::string& key, std::int64_t value, int digits) {
+record& record::add_hex(const std::string& key, std::int64_t value, int digits) {
   json_[key] = value;
   text_.emplace_back(key, hex_text(value, digits));
   return *this;

@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -19,14 +20,27 @@
 
 namespace cli {
 
+/// The types record::add and record::hex take as integers.
+template <class T>
+constexpr bool is_recorded_integer =
+    (std::is_integral_v<T> && !std::is_same_v<T, bool>) || std::is_enum_v<T>;
+
 /// One output record: fields in order, each a JSON value (numbers stay numbers, with the field
 /// names scripts already use) and the text a person reads (hex where engineers think in hex,
 /// units where the profile has them).
 class record {
  public:
-  record& add(const std::string& key, std::int64_t value);
+  /// An integer field of any integer or enumeration type (a bool is add_bool): JSON numbers are
+  /// 64-bit, and every value the CLI records fits.
+  template <class T, std::enable_if_t<is_recorded_integer<T>, int> = 0>
+  record& add(const std::string& key, T value) {
+    return add_integer(key, as_int64(value));
+  }
   /// A number shown in hex in text ("0x1A", `digits` wide); a plain number in JSON.
-  record& hex(const std::string& key, std::int64_t value, int digits = 2);
+  template <class T, std::enable_if_t<is_recorded_integer<T>, int> = 0>
+  record& hex(const std::string& key, T value, int digits = 2) {
+    return add_hex(key, as_int64(value), digits);
+  }
   /// A number with its unit in text ("12.5 A"); a plain number in JSON.
   record& quantity(const std::string& key, double value, const std::string& unit);
   /// A measurement: {"value", "unit", "raw"} in JSON, "12.5 A" in text.
@@ -50,6 +64,17 @@ class record {
   bool empty() const { return text_.empty(); }
 
  private:
+  template <class T>
+  static std::int64_t as_int64(T value) {
+    if constexpr (std::is_enum_v<T>) {
+      return as_int64(static_cast<std::underlying_type_t<T>>(value));
+    } else {
+      return static_cast<std::int64_t>(value);
+    }
+  }
+  record& add_integer(const std::string& key, std::int64_t value);
+  record& add_hex(const std::string& key, std::int64_t value, int digits);
+
   nlohmann::ordered_json json_ = nlohmann::ordered_json::object();
   std::vector<std::pair<std::string, std::string>> text_;
 };

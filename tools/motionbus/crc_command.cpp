@@ -35,7 +35,7 @@ cli::outcome crc_of_bits(const std::string& input, const cli::options&) {
     return cli::outcome::failure("truncated");
   }
   cli::record f;
-  f.hex("crc", static_cast<std::int64_t>(c.value()), 2);
+  f.hex("crc", c.value(), 2);
   return cli::outcome::success(f);
 }
 
@@ -50,7 +50,7 @@ cli::outcome crc_of_hex(const std::string& input, const cli::options&) {
   }
   const auto crc = Crc::compute(mb::byte_view(bytes->data(), bytes->size()));
   cli::record f;
-  f.hex("crc", static_cast<std::int64_t>(crc), Crc::spec::width > 8 ? 4 : 2);
+  f.hex("crc", crc, Crc::spec::width > 8 ? 4 : 2);
   if (Crc::spec::width > 8) {
     const std::uint8_t wire[2] = {static_cast<std::uint8_t>(crc & 0xFFU),
                                   static_cast<std::uint8_t>((crc >> 8U) & 0xFFU)};

@@ -30,22 +30,6 @@ namespace mo = motionbus::modbus;
 
 namespace {
 
-std::vector<std::int64_t> registers_of(mb::byte_view data) {
-  std::vector<std::int64_t> out;
-  for (std::size_t i = 0; i + 1 < data.size(); i += 2) {
-    out.push_back(mo::register_at(data, i / 2));
-  }
-  return out;
-}
-
-std::vector<std::int64_t> bits_of(mb::byte_view packed, std::size_t count) {
-  std::vector<std::int64_t> out;
-  for (std::size_t i = 0; i < count && i / 8 < packed.size(); ++i) {
-    out.push_back(mo::bit_at(packed, i) ? 1 : 0);
-  }
-  return out;
-}
-
 // The input as hex bytes holding one whole RTU ADU. `frame.pdu` points into `bytes`: the vector
 // owns the data and moving it keeps the pointer valid.
 struct parsed_adu {
@@ -71,8 +55,8 @@ std::optional<parsed_adu> adu_of(const std::string& input, std::string& error,
     if (wanted != mo::unknown_length && (wanted == 0 || wanted > in.size())) {
       error = mb::to_string(mb::errc::truncated);
       if (wanted != 0) {
-        evidence.add("expected_bytes", static_cast<std::int64_t>(wanted))
-            .add("received_bytes", static_cast<std::int64_t>(in.size()));
+        evidence.add("expected_bytes", wanted)
+            .add("received_bytes", in.size());
       }
       return std::nullopt;
     }
@@ -90,109 +74,6 @@ std::size_t request_size(mb::byte_view in) {
 
 }  // namespace
 
-namespace modbus_io {
-
-cli::outcome describe_request(const mo::rtu_frame& frame) {
-  const mo::rtu_frame* adu = &frame;
-  const auto q = mo::decode_request(adu->pdu);
-  if (!q.is_complete()) {
-    return cli::failure_of(q, 2);
-  }
-  cli::record f;
-  f.add("slave", static_cast<std::int64_t>(adu->slave));
-  f.hex("function", static_cast<std::int64_t>(q->function));
-  const std::uint8_t fc = q->function;
-  if (fc <= 0x06 || fc == 0x0F || fc == 0x10 || fc == 0x16 || fc == 0x17) {
-    f.hex("address", static_cast<std::int64_t>(q->address), 4);
-  }
-  if (fc <= 0x04 || fc == 0x0F || fc == 0x10 || fc == 0x17) {
-    f.add("quantity", static_cast<std::int64_t>(q->quantity));
-  }
-  if (fc == 0x05 || fc == 0x06) {
-    f.add("value", static_cast<std::int64_t>(q->value));
-  }
-  if (fc == 0x16) {
-    f.hex("and_mask", static_cast<std::int64_t>(q->and_mask), 4);
-    f.hex("or_mask", static_cast<std::int64_t>(q->or_mask), 4);
-  }
-  if (fc == 0x17) {
-    f.hex("write_address", static_cast<std::int64_t>(q->write_address), 4);
-    f.add("write_quantity", static_cast<std::int64_t>(q->write_quantity));
-  }
-  if (fc == 0x0F) {
-    f.add("byte_count", static_cast<std::int64_t>(q->data.size()));
-    f.add("values", bits_of(q->data, q->quantity));
-  } else if (fc == 0x10 || fc == 0x17) {
-    f.add("byte_count", static_cast<std::int64_t>(q->data.size()));
-    f.add("values", registers_of(q->data));
-  } else if (!q->data.empty()) {
-    f.bytes("data", q->data.data(), q->data.size());
-  }
-  f.hex("crc", static_cast<std::int64_t>(adu->crc), 4);
-  return cli::outcome::success(f);
-}
-
-cli::outcome describe_response(const mo::rtu_frame& frame, const mo::rtu_frame* request_adu,
-                               mo::report_id_format fc11) {
-  const mo::rtu_frame* adu = &frame;
-  const mb::byte_view pdu = adu->pdu;
-  std::optional<mo::request> request;
-  mb::decode_result<mo::response> r = mb::need_input{1};
-  if (request_adu != nullptr) {
-    if (request_adu->slave != adu->slave && request_adu->slave != 0) {
-      cli::record e;
-      e.add("expected_slave", static_cast<std::int64_t>(request_adu->slave))
-          .add("received_slave", static_cast<std::int64_t>(adu->slave));
-      return cli::outcome::failure(mb::to_string(mb::errc::modbus_mismatch), e);
-    }
-    const auto q = mo::decode_request(request_adu->pdu);
-    if (q.is_complete()) {
-      request = q.value();
-    }
-    r = mo::decode_response(pdu, request_adu->pdu, fc11);
-  } else {
-    r = mo::decode_response_unpaired(pdu, fc11);  // no request: what the response carries
-  }
-  if (!r.is_complete()) {
-    return cli::failure_of(r, 2);
-  }
-  cli::record f;
-  f.add("slave", static_cast<std::int64_t>(adu->slave));
-  const std::uint8_t fc = r->function;
-  f.hex("function", static_cast<std::int64_t>(fc));
-  if (r->exception) {
-    f.hex("exception", static_cast<std::int64_t>(r->exception_code));
-    f.add("exception_name", modbus_io::exception_name(r->exception_code));
-  } else if (fc <= 0x04 || fc == 0x17) {
-    f.add("byte_count", static_cast<std::int64_t>(r->byte_count));
-    if (fc <= 0x02) {
-      f.add("values", bits_of(r->data, request ? request->quantity : r->data.size() * 8U));
-    } else {
-      f.add("values", registers_of(r->data));
-    }
-  } else if (fc == 0x05 || fc == 0x06 || fc == 0x0F || fc == 0x10) {
-    f.hex("address", static_cast<std::int64_t>(r->address), 4);
-    f.add(fc <= 0x06 ? "value" : "quantity",
-          static_cast<std::int64_t>(fc <= 0x06 ? r->value : r->quantity));
-  } else if (fc == 0x16) {
-    f.hex("address", static_cast<std::int64_t>(r->address), 4);
-    f.hex("and_mask", static_cast<std::int64_t>(r->and_mask), 4);
-    f.hex("or_mask", static_cast<std::int64_t>(r->or_mask), 4);
-  } else if (fc == 0x11 && fc11 == mo::report_id_format::two_bytes_no_count) {
-    // the SM unit's layout: version upper, version lower (SM unit guideline §11)
-    f.add("version_upper", static_cast<std::int64_t>(r->data[0]));
-    f.add("version_lower", static_cast<std::int64_t>(r->data[1]));
-    f.add("version", modbus_io::sm_version_text(r->data[0], r->data[1]));
-  } else {
-    // FC11 (standard layout: byte count, then the device's bytes) and the other functions:
-    // the data part as hex
-    f.bytes("data", pdu.data() + 1, pdu.size() - 1);
-  }
-  f.hex("crc", static_cast<std::int64_t>(adu->crc), 4);
-  return cli::outcome::success(f);
-}
-
-}  // namespace modbus_io
 
 namespace {
 

@@ -175,7 +175,7 @@ int read_sm_unit(const cli::options& opts) {
     return 1;
   };
   cli::record out;
-  out.add("slave", static_cast<std::int64_t>(slave));
+  out.add("slave", slave);
   if (what == "password") {
     // Reading the password needs the login state (§6 note *1): log in only if logged out,
     // and leave the unit as it was found.

@@ -47,26 +47,26 @@ const char* alarm_name(tf::almc_bit a) {
 cli::record response_record(const tf::response& r) {
   cli::record f;
   const tf::response_layout lay = r.layout();
-  f.add("data_id", static_cast<std::int64_t>(static_cast<std::uint8_t>(r.id)));
-  f.hex("cf", static_cast<std::int64_t>(r.cf));
+  f.add("data_id", r.id);
+  f.hex("cf", r.cf);
   if (lay.sf()) {
-    f.hex("sf", static_cast<std::int64_t>(r.sf));
+    f.hex("sf", r.sf);
     f.add("ea0", bit(r.ea0()))
         .add("ea1", bit(r.ea1()))
         .add("ca0", bit(r.ca0()))
         .add("ca1", bit(r.ca1()));
   }
   if (lay.abs()) {
-    f.add("abs", static_cast<std::int64_t>(r.abs));
+    f.add("abs", r.abs);
   }
   if (lay.abm()) {
-    f.add("abm", static_cast<std::int64_t>(r.abm));
+    f.add("abm", r.abm);
   }
   if (lay.enid()) {
-    f.hex("enid", static_cast<std::int64_t>(r.enid));
+    f.hex("enid", r.enid);
   }
   if (lay.almc()) {
-    f.hex("almc", static_cast<std::int64_t>(r.almc));
+    f.hex("almc", r.almc);
     // JSON: the symbols of the ALMC bits (the T-format specification, Table 3); text: their names
     std::vector<std::string> symbols;
     std::string text;
@@ -79,24 +79,24 @@ cli::record response_record(const tf::response& r) {
     f.add("alarms", symbols, text.empty() ? "none" : "\"" + text + "\"");
   }
   if (lay.eeprom()) {
-    f.hex("address", static_cast<std::int64_t>(r.address));
+    f.hex("address", r.address);
     f.add("busy", bit(r.busy));
-    f.hex("edf", static_cast<std::int64_t>(r.edf));
+    f.hex("edf", r.edf);
   }
-  f.hex("crc", static_cast<std::int64_t>(r.crc));
+  f.hex("crc", r.crc);
   return f;
 }
 
 cli::record request_record(const tf::request& q) {
   cli::record f;
-  f.add("data_id", static_cast<std::int64_t>(static_cast<std::uint8_t>(q.id)));
-  f.hex("cf", static_cast<std::int64_t>(q.cf));
+  f.add("data_id", q.id);
+  f.hex("cf", q.cf);
   if (q.id == tf::data_id::eeprom_write || q.id == tf::data_id::eeprom_read) {
-    f.hex("address", static_cast<std::int64_t>(q.address));
+    f.hex("address", q.address);
     if (q.id == tf::data_id::eeprom_write) {
-      f.hex("edf", static_cast<std::int64_t>(q.edf));
+      f.hex("edf", q.edf);
     }
-    f.hex("crc", static_cast<std::int64_t>(q.crc));
+    f.hex("crc", q.crc);
   }
   return f;
 }
@@ -155,8 +155,8 @@ cli::outcome decode_request_line(const std::string& input, const cli::options&) 
   }
   if (q.consumed() != in.size()) {
     cli::record e;
-    e.add("expected_bytes", static_cast<std::int64_t>(q.consumed()))
-        .add("received_bytes", static_cast<std::int64_t>(in.size()));
+    e.add("expected_bytes", q.consumed())
+        .add("received_bytes", in.size());
     return cli::outcome::failure(mb::to_string(mb::errc::tformat_length), e);
   }
   return cli::outcome::success(tformat_io::request_record(q.value()));
@@ -282,7 +282,7 @@ int serve_encoder(const cli::options& opts) {
         fields.add("answer", "none");
       }
       cli::record at;
-      at.add("time_us", static_cast<std::int64_t>(now - start));
+      at.add("time_us", now - start);
       cli::print(o, at);
       std::cout.flush();
       size = 0;
