@@ -18,6 +18,10 @@
 #include <motionbus/core/errc.hpp>
 #include <motionbus/core/result.hpp>
 
+namespace CLI {
+class App;
+}  // namespace CLI
+
 namespace cli {
 
 /// The types record::add and record::hex take as integers.
@@ -165,7 +169,7 @@ struct option_use {
   std::string name;
   std::string default_value;  ///< shown in --help and filled in when absent; "" for none
   option_use(const char* n) : name(n) {}  // NOLINT(google-explicit-constructor): lists of names
-  option_use(const char* n, const char* d) : name(n), default_value(d) {}
+  option_use(const char* n, std::string d) : name(n), default_value(std::move(d)) {}
 };
 
 /// `decode <protocol> <kind> <input|->` or `crc <protocol> <input|->`: one outcome per input
@@ -197,10 +201,21 @@ struct command {
   std::vector<std::string> positional;
 };
 
+/// A command whose options are a struct: `bind` adds the options to the command's CLI11 app
+/// and returns what runs once they are parsed.
+struct typed_command {
+  const char* group;  ///< "encode", "decode", "serve", "read", "monitor"
+  const char* protocol;
+  const char* kind;  ///< "" for serve/read/monitor
+  const char* help;
+  std::function<std::function<int()>(CLI::App&)> bind;
+};
+
 /// Each protocol's file provides its entries; the registry gathers them.
 struct protocol_entries {
   std::vector<decoder> decoders;
-  std::vector<command> commands;
+  std::vector<command> commands;  ///< options by name (capture, monitor)
+  std::vector<typed_command> typed;
 };
 protocol_entries tformat_entries();
 protocol_entries modbus_entries();
@@ -212,6 +227,7 @@ protocol_entries capture_entries();
 
 const std::vector<decoder>& decoders();
 const std::vector<command>& commands();
+const std::vector<typed_command>& typed_commands();
 
 /// Lower-case contiguous hex of bytes.
 std::string to_hex(const std::uint8_t* data, std::size_t size);

@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "options.hpp"
+
 namespace mb = motionbus;
 namespace mo = motionbus::modbus;
 
@@ -135,27 +137,7 @@ std::string sm_version_text(std::uint8_t upper, std::uint8_t lower) {
 }
 
 serial::settings line_settings(const cli::options& opts) {
-  serial::settings s;
-  s.baud = 9600;
-  if (const auto b = opts.get("baud")) {
-    const auto v = cli::parse_uint(*b);
-    if (!v || *v == 0 || *v > 4000000) {
-      throw cli::usage_error{"--baud needs a rate up to 4000000"};
-    }
-    s.baud = static_cast<unsigned>(*v);
-  }
-  const std::string parity = opts.get("parity").value_or("E");
-  if (parity != "E" && parity != "N" && parity != "O") {
-    throw cli::usage_error{"--parity is E, N or O"};
-  }
-  s.parity = parity[0];
-  if (const auto sb = opts.get("stop-bits")) {
-    if (*sb != "1" && *sb != "2") {
-      throw cli::usage_error{"--stop-bits is 1 or 2"};
-    }
-    s.stop_bits = *sb == "2" ? 2U : 1U;
-  }
-  return s;
+  return cli::serial_line::of(opts, cli::serial_line::kind::modbus).settings();
 }
 
 mo::parity parity_of(const serial::settings& s) {
@@ -164,11 +146,7 @@ mo::parity parity_of(const serial::settings& s) {
 }
 
 bool open_port(serial::port& port, const cli::options& opts) {
-  const auto device = opts.get("device");
-  if (!device) {
-    throw cli::usage_error{"--device PATH is required"};
-  }
-  return serial::open_reporting(port, *device, line_settings(opts));
+  return cli::serial_line::of(opts, cli::serial_line::kind::modbus).open(port);
 }
 
 cli::outcome describe_request(const mo::rtu_frame& frame) {

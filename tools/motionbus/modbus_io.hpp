@@ -50,13 +50,15 @@ cli::outcome describe_response(const motionbus::modbus::rtu_frame& frame,
 void print_served(const motionbus::modbus::rtu_frame& request, const std::uint8_t* reply,
                   std::size_t size, std::uint32_t time_us);
 
-/// Line settings from --baud, --parity (E, N, O) and --stop-bits; defaults 9600 8E1.
+/// Line settings from --baud, --parity (E, N, O) and --stop-bits; defaults 9600 8E1
+/// (cli::serial_line, for the commands that take their options by name: capture, monitor).
 serial::settings line_settings(const cli::options& opts);
 
 /// The library's parity for the line settings (character and silence times: modbus/timing.hpp).
 motionbus::modbus::parity parity_of(const serial::settings& s);
 
-/// Opens --device with those settings; false (message on stderr) when it cannot.
+/// Opens --device with those settings (cli::serial_line::open); false (message on stderr) when
+/// it cannot.
 bool open_port(serial::port& port, const cli::options& opts);
 
 }  // namespace modbus_io
