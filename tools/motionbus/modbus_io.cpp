@@ -85,9 +85,11 @@ exchange transact(serial::port& port, std::uint8_t slave, const std::uint8_t* ad
 
 mo::report_id_format fc11_of(const cli::options& opts, mo::report_id_format fallback) {
   const auto v = opts.get("fc11");
-  if (!v) {
-    return fallback;
-  }
+  return v ? fc11_of(*v) : fallback;
+}
+
+mo::report_id_format fc11_of(const std::string& name) {
+  const std::string* v = &name;
   if (*v == "standard") {
     return mo::report_id_format::standard;
   }
@@ -198,8 +200,7 @@ cli::outcome describe_response(const mo::rtu_frame& frame, const mo::rtu_frame* 
   if (request_adu != nullptr) {
     if (request_adu->slave != adu->slave && request_adu->slave != 0) {
       cli::record e;
-      e.add("expected_slave", request_adu->slave)
-          .add("received_slave", adu->slave);
+      e.add("expected_slave", request_adu->slave).add("received_slave", adu->slave);
       return cli::outcome::failure(mb::to_string(mb::errc::modbus_mismatch), e);
     }
     const auto q = mo::decode_request(request_adu->pdu);
@@ -229,8 +230,7 @@ cli::outcome describe_response(const mo::rtu_frame& frame, const mo::rtu_frame* 
     }
   } else if (fc == 0x05 || fc == 0x06 || fc == 0x0F || fc == 0x10) {
     f.hex("address", r->address, 4);
-    f.add(fc <= 0x06 ? "value" : "quantity",
-          fc <= 0x06 ? r->value : r->quantity);
+    f.add(fc <= 0x06 ? "value" : "quantity", fc <= 0x06 ? r->value : r->quantity);
   } else if (fc == 0x16) {
     f.hex("address", r->address, 4);
     f.hex("and_mask", r->and_mask, 4);
@@ -248,6 +248,5 @@ cli::outcome describe_response(const mo::rtu_frame& frame, const mo::rtu_frame* 
   f.hex("crc", adu->crc, 4);
   return cli::outcome::success(f);
 }
-
 
 }  // namespace modbus_io

@@ -29,6 +29,8 @@ exchange transact(serial::port& port, std::uint8_t slave, const std::uint8_t* ad
 /// The FC11 response layout from --fc11 (standard | sm), `fallback` when absent.
 motionbus::modbus::report_id_format fc11_of(const cli::options& opts,
                                             motionbus::modbus::report_id_format fallback);
+/// The FC11 response layout named "standard" or "sm" (a usage error otherwise).
+motionbus::modbus::report_id_format fc11_of(const std::string& name);
 const char* fc11_name(motionbus::modbus::report_id_format f);
 /// The name of a Modbus exception code (Modbus Application Protocol V1.1b3 §7), "unknown" for
 /// a code it does not define.

@@ -43,10 +43,10 @@ CLI::Option* text(CLI::App& app, const std::string& name, std::string& field) {
 }
 
 CLI::Option* text(CLI::App& app, const std::string& name, std::optional<std::string>& field) {
-  return checked(app.add_option_function<std::string>(
-                     "--" + name, [&field](const std::string& t) { field = t; },
-                     option_help(name).help),
-                 name);
+  return checked(
+      app.add_option_function<std::string>(
+          "--" + name, [&field](const std::string& t) { field = t; }, option_help(name).help),
+      name);
 }
 
 CLI::Option* flag(CLI::App& app, const std::string& name, bool& field) {
@@ -91,6 +91,10 @@ serial_line serial_line::of(const options& opts, kind k) {
 
 void serial_line::bind(CLI::App& app) {
   text(app, "device", device)->required();
+  bind_settings(app);
+}
+
+void serial_line::bind_settings(CLI::App& app) {
   number(app, "baud", baud, 1, max_baud(line_kind));
   if (line_kind == kind::modbus) {
     text(app, "parity", parity);

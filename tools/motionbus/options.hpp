@@ -74,7 +74,6 @@ CLI::Option* text(CLI::App& app, const std::string& name, std::optional<std::str
 /// Binds the switch `--name`.
 CLI::Option* flag(CLI::App& app, const std::string& name, bool& field);
 
-
 /// The serial line of read, serve and monitor: --device (required), --baud, and for Modbus
 /// --parity and --stop-bits (8 data bits always).
 struct serial_line {
@@ -93,6 +92,8 @@ struct serial_line {
   static serial_line of(const options& opts, kind k);
 
   void bind(CLI::App& app);
+  /// --baud, --parity and --stop-bits alone (encode --vcd draws the line without opening it).
+  void bind_settings(CLI::App& app);
   serial::settings settings() const;
   /// Opens the port (an error or warning on stderr, "motionbus: ..."); false when it cannot.
   bool open(serial::port& port) const;

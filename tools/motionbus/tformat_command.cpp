@@ -124,8 +124,8 @@ tf::decode_options options_for(std::optional<std::uint8_t> resolution) {
 
 tf::decode_options options_for(const cli::options& opts) {
   const auto r = opts.get("resolution");
-  return options_for(r ? std::optional<std::uint8_t>(static_cast<std::uint8_t>(cli::number_in_range(
-                             "resolution", *r, 1, max_resolution)))
+  return options_for(r ? std::optional<std::uint8_t>(static_cast<std::uint8_t>(
+                             cli::number_in_range("resolution", *r, 1, max_resolution)))
                        : std::nullopt);
 }
 
@@ -159,8 +159,7 @@ cli::outcome decode_request_line(const std::string& input, const cli::options&) 
   }
   if (q.consumed() != in.size()) {
     cli::record e;
-    e.add("expected_bytes", q.consumed())
-        .add("received_bytes", in.size());
+    e.add("expected_bytes", q.consumed()).add("received_bytes", in.size());
     return cli::outcome::failure(mb::to_string(mb::errc::tformat_length), e);
   }
   return cli::outcome::success(tformat_io::request_record(q.value()));
@@ -395,16 +394,15 @@ protocol_entries tformat_entries() {
                         {"resolution"},
                         {}});
   e.typed.push_back(cli::typed("encode", "tformat", "request",
-                                "a request frame for a Data ID (EEPROM: with --address and --data)",
-                                &encode_request));
+                               "a request frame for a Data ID (EEPROM: with --address and --data)",
+                               &encode_request));
   e.typed.push_back(cli::typed(
       "serve", "tformat-encoder", "",
       "the TS5700N8500 encoder emulator: answers every request on the port and prints it with "
       "the answer's bytes",
       &serve_encoder));
-  e.typed.push_back(cli::typed("read", "tformat", "",
-                               "one request to an encoder and its response, decoded",
-                               &read_encoder));
+  e.typed.push_back(cli::typed(
+      "read", "tformat", "", "one request to an encoder and its response, decoded", &read_encoder));
   return e;
 }
 
