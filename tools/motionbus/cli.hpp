@@ -158,9 +158,7 @@ T built(const motionbus::result<T>& r, const std::string& what) {
   return r.value();
 }
 
-/// A per-line handler: turns one input (hex, bits...) into an outcome.
-using line_handler = outcome (*)(const std::string& input, const options& opts);
-/// A whole-command handler (encode, capture decoders, serve, read, monitor): the exit status.
+/// A whole-command handler taking its options by name (capture, monitor): the exit status.
 using command_handler = int (*)(const options& opts);
 
 /// An option of a command: its name (one name for one idea, across the tool: see the catalogue
@@ -172,6 +170,9 @@ struct option_use {
   option_use(const char* n, std::string d) : name(n), default_value(std::move(d)) {}
 };
 
+/// One input's outcome (a decoder's handler, its options bound).
+using line_function = std::function<outcome(const std::string& input)>;
+
 /// `decode <protocol> <kind> <input|->` or `crc <protocol> <input|->`: one outcome per input
 /// line.
 struct decoder {
@@ -179,9 +180,8 @@ struct decoder {
   const char* protocol;
   const char* kind;  ///< "" where the protocol is the command (crc)
   const char* help;
-  line_handler handle;
-  std::vector<option_use> value_options;
-  std::vector<std::string> switch_options;
+  /// Binds the decoder's options (a struct: options.hpp) to its CLI11 app; returns the handler.
+  std::function<line_function(CLI::App&)> bind;
   bool input = true;  ///< the input is required (else the options may carry it)
   /// What the input is, for --help ("the frame: <input_help>; - reads ...").
   const char* input_help = "hex bytes (\"02 20 b4\", \"0220B4\", \"0x02 0x20\")";

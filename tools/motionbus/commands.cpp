@@ -292,7 +292,7 @@ int main_of(int argc, char** argv) {
     return l;
   };
   for (const decoder& d : decoders()) {
-    leaf& l = add_leaf(d.group, d.protocol, d.kind, d.help, d.value_options, d.switch_options);
+    leaf& l = add_leaf(d.group, d.protocol, d.kind, d.help, {}, {});
     l.positional.resize(1);
     CLI::Option* in = l.app->add_option(
         "input", l.positional[0],
@@ -300,14 +300,14 @@ int main_of(int argc, char** argv) {
     if (d.input) {
       in->required();
     }
-    add_options(l);
-    const line_handler handle = d.handle;
+    const line_function handle = d.bind(*l.app);
+    add_options(l);  // --json
     const bool needs_input = d.input;
     l.run = [handle, needs_input](const options& o) {
       if (!needs_input && o.positional[0].empty()) {
-        return finish(handle("", o));
+        return finish(handle(""));
       }
-      return run_inputs(o.positional[0], [&](const std::string& text) { return handle(text, o); });
+      return run_inputs(o.positional[0], handle);
     };
   }
   for (const command& c : commands()) {

@@ -76,7 +76,7 @@ std::size_t request_size(mb::byte_view in) {
 
 namespace {
 
-cli::outcome decode_request_line(const std::string& input, const cli::options&) {
+cli::outcome decode_request_line(const std::string& input, const cli::no_options&) {
   std::string error;
   cli::record evidence;
   const auto parsed = adu_of(input, error, evidence, &request_size);
@@ -113,9 +113,17 @@ cli::outcome describe_response_hex(const std::string& input,
   return modbus_io::describe_response(parsed->frame, request ? &request->frame : nullptr, fc11);
 }
 
-cli::outcome decode_response_line(const std::string& input, const cli::options& opts) {
-  return describe_response_hex(input, opts.get("request"),
-                               modbus_io::fc11_of(opts, mo::report_id_format::standard));
+struct response_options {
+  std::optional<std::string> request;
+  std::string fc11 = "standard";
+  void bind(CLI::App& app) {
+    cli::text(app, "request", request);
+    cli::text(app, "fc11", fc11);
+  }
+};
+
+cli::outcome decode_response_line(const std::string& input, const response_options& opts) {
+  return describe_response_hex(input, opts.request, modbus_io::fc11_of(opts.fc11));
 }
 
 // --values as numbers: registers 0..65535, or coils on/off (1/0), the only two states of a coil
@@ -350,20 +358,13 @@ namespace cli {
 
 protocol_entries modbus_entries() {
   protocol_entries e;
-  e.decoders.push_back({"decode",
-                        "modbus",
-                        "request",
-                        "a request RTU ADU as a server sees it: slave, function, fields, CRC",
-                        &decode_request_line,
-                        {},
-                        {}});
-  e.decoders.push_back({"decode",
-                        "modbus",
-                        "response",
-                        "a response RTU ADU as a client sees it (paired with --request if given)",
-                        &decode_response_line,
-                        {"request", {"fc11", "standard"}},
-                        {}});
+  e.decoders.push_back(lines("decode", "modbus", "request",
+                             "a request RTU ADU as a server sees it: slave, function, fields, CRC",
+                             &decode_request_line));
+  e.decoders.push_back(
+      lines("decode", "modbus", "response",
+            "a response RTU ADU as a client sees it (paired with --request if given)",
+            &decode_response_line));
   e.typed.push_back(
       cli::typed("encode", "modbus", "request", "a request RTU ADU", &encode_request));
   e.typed.push_back(cli::typed("read", "modbus", "",

@@ -110,6 +110,25 @@ typed_command typed(const char* group, const char* protocol, const char* kind, c
           }};
 }
 
+/// Options of a decoder that takes none.
+struct no_options {
+  void bind(CLI::App&) {}
+};
+
+/// A decoder whose options are `Options` (with `void bind(CLI::App&)`): `handle` runs on each
+/// input with them.
+template <class Options>
+decoder lines(const char* group, const char* protocol, const char* kind, const char* help,
+              outcome (*handle)(const std::string&, const Options&)) {
+  decoder d{group, protocol, kind, help, {}};
+  d.bind = [handle](CLI::App& app) {
+    auto o = std::make_shared<Options>();
+    o->bind(app);
+    return line_function([o, handle](const std::string& input) { return handle(input, *o); });
+  };
+  return d;
+}
+
 }  // namespace cli
 
 #endif

@@ -122,28 +122,26 @@ tf::decode_options options_for(std::optional<std::uint8_t> resolution) {
   return o;
 }
 
-tf::decode_options options_for(const cli::options& opts) {
-  const auto r = opts.get("resolution");
-  return options_for(r ? std::optional<std::uint8_t>(static_cast<std::uint8_t>(
-                             cli::number_in_range("resolution", *r, 1, max_resolution)))
-                       : std::nullopt);
-}
+struct response_options {
+  std::optional<std::uint8_t> resolution;
+  void bind(CLI::App& app) { cli::number(app, "resolution", resolution, 1, max_resolution); }
+};
 
-cli::outcome decode_response_line(const std::string& input, const cli::options& opts) {
+cli::outcome decode_response_line(const std::string& input, const response_options& opts) {
   std::string error;
   const auto bytes = cli::parse_hex(input, error);
   if (!bytes) {
     return cli::outcome::failure(error);
   }
-  const auto r =
-      tf::decode_response_frame(mb::byte_view(bytes->data(), bytes->size()), options_for(opts));
+  const auto r = tf::decode_response_frame(mb::byte_view(bytes->data(), bytes->size()),
+                                           options_for(opts.resolution));
   if (!r.is_complete()) {
     return cli::failure_of(r, 2);
   }
   return cli::outcome::success(tformat_io::response_record(r.value()));
 }
 
-cli::outcome decode_request_line(const std::string& input, const cli::options&) {
+cli::outcome decode_request_line(const std::string& input, const cli::no_options&) {
   std::string error;
   const auto bytes = cli::parse_hex(input, error);
   if (!bytes) {
@@ -379,20 +377,13 @@ namespace cli {
 
 protocol_entries tformat_entries() {
   protocol_entries e;
-  e.decoders.push_back({"decode",
-                        "tformat",
-                        "request",
-                        "a request as the encoder receives it (CF, and ADF/EDF/CRC for EEPROM)",
-                        &decode_request_line,
-                        {},
-                        {}});
-  e.decoders.push_back({"decode",
-                        "tformat",
-                        "response",
-                        "a response as the master receives it: position, status, alarms, CRC",
-                        &decode_response_line,
-                        {"resolution"},
-                        {}});
+  e.decoders.push_back(
+      lines("decode", "tformat", "request",
+            "a request as the encoder receives it (CF, and ADF/EDF/CRC for EEPROM)",
+            &decode_request_line));
+  e.decoders.push_back(lines("decode", "tformat", "response",
+                             "a response as the master receives it: position, status, alarms, CRC",
+                             &decode_response_line));
   e.typed.push_back(cli::typed("encode", "tformat", "request",
                                "a request frame for a Data ID (EEPROM: with --address and --data)",
                                &encode_request));
