@@ -128,8 +128,9 @@ std::optional<std::vector<std::uint8_t>> parse_bits(const std::string& text, std
 /// Decimal or 0x-prefixed hex integer.
 std::optional<std::uint64_t> parse_uint(const std::string& text);
 
-/// The options given to one command, as CLI11 parsed them: values by name (defaults filled in),
-/// switches by name, and the command's positional arguments.
+/// The options given to a command that takes them by name (capture, monitor: the other commands
+/// bind theirs to a struct, options.hpp), as CLI11 parsed them: values by name (defaults filled
+/// in), switches by name, and the command's positional arguments.
 struct options {
   std::vector<std::string> positional;
   std::map<std::string, std::string> values;
@@ -137,8 +138,7 @@ struct options {
   bool has(const std::string& name) const;
   std::optional<std::string> get(const std::string& name) const;
 };
-/// The number given with `--name` (parse_uint), `fallback` when absent; a usage error when it
-/// is not a number or exceeds `max`.
+/// The number given with `--name` (number_in_range, options.hpp), `fallback` when absent.
 std::uint64_t option_number(const options& opts, const std::string& name, std::uint64_t fallback,
                             std::uint64_t max);
 
