@@ -45,21 +45,21 @@ std::string hex_of(const std::string& bits) {
 TEST_CASE("decode biss csd: bit strings and hex words, every field") {
   const std::string f = absys_frame(2, 3, true, 0x0001E240, true, false);
   int status = -1;
-  CHECK(testcli::run("decode biss csd " + f, &status) ==
-        "{\"ok\":true,\"position\":123456,\"ne\":1,\"nw\":0,\"cds\":1,\"crc\":" + crc_field(f) +
-            ",\"start\":5,\"ack_bits\":3}\n");
+  CHECK_JSON(testcli::run("decode biss csd " + f, &status),
+             "{\"ok\":true,\"position\":123456,\"ne\":1,\"nw\":0,\"cds\":1,\"crc\":" +
+                 crc_field(f) + ",\"start\":5,\"ack_bits\":3}\n");
   CHECK(status == 0);
-  CHECK(testcli::run("decode biss csd --hex '" + hex_of(f) + "' --bits " +
-                     std::to_string(f.size())) ==
-        "{\"ok\":true,\"position\":123456,\"ne\":1,\"nw\":0,\"cds\":1,\"crc\":" + crc_field(f) +
-            ",\"start\":5,\"ack_bits\":3}\n");
+  CHECK_JSON(
+      testcli::run("decode biss csd --hex '" + hex_of(f) + "' --bits " + std::to_string(f.size())),
+      "{\"ok\":true,\"position\":123456,\"ne\":1,\"nw\":0,\"cds\":1,\"crc\":" + crc_field(f) +
+          ",\"start\":5,\"ack_bits\":3}\n");
   // trailing samples after the CRC (hex padding, timeout) do not matter
-  CHECK(testcli::run("decode biss csd --hex '" + hex_of(f + "0000000") + "'")
-            .find("\"position\":123456") != std::string::npos);
+  CHECK_FIELDS(testcli::run("decode biss csd --hex '" + hex_of(f + "0000000") + "'"),
+               "{\"position\":123456}");
   const std::string g = absys_frame(0, 1, false, 0xFFFFFFFFU, false, true);
-  CHECK(testcli::run("decode biss csd " + g) ==
-        "{\"ok\":true,\"position\":4294967295,\"ne\":0,\"nw\":1,\"cds\":0,\"crc\":" + crc_field(g) +
-            ",\"start\":1,\"ack_bits\":1}\n");
+  CHECK_JSON(testcli::run("decode biss csd " + g),
+             "{\"ok\":true,\"position\":4294967295,\"ne\":0,\"nw\":1,\"cds\":0,\"crc\":" +
+                 crc_field(g) + ",\"start\":1,\"ack_bits\":1}\n");
 }
 
 TEST_CASE("decode biss csd: errors") {
@@ -67,17 +67,18 @@ TEST_CASE("decode biss csd: errors") {
   std::string bad = f;
   bad[10] = bad[10] == '1' ? '0' : '1';
   int status = 0;
-  CHECK(testcli::run("decode biss csd " + bad, &status) ==
-        "{\"ok\":false,\"error\":\"crc_mismatch\",\"expected\":21,\"received\":49}\n");
+  CHECK_JSON(testcli::run("decode biss csd " + bad, &status),
+             "{\"ok\":false,\"error\":\"crc_mismatch\",\"expected\":21,\"received\":49}\n");
   CHECK(status == 1);
-  CHECK(testcli::run("decode biss csd " + f.substr(0, f.size() - 1)) ==
-        "{\"ok\":false,\"error\":\"truncated\"}\n");
-  CHECK(testcli::run("decode biss csd 11111111111") == "{\"ok\":false,\"error\":\"no_ack\"}\n");
-  CHECK(testcli::run("decode biss csd 1110000000000") == "{\"ok\":false,\"error\":\"no_start\"}\n");
-  CHECK(testcli::run("decode biss csd 10x1") == "{\"ok\":false,\"error\":\"invalid_bits\"}\n");
+  CHECK_JSON(testcli::run("decode biss csd " + f.substr(0, f.size() - 1)),
+             "{\"ok\":false,\"error\":\"truncated\"}\n");
+  CHECK_JSON(testcli::run("decode biss csd 11111111111"), "{\"ok\":false,\"error\":\"no_ack\"}\n");
+  CHECK_JSON(testcli::run("decode biss csd 1110000000000"),
+             "{\"ok\":false,\"error\":\"no_start\"}\n");
+  CHECK_JSON(testcli::run("decode biss csd 10x1"), "{\"ok\":false,\"error\":\"invalid_bits\"}\n");
   // the same frame read with the wrong data length fails its CRC
-  CHECK(testcli::run("decode biss csd " + f + " --data-bits 30") ==
-        "{\"ok\":false,\"error\":\"crc_mismatch\",\"expected\":45,\"received\":60}\n");
+  CHECK_JSON(testcli::run("decode biss csd " + f + " --data-bits 30"),
+             "{\"ok\":false,\"error\":\"crc_mismatch\",\"expected\":45,\"received\":60}\n");
 }
 
 TEST_CASE("decode biss csd: other layouts through --data-bits and the CRC options") {
@@ -85,14 +86,16 @@ TEST_CASE("decode biss csd: other layouts through --data-bits and the CRC option
   const std::string covered = bits_of(0x2ABCD, 18) + "10";
   const std::uint32_t crc = ref::crc_of_bits({5, 0x05, 3, false, false, 0}, as_ints(covered));
   const std::string f = "1100" + std::string("1") + "0" + covered + bits_of(crc, 5);
-  CHECK(testcli::run("decode biss csd " + f +
-                     " --data-bits 18 --crc-bits 5 --crc-poly 25 --crc-start 3 --no-crc-invert") ==
-        "{\"ok\":true,\"position\":175053,\"ne\":1,\"nw\":0,\"cds\":0,\"crc\":" +
-            std::to_string(crc) + ",\"start\":4,\"ack_bits\":2}\n");
+  CHECK_JSON(
+      testcli::run("decode biss csd " + f +
+                   " --data-bits 18 --crc-bits 5 --crc-poly 25 --crc-start 3 --no-crc-invert"),
+      "{\"ok\":true,\"position\":175053,\"ne\":1,\"nw\":0,\"cds\":0,\"crc\":" +
+          std::to_string(crc) + ",\"start\":4,\"ack_bits\":2}\n");
   // the polynomial without its x^5 term is the same polynomial
-  CHECK(testcli::run("decode biss csd " + f +
-                     " --data-bits 18 --crc-bits 5 --crc-poly 0x05 --crc-start 3 --no-crc-invert")
-            .find("\"ok\":true,\"position\":175053") != std::string::npos);
+  CHECK_FIELDS(
+      testcli::run("decode biss csd " + f +
+                   " --data-bits 18 --crc-bits 5 --crc-poly 0x05 --crc-start 3 --no-crc-invert"),
+      "{\"ok\":true,\"position\":175053}");
   int status = 0;
   testcli::run("decode biss csd " + f + " --crc-bits 5", &status);
   CHECK(status == 2);  // a width other than 6 needs its polynomial
@@ -109,11 +112,11 @@ TEST_CASE("decode and encode biss csd in text") {
 
 TEST_CASE("encode biss csd: the frame of the notes, and a round trip") {
   int status = -1;
-  CHECK(testcli::run("encode biss csd --position 123456 --ack 3 --cds 1 --nw 0", &status) ==
-        "{\"ok\":true,\"bits\":\"" + absys_frame(0, 3, true, 123456, true, false) + "\"}\n");
+  CHECK_JSON(testcli::run("encode biss csd --position 123456 --ack 3 --cds 1 --nw 0", &status),
+             "{\"ok\":true,\"bits\":\"" + absys_frame(0, 3, true, 123456, true, false) + "\"}\n");
   CHECK(status == 0);
-  CHECK(testcli::run("encode biss csd --position 7") ==
-        "{\"ok\":true,\"bits\":\"" + absys_frame(0, 1, false, 7, true, true) + "\"}\n");
+  CHECK_JSON(testcli::run("encode biss csd --position 7"),
+             "{\"ok\":true,\"bits\":\"" + absys_frame(0, 1, false, 7, true, true) + "\"}\n");
   // the library's refusal is a usage error naming its code
   CHECK(testcli::run("encode biss csd --position 4294967296", &status).empty());
   CHECK(status == 2);
@@ -121,7 +124,6 @@ TEST_CASE("encode biss csd: the frame of the notes, and a round trip") {
         std::string::npos);
   const std::string out = testcli::run("encode biss csd --position 99 --ne 0 --ack 5 --idle 2");
   const std::string bits = out.substr(out.find("bits\":\"") + 7, 2 + 5 + 2 + 40);
-  CHECK(
-      testcli::run("decode biss csd " + bits).find("\"position\":99,\"ne\":0,\"nw\":1,\"cds\":0") !=
-      std::string::npos);
+  CHECK_FIELDS(testcli::run("decode biss csd " + bits),
+               "{\"position\":99,\"ne\":0,\"nw\":1,\"cds\":0}");
 }

@@ -25,55 +25,55 @@ run_result run(const std::string& args, const std::string& stdin_text = "") {
 TEST_CASE("crc: published and hand-computed values") {
   auto r = run("crc modbus '11 03 00 6B 00 03'");
   // 0x8776, and its wire bytes, low byte first: 76 87
-  CHECK(r.out == "{\"ok\":true,\"crc\":34678,\"wire\":\"7687\"}\n");
+  CHECK_JSON(r.out, "{\"ok\":true,\"crc\":34678,\"wire\":\"7687\"}\n");
   CHECK(r.status == 0);
   r = run("crc modbus 313233343536373839");
-  CHECK(r.out == "{\"ok\":true,\"crc\":19255,\"wire\":\"374b\"}\n");  // 0x4B37
+  CHECK_JSON(r.out, "{\"ok\":true,\"crc\":19255,\"wire\":\"374b\"}\n");  // 0x4B37
   r = run("crc modbus '0x31 0x32 0x33 0x34 0x35 0x36 0x37 0x38 0x39'");
-  CHECK(r.out == "{\"ok\":true,\"crc\":19255,\"wire\":\"374b\"}\n");
+  CHECK_JSON(r.out, "{\"ok\":true,\"crc\":19255,\"wire\":\"374b\"}\n");
   r = run("crc tformat '02 20 b4'");
-  CHECK(r.out == "{\"ok\":true,\"crc\":150}\n");  // 0x02 ^ 0x20 ^ 0xB4
+  CHECK_JSON(r.out, "{\"ok\":true,\"crc\":150}\n");  // 0x02 ^ 0x20 ^ 0xB4
   // x^6 mod (x^6 + x + 1) = x + 1 = 000011, inverted 111100
   r = run("crc biss6 1");
-  CHECK(r.out == "{\"ok\":true,\"crc\":60}\n");
+  CHECK_JSON(r.out, "{\"ok\":true,\"crc\":60}\n");
   // x^4 mod (x^4 + x + 1) = x + 1 = 0011, inverted 1100
   r = run("crc biss4 1");
-  CHECK(r.out == "{\"ok\":true,\"crc\":12}\n");
+  CHECK_JSON(r.out, "{\"ok\":true,\"crc\":12}\n");
   // "123456789" as bits, first bit first: BiSS CRC6 0x2E, CRC4 0x1 (independent reference)
   const std::string bits =
       "001100010011001000110011001101000011010100110110001101110011100000111001";
   r = run("crc biss6 " + bits);
-  CHECK(r.out == "{\"ok\":true,\"crc\":46}\n");
+  CHECK_JSON(r.out, "{\"ok\":true,\"crc\":46}\n");
   r = run("crc biss4 " + bits);
-  CHECK(r.out == "{\"ok\":true,\"crc\":1}\n");
+  CHECK_JSON(r.out, "{\"ok\":true,\"crc\":1}\n");
   CHECK(r.status == 0);
 }
 
 TEST_CASE("crc: invalid inputs are reported with a code and exit status 1") {
   auto r = run("crc modbus 0g");
-  CHECK(r.out == "{\"ok\":false,\"error\":\"invalid_hex\"}\n");
+  CHECK_JSON(r.out, "{\"ok\":false,\"error\":\"invalid_hex\"}\n");
   CHECK(r.status == 1);
   r = run("crc modbus 123");
-  CHECK(r.out == "{\"ok\":false,\"error\":\"invalid_hex\"}\n");
+  CHECK_JSON(r.out, "{\"ok\":false,\"error\":\"invalid_hex\"}\n");
   CHECK(r.status == 1);
   r = run("crc biss6 0120");
-  CHECK(r.out == "{\"ok\":false,\"error\":\"invalid_bits\"}\n");
+  CHECK_JSON(r.out, "{\"ok\":false,\"error\":\"invalid_bits\"}\n");
   CHECK(r.status == 1);
   r = run("crc tformat ''");
-  CHECK(r.out == "{\"ok\":false,\"error\":\"empty_input\"}\n");
+  CHECK_JSON(r.out, "{\"ok\":false,\"error\":\"empty_input\"}\n");
   CHECK(r.status == 1);
 }
 
 TEST_CASE("stdin: one input per line, blank lines skipped, status 1 if any is invalid") {
   auto r = run("crc modbus -", "313233343536373839\\n\\n11 03 00 6B 00 03\\r\\n");
-  CHECK(r.out ==
-        "{\"ok\":true,\"crc\":19255,\"wire\":\"374b\"}\n{\"ok\":true,\"crc\":34678,\"wire\":"
-        "\"7687\"}\n");
+  CHECK_JSON(r.out,
+             "{\"ok\":true,\"crc\":19255,\"wire\":\"374b\"}\n{\"ok\":true,\"crc\":34678,\"wire\":"
+             "\"7687\"}\n");
   CHECK(r.status == 0);
   r = run("crc biss4 -", "1\\nxyz\\n1\\n");
-  CHECK(r.out ==
-        "{\"ok\":true,\"crc\":12}\n{\"ok\":false,\"error\":\"invalid_bits\"}\n"
-        "{\"ok\":true,\"crc\":12}\n");
+  CHECK_JSON(r.out,
+             "{\"ok\":true,\"crc\":12}\n{\"ok\":false,\"error\":\"invalid_bits\"}\n"
+             "{\"ok\":true,\"crc\":12}\n");
   CHECK(r.status == 1);
 }
 
@@ -88,7 +88,7 @@ TEST_CASE("usage errors exit with status 2 and print nothing on stdout") {
   }
   const auto v = run("version");
   CHECK(v.status == 0);
-  CHECK(v.out.find("\"ok\":true") != std::string::npos);
+  CHECK_FIELDS(v.out, "{\"ok\":true}");
   int status = -1;
   CHECK(testcli::run_as_is("version", &status).find("motionbus ") == 0);
   CHECK(status == 0);

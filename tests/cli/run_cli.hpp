@@ -14,6 +14,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <mutex>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <thread>
 #include <utility>
@@ -69,6 +70,73 @@ inline std::string run_stderr(const std::string& args, int* status = nullptr) {
   return output_of(std::string("'") + MOTIONBUS_CLI_PATH + "' " + args + " 2>&1 >/dev/null",
                    status);
 }
+
+/// The JSON objects of `out`, one a line (blank lines skipped); a line that is not JSON is a
+/// string value, so that it can never equal an object.
+inline std::vector<nlohmann::json> json_lines(const std::string& out) {
+  std::vector<nlohmann::json> lines;
+  std::size_t begin = 0;
+  while (begin < out.size()) {
+    std::size_t end = out.find('\n', begin);
+    end = end == std::string::npos ? out.size() : end;
+    const std::string line = out.substr(begin, end - begin);
+    if (!line.empty()) {
+      nlohmann::json j = nlohmann::json::parse(line, nullptr, false);
+      lines.push_back(j.is_discarded() ? nlohmann::json("not JSON: " + line) : j);
+    }
+    begin = end + 1;
+  }
+  return lines;
+}
+
+/// What differs between the JSON lines of `out` and of `expected`: one JSON patch per line
+/// (what turns the output into the expectation), for a failed check's message.
+inline std::string json_difference(const std::string& out, const std::string& expected) {
+  const auto a = json_lines(out);
+  const auto b = json_lines(expected);
+  std::string d = "output: " + out + "differences:";
+  for (std::size_t i = 0; i < a.size() || i < b.size(); ++i) {
+    d += " " +
+         nlohmann::json::diff(i < a.size() ? a[i] : nullptr, i < b.size() ? b[i] : nullptr).dump();
+  }
+  return d;
+}
+
+/// Every field of the JSON object `fields` is in the single JSON object `out` holds, with the
+/// same value.
+inline bool has_fields(const std::string& out, const std::string& fields) {
+  const auto lines = json_lines(out);
+  if (lines.size() != 1 || !lines[0].is_object()) {
+    return false;
+  }
+  const nlohmann::json wanted = nlohmann::json::parse(fields);
+  for (const auto& f : wanted.items()) {
+    if (!lines[0].contains(f.key()) || lines[0][f.key()] != f.value()) {
+      return false;
+    }
+  }
+  return true;
+}
+
+}  // namespace testcli
+
+/// The output's JSON lines equal the expected ones (JSON text, one object a line) field by
+/// field: every field, its value, no other field; the fields' order and spacing do not count.
+#define CHECK_JSON(out, expected)                                              \
+  do {                                                                         \
+    const std::string out_ = (out);                                            \
+    const std::string expected_ = (expected);                                  \
+    CHECK_MESSAGE(testcli::json_lines(out_) == testcli::json_lines(expected_), \
+                  testcli::json_difference(out_, expected_));                  \
+  } while (false)
+/// The output's single JSON object has (at least) these fields with these values.
+#define CHECK_FIELDS(out, fields)                                         \
+  do {                                                                    \
+    const std::string out_ = (out);                                       \
+    CHECK_MESSAGE(testcli::has_fields(out_, fields), "output: " << out_); \
+  } while (false)
+
+namespace testcli {
 
 /// A pseudo-terminal in raw mode: `master` for the test's device, `path` for the CLI. Raw from
 /// here too, so that nothing is echoed before the CLI sets it; `keep` holds the slave side

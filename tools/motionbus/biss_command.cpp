@@ -23,8 +23,6 @@ namespace bs = motionbus::biss;
 
 namespace {
 
-using cli::option_number;
-
 // A hexadecimal number with or without 0x.
 std::optional<std::uint64_t> parse_hex_number(std::string t) {
   if (t.size() > 2 && t[0] == '0' && (t[1] == 'x' || t[1] == 'X')) {
@@ -51,16 +49,21 @@ std::optional<std::uint64_t> parse_hex_number(std::string t) {
 
 namespace biss_io {
 
-bs::slave_layout layout_from(const cli::options& opts) {
+void layout_options::bind(CLI::App& app) {
+  cli::number(app, "data-bits", data_bits, 1, 64);
+  cli::number(app, "crc-bits", crc_bits, 0, bs::max_crc_bits);
+  cli::text(app, "crc-poly", crc_poly);
+  cli::number(app, "crc-start", crc_start, 0, 0xFFFFFFFFU);
+  cli::flag(app, "no-crc-invert", no_crc_invert);
+}
+
+bs::slave_layout layout_options::layout() const {
   bs::slave_layout l = bs::absys_layout;
-  l.single_turn_bits = static_cast<unsigned>(option_number(opts, "data-bits", 32, 64));
-  if (l.single_turn_bits == 0) {
-    throw cli::usage_error{"--data-bits must be 1..64"};
-  }
-  const auto width = static_cast<unsigned>(option_number(opts, "crc-bits", 6, bs::max_crc_bits));
+  l.single_turn_bits = data_bits;
+  const unsigned width = crc_bits;
   std::uint64_t poly = 0x43;
-  if (const auto p = opts.get("crc-poly")) {
-    const auto v = parse_hex_number(*p);
+  if (crc_poly) {
+    const auto v = parse_hex_number(*crc_poly);
     if (!v) {
       throw cli::usage_error{"--crc-poly needs a hexadecimal polynomial such as 43"};
     }
@@ -78,10 +81,28 @@ bs::slave_layout layout_from(const cli::options& opts) {
   }
   l.crc.width = width;
   l.crc.poly = static_cast<std::uint32_t>(poly);
-  l.crc.start = static_cast<std::uint32_t>(
-      option_number(opts, "crc-start", 0, width == 0 ? 0 : (std::uint64_t{1} << width) - 1U));
-  l.crc.inverted = !opts.has("no-crc-invert");
+  const std::uint64_t max_start = width == 0 ? 0 : top - 1U;
+  if (crc_start > max_start) {
+    throw cli::usage_error{"--crc-start needs a number up to " + std::to_string(max_start)};
+  }
+  l.crc.start = static_cast<std::uint32_t>(crc_start);
+  l.crc.inverted = !no_crc_invert;
   return l;
+}
+
+bs::slave_layout layout_from(const cli::options& opts) {
+  layout_options o;
+  const auto number = [&](const char* name, std::uint64_t fallback, std::uint64_t min,
+                          std::uint64_t max) {
+    const auto v = opts.get(name);
+    return v ? cli::number_in_range(name, *v, min, max) : fallback;
+  };
+  o.data_bits = static_cast<unsigned>(number("data-bits", o.data_bits, 1, 64));
+  o.crc_bits = static_cast<unsigned>(number("crc-bits", o.crc_bits, 0, bs::max_crc_bits));
+  o.crc_poly = opts.get("crc-poly");
+  o.crc_start = number("crc-start", o.crc_start, 0, 0xFFFFFFFFU);
+  o.no_crc_invert = opts.has("no-crc-invert");
+  return o.layout();
 }
 
 cli::outcome describe_samples(const std::vector<std::uint8_t>& samples,
@@ -115,13 +136,13 @@ cli::outcome describe_samples(const std::vector<std::uint8_t>& samples,
     return cli::failure_of(r, 2);
   }
   cli::record f;
-  f.add("position", static_cast<std::int64_t>(d.single_turn));
+  f.add("position", d.single_turn);
   f.add("ne", d.ne ? 1 : 0);
   f.add("nw", d.nw ? 1 : 0);
   f.add("cds", r->cds ? 1 : 0);
-  f.hex("crc", static_cast<std::int64_t>(d.crc));
-  f.add("start", static_cast<std::int64_t>(r->start));
-  f.add("ack_bits", static_cast<std::int64_t>(r->ack_bits()));
+  f.hex("crc", d.crc);
+  f.add("start", r->start);
+  f.add("ack_bits", r->ack_bits());
   return cli::outcome::success(f);
 }
 
@@ -129,15 +150,24 @@ cli::outcome describe_samples(const std::vector<std::uint8_t>& samples,
 
 namespace {
 
-using biss_io::layout_from;
+// decode biss csd: the layout, and the samples as --hex words cut to --bits (else the input).
+struct csd_options {
+  biss_io::layout_options layout;
+  std::optional<std::string> hex;
+  std::optional<std::uint64_t> bits;
+  void bind(CLI::App& app) {
+    layout.bind(app);
+    cli::text(app, "hex", hex);
+    cli::number(app, "bits", bits, 0, ~std::uint64_t{0});
+  }
+};
 
 // The capture as 0/1 samples: the positional bit string, or --hex words (MSB first) cut to
 // --bits samples.
 std::optional<std::vector<std::uint8_t>> samples_from(const std::string& input,
-                                                      const cli::options& opts,
-                                                      std::string& error) {
+                                                      const csd_options& opts, std::string& error) {
   std::vector<std::uint8_t> bits;
-  if (const auto hex = opts.get("hex")) {
+  if (const auto& hex = opts.hex) {
     for (std::size_t i = 0; i < hex->size(); ++i) {
       const char c = (*hex)[i];
       if (c == ' ' || c == '_' || c == ',' || c == ':') {
@@ -156,7 +186,10 @@ std::optional<std::vector<std::uint8_t>> samples_from(const std::string& input,
         bits.push_back(static_cast<std::uint8_t>((*d >> static_cast<unsigned>(b)) & 1U));
       }
     }
-    const std::uint64_t n = option_number(opts, "bits", bits.size(), bits.size());
+    const std::uint64_t n = opts.bits.value_or(bits.size());
+    if (n > bits.size()) {
+      throw cli::usage_error{"--bits needs a number up to " + std::to_string(bits.size())};
+    }
     bits.resize(static_cast<std::size_t>(n));
     if (bits.empty()) {
       error = "empty_input";
@@ -167,8 +200,8 @@ std::optional<std::vector<std::uint8_t>> samples_from(const std::string& input,
   return cli::parse_bits(input, error);
 }
 
-cli::outcome decode_csd(const std::string& input, const cli::options& opts) {
-  const bs::slave_layout layout = layout_from(opts);
+cli::outcome decode_csd(const std::string& input, const csd_options& opts) {
+  const bs::slave_layout layout = opts.layout.layout();
   std::string error;
   const auto bits = samples_from(input, opts, error);
   if (!bits) {
@@ -177,26 +210,43 @@ cli::outcome decode_csd(const std::string& input, const cli::options& opts) {
   return biss_io::describe_samples(*bits, layout);
 }
 
-bool option_bit(const cli::options& opts, const std::string& name, bool fallback) {
-  return option_number(opts, name, fallback ? 1 : 0, 1) != 0U;
-}
+// encode biss csd: the layout, the frame's values and bits, and the --vcd waveform's clock.
+struct encode_options {
+  biss_io::layout_options layout;
+  std::optional<std::uint64_t> position;
+  unsigned ne = 1;
+  unsigned nw = 1;
+  std::size_t ack = 1;
+  unsigned cds = 0;
+  std::size_t idle = 0;
+  std::optional<std::string> vcd;
+  std::uint64_t baud = 1000000;
+  void bind(CLI::App& app) {
+    layout.bind(app);
+    cli::number(app, "position", position, 0, ~std::uint64_t{0});
+    cli::number(app, "ne", ne, 0, 1);
+    cli::number(app, "nw", nw, 0, 1);
+    cli::number(app, "ack", ack, 1, 4096);
+    cli::number(app, "cds", cds, 0, 1);
+    cli::number(app, "idle", idle, 0, 4096);
+    cli::text(app, "vcd", vcd);
+    cli::number(app, "baud", baud, 1, 100000000);
+  }
+};
 
-int encode_csd(const cli::options& opts) {
-  const bs::slave_layout layout = layout_from(opts);
-  if (!opts.has("position")) {
+int encode_csd(const encode_options& opts) {
+  const bs::slave_layout layout = opts.layout.layout();
+  if (!opts.position) {
     throw cli::usage_error{"encode biss csd needs --position N"};
   }
   bs::slave_values v;
-  v.single_turn = option_number(opts, "position", 0, ~std::uint64_t{0});
-  v.ne = option_bit(opts, "ne", true);
-  v.nw = option_bit(opts, "nw", true);
+  v.single_turn = *opts.position;
+  v.ne = opts.ne != 0U;
+  v.nw = opts.nw != 0U;
   bs::line_options line;
-  line.ack_bits = static_cast<std::size_t>(option_number(opts, "ack", 1, 4096));
-  line.line_delay = static_cast<std::size_t>(option_number(opts, "idle", 0, 4096));
-  line.cds = option_bit(opts, "cds", false);
-  if (line.ack_bits == 0) {
-    throw cli::usage_error{"--ack must be at least 1"};
-  }
+  line.ack_bits = opts.ack;
+  line.line_delay = opts.idle;
+  line.cds = opts.cds != 0U;
   std::vector<std::uint8_t> words(
       (bs::encoded_bits(mb::span<const bs::slave_layout>(&layout, 1), line) + 7U) / 8U + 1U, 0);
   const std::size_t n = cli::built(
@@ -208,7 +258,7 @@ int encode_csd(const cli::options& opts) {
   }
   cli::record f;
   f.add("bits", bits);
-  if (const auto vcd = opts.get("vcd")) {  // MA and SLO at --baud clocks a second, from 1 us
+  if (const auto& vcd = opts.vcd) {  // MA and SLO at --baud clocks a second, from 1 us
     std::vector<std::uint8_t> samples;
     for (const char c : bits) {
       samples.push_back(c == '1' ? 1 : 0);
@@ -217,9 +267,7 @@ int encode_csd(const cli::options& opts) {
     capture::channel slo;
     ma.name = "MA";
     slo.name = "SLO";
-    capture::biss_levels(samples,
-                         static_cast<double>(option_number(opts, "baud", 1000000, 100000000)), 1e-6,
-                         ma, slo);
+    capture::biss_levels(samples, static_cast<double>(opts.baud), 1e-6, ma, slo);
     capture::write_vcd_file(*vcd, {ma, slo});
     f.add("vcd", *vcd);
   }
@@ -231,39 +279,17 @@ int encode_csd(const cli::options& opts) {
 namespace cli {
 
 protocol_entries biss_entries() {
-  const std::vector<option_use> layout_options = {
-      {"data-bits", "32"}, {"crc-bits", "6"}, "crc-poly", {"crc-start", "0"}};
-  std::vector<option_use> decode_options = layout_options;
-  decode_options.insert(decode_options.end(), {"hex", "bits"});
-  std::vector<option_use> encode_options = layout_options;
-  encode_options.insert(encode_options.end(), {"position",
-                                               {"ne", "1"},
-                                               {"nw", "1"},
-                                               {"ack", "1"},
-                                               {"cds", "0"},
-                                               {"idle", "0"},
-                                               "vcd",
-                                               {"baud", "1000000"}});
   protocol_entries e;
-  e.decoders.push_back({"decode",
-                        "biss",
-                        "csd",
-                        "a sensor data frame from the SL samples taken on MA's rising edges "
-                        "(bits, or --hex words); default layout AMO ABSYS",
-                        &decode_csd,
-                        decode_options,
-                        {"no-crc-invert"},
-                        false,
-                        "the SL samples as 0/1 bits, first clock first (hex words: --hex "
-                        "instead)"});
-  e.commands.push_back({"encode",
-                        "biss",
-                        "csd",
-                        "the SL bits of a sensor data frame (default layout AMO ABSYS)",
-                        &encode_csd,
-                        encode_options,
-                        {"no-crc-invert"},
-                        {}});
+  e.decoders.push_back(lines("decode", "biss", "csd",
+                             "a sensor data frame from the SL samples taken on MA's rising edges "
+                             "(bits, or --hex words); default layout AMO ABSYS",
+                             &decode_csd));
+  e.decoders.back().input = false;
+  e.decoders.back().input_help =
+      "the SL samples as 0/1 bits, first clock first (hex words: --hex instead)";
+  e.typed.push_back(typed("encode", "biss", "csd",
+                          "the SL bits of a sensor data frame (default layout AMO ABSYS)",
+                          &encode_csd));
   return e;
 }
 

@@ -1,6 +1,8 @@
 // Shared pieces of the motionbus CLI.
 #include "cli.hpp"
 
+#include "options.hpp"
+
 #include <cctype>
 #include <cstdio>
 #include <iostream>
@@ -31,12 +33,12 @@ void set_output_format(format f) {
   current_format() = f;
 }
 
-record& record::add(const std::string& key, std::int64_t value) {
+record& record::add_integer(const std::string& key, std::int64_t value) {
   json_[key] = value;
   text_.emplace_back(key, std::to_string(value));
   return *this;
 }
-record& record::hex(const std::string& key, std::int64_t value, int digits) {
+record& record::add_hex(const std::string& key, std::int64_t value, int digits) {
   json_[key] = value;
   text_.emplace_back(key, hex_text(value, digits));
   return *this;
@@ -332,14 +334,7 @@ int run_inputs(const std::string& input, const std::function<outcome(const std::
 std::uint64_t option_number(const options& opts, const std::string& name, std::uint64_t fallback,
                             std::uint64_t max) {
   const auto v = opts.get(name);
-  if (!v) {
-    return fallback;
-  }
-  const auto n = parse_uint(*v);
-  if (!n || *n > max) {
-    throw usage_error{"--" + name + " needs a number up to " + std::to_string(max)};
-  }
-  return *n;
+  return v ? number_in_range(name, *v, 0, max) : fallback;
 }
 
 }  // namespace cli

@@ -11,22 +11,40 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
 #include <motionbus/core/errc.hpp>
 #include <motionbus/core/result.hpp>
 
+namespace CLI {
+class App;
+}  // namespace CLI
+
 namespace cli {
+
+/// The types record::add and record::hex take as integers.
+template <class T>
+constexpr bool is_recorded_integer =
+    (std::is_integral_v<T> && !std::is_same_v<T, bool>) || std::is_enum_v<T>;
 
 /// One output record: fields in order, each a JSON value (numbers stay numbers, with the field
 /// names scripts already use) and the text a person reads (hex where engineers think in hex,
 /// units where the profile has them).
 class record {
  public:
-  record& add(const std::string& key, std::int64_t value);
+  /// An integer field of any integer or enumeration type (a bool is add_bool): JSON numbers are
+  /// 64-bit, and every value the CLI records fits.
+  template <class T, std::enable_if_t<is_recorded_integer<T>, int> = 0>
+  record& add(const std::string& key, T value) {
+    return add_integer(key, as_int64(value));
+  }
   /// A number shown in hex in text ("0x1A", `digits` wide); a plain number in JSON.
-  record& hex(const std::string& key, std::int64_t value, int digits = 2);
+  template <class T, std::enable_if_t<is_recorded_integer<T>, int> = 0>
+  record& hex(const std::string& key, T value, int digits = 2) {
+    return add_hex(key, as_int64(value), digits);
+  }
   /// A number with its unit in text ("12.5 A"); a plain number in JSON.
   record& quantity(const std::string& key, double value, const std::string& unit);
   /// A measurement: {"value", "unit", "raw"} in JSON, "12.5 A" in text.
@@ -50,6 +68,17 @@ class record {
   bool empty() const { return text_.empty(); }
 
  private:
+  template <class T>
+  static std::int64_t as_int64(T value) {
+    if constexpr (std::is_enum_v<T>) {
+      return as_int64(static_cast<std::underlying_type_t<T>>(value));
+    } else {
+      return static_cast<std::int64_t>(value);
+    }
+  }
+  record& add_integer(const std::string& key, std::int64_t value);
+  record& add_hex(const std::string& key, std::int64_t value, int digits);
+
   nlohmann::ordered_json json_ = nlohmann::ordered_json::object();
   std::vector<std::pair<std::string, std::string>> text_;
 };
@@ -99,8 +128,9 @@ std::optional<std::vector<std::uint8_t>> parse_bits(const std::string& text, std
 /// Decimal or 0x-prefixed hex integer.
 std::optional<std::uint64_t> parse_uint(const std::string& text);
 
-/// The options given to one command, as CLI11 parsed them: values by name (defaults filled in),
-/// switches by name, and the command's positional arguments.
+/// The options given to a command that takes them by name (capture, monitor: the other commands
+/// bind theirs to a struct, options.hpp), as CLI11 parsed them: values by name (defaults filled
+/// in), switches by name, and the command's positional arguments.
 struct options {
   std::vector<std::string> positional;
   std::map<std::string, std::string> values;
@@ -108,8 +138,7 @@ struct options {
   bool has(const std::string& name) const;
   std::optional<std::string> get(const std::string& name) const;
 };
-/// The number given with `--name` (parse_uint), `fallback` when absent; a usage error when it
-/// is not a number or exceeds `max`.
+/// The number given with `--name` (number_in_range, options.hpp), `fallback` when absent.
 std::uint64_t option_number(const options& opts, const std::string& name, std::uint64_t fallback,
                             std::uint64_t max);
 
@@ -129,9 +158,7 @@ T built(const motionbus::result<T>& r, const std::string& what) {
   return r.value();
 }
 
-/// A per-line handler: turns one input (hex, bits...) into an outcome.
-using line_handler = outcome (*)(const std::string& input, const options& opts);
-/// A whole-command handler (encode, capture decoders, serve, read, monitor): the exit status.
+/// A whole-command handler taking its options by name (capture, monitor): the exit status.
 using command_handler = int (*)(const options& opts);
 
 /// An option of a command: its name (one name for one idea, across the tool: see the catalogue
@@ -140,8 +167,11 @@ struct option_use {
   std::string name;
   std::string default_value;  ///< shown in --help and filled in when absent; "" for none
   option_use(const char* n) : name(n) {}  // NOLINT(google-explicit-constructor): lists of names
-  option_use(const char* n, const char* d) : name(n), default_value(d) {}
+  option_use(const char* n, std::string d) : name(n), default_value(std::move(d)) {}
 };
+
+/// One input's outcome (a decoder's handler, its options bound).
+using line_function = std::function<outcome(const std::string& input)>;
 
 /// `decode <protocol> <kind> <input|->` or `crc <protocol> <input|->`: one outcome per input
 /// line.
@@ -150,9 +180,8 @@ struct decoder {
   const char* protocol;
   const char* kind;  ///< "" where the protocol is the command (crc)
   const char* help;
-  line_handler handle;
-  std::vector<option_use> value_options;
-  std::vector<std::string> switch_options;
+  /// Binds the decoder's options (a struct: options.hpp) to its CLI11 app; returns the handler.
+  std::function<line_function(CLI::App&)> bind;
   bool input = true;  ///< the input is required (else the options may carry it)
   /// What the input is, for --help ("the frame: <input_help>; - reads ...").
   const char* input_help = "hex bytes (\"02 20 b4\", \"0220B4\", \"0x02 0x20\")";
@@ -172,10 +201,21 @@ struct command {
   std::vector<std::string> positional;
 };
 
+/// A command whose options are a struct: `bind` adds the options to the command's CLI11 app
+/// and returns what runs once they are parsed.
+struct typed_command {
+  const char* group;  ///< "encode", "decode", "serve", "read", "monitor"
+  const char* protocol;
+  const char* kind;  ///< "" for serve/read/monitor
+  const char* help;
+  std::function<std::function<int()>(CLI::App&)> bind;
+};
+
 /// Each protocol's file provides its entries; the registry gathers them.
 struct protocol_entries {
   std::vector<decoder> decoders;
-  std::vector<command> commands;
+  std::vector<command> commands;  ///< options by name (capture, monitor)
+  std::vector<typed_command> typed;
 };
 protocol_entries tformat_entries();
 protocol_entries modbus_entries();
@@ -187,6 +227,7 @@ protocol_entries capture_entries();
 
 const std::vector<decoder>& decoders();
 const std::vector<command>& commands();
+const std::vector<typed_command>& typed_commands();
 
 /// Lower-case contiguous hex of bytes.
 std::string to_hex(const std::uint8_t* data, std::size_t size);

@@ -24,6 +24,7 @@
 
 #include <motionbus/version.hpp>
 #include "cli.hpp"
+#include "options.hpp"
 
 namespace cli {
 
@@ -35,14 +36,6 @@ const std::vector<protocol_entries>& all_protocols() {
       biss_entries(), monitor_entries(), capture_entries()};
   return list;
 }
-
-// One option of the catalogue: what a value looks like, what it means, and the values allowed
-// (empty: any).
-struct option_info {
-  const char* type;
-  const char* help;
-  std::vector<std::string> allowed;
-};
 
 const std::map<std::string, option_info>& catalogue() {
   static const std::map<std::string, option_info> c = {
@@ -129,13 +122,17 @@ const std::map<std::string, option_info>& catalogue() {
   return c;
 }
 
-const option_info& info(const std::string& name) {
+}  // namespace
+
+const option_info& option_help(const std::string& name) {
   const auto it = catalogue().find(name);
   if (it == catalogue().end()) {
     throw std::logic_error("motionbus: option --" + name + " is not in the catalogue");
   }
   return it->second;
 }
+
+namespace {
 
 // A leaf command as CLI11 parses it: the values bound to its options, and what to run.
 struct leaf {
@@ -181,7 +178,7 @@ CLI::App* child(CLI::App* parent, const std::string& name, const std::string& he
 
 void add_options(leaf& l) {
   for (const option_use& u : l.uses) {
-    const option_info& i = info(u.name);
+    const option_info& i = option_help(u.name);
     CLI::Option* o = l.app->add_option("--" + u.name, l.values[u.name], i.help);
     o->type_name(i.type);
     if (!u.default_value.empty()) {
@@ -193,7 +190,7 @@ void add_options(leaf& l) {
     l.given[u.name] = o;
   }
   for (const std::string& s : l.switch_names) {
-    l.given[s] = l.app->add_flag("--" + s, info(s).help);
+    l.given[s] = l.app->add_flag("--" + s, option_help(s).help);
   }
   l.app->add_flag("--json", l.json, "print one JSON object per line instead of text");
 }
@@ -221,6 +218,9 @@ std::string listing() {
     }
     out += "\n";
   }
+  for (const typed_command& c : typed_commands()) {
+    out += std::string("  ") + c.group + " " + c.protocol + (*c.kind ? " " : "") + c.kind + "\n";
+  }
   return out + "Run `motionbus <command> ... --help` for a command's options.";
 }
 
@@ -246,6 +246,11 @@ const std::vector<decoder>& decoders() {
 
 const std::vector<command>& commands() {
   static const std::vector<command> list = gather(&protocol_entries::commands);
+  return list;
+}
+
+const std::vector<typed_command>& typed_commands() {
+  static const std::vector<typed_command> list = gather(&protocol_entries::typed);
   return list;
 }
 
@@ -287,7 +292,7 @@ int main_of(int argc, char** argv) {
     return l;
   };
   for (const decoder& d : decoders()) {
-    leaf& l = add_leaf(d.group, d.protocol, d.kind, d.help, d.value_options, d.switch_options);
+    leaf& l = add_leaf(d.group, d.protocol, d.kind, d.help, {}, {});
     l.positional.resize(1);
     CLI::Option* in = l.app->add_option(
         "input", l.positional[0],
@@ -295,14 +300,14 @@ int main_of(int argc, char** argv) {
     if (d.input) {
       in->required();
     }
-    add_options(l);
-    const line_handler handle = d.handle;
+    const line_function handle = d.bind(*l.app);
+    add_options(l);  // --json
     const bool needs_input = d.input;
     l.run = [handle, needs_input](const options& o) {
       if (!needs_input && o.positional[0].empty()) {
-        return finish(handle("", o));
+        return finish(handle(""));
       }
-      return run_inputs(o.positional[0], [&](const std::string& text) { return handle(text, o); });
+      return run_inputs(o.positional[0], handle);
     };
   }
   for (const command& c : commands()) {
@@ -313,6 +318,12 @@ int main_of(int argc, char** argv) {
     }
     add_options(l);
     l.run = c.run;
+  }
+  for (const typed_command& c : typed_commands()) {
+    leaf& l = add_leaf(c.group, c.protocol, c.kind, c.help, {}, {});
+    const std::function<int()> run = c.bind(*l.app);
+    add_options(l);  // --json
+    l.run = [run](const options&) { return run(); };
   }
 
   app.footer(listing());  // after the subcommands: only the top level lists every command
@@ -326,6 +337,9 @@ int main_of(int argc, char** argv) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     (void)app.exit(e);
+    return 2;
+  } catch (const usage_error& e) {  // a typed option out of its range
+    std::cerr << "motionbus: " << e.message << "\nRun with --help for more information.\n";
     return 2;
   }
   if (version_app->parsed()) {

@@ -23,28 +23,13 @@
 #include "capture.hpp"
 #include "cli.hpp"
 #include "modbus_io.hpp"
+#include "options.hpp"
 #include "serial.hpp"
 
 namespace mb = motionbus;
 namespace mo = motionbus::modbus;
 
 namespace {
-
-std::vector<std::int64_t> registers_of(mb::byte_view data) {
-  std::vector<std::int64_t> out;
-  for (std::size_t i = 0; i + 1 < data.size(); i += 2) {
-    out.push_back(mo::register_at(data, i / 2));
-  }
-  return out;
-}
-
-std::vector<std::int64_t> bits_of(mb::byte_view packed, std::size_t count) {
-  std::vector<std::int64_t> out;
-  for (std::size_t i = 0; i < count && i / 8 < packed.size(); ++i) {
-    out.push_back(mo::bit_at(packed, i) ? 1 : 0);
-  }
-  return out;
-}
 
 // The input as hex bytes holding one whole RTU ADU. `frame.pdu` points into `bytes`: the vector
 // owns the data and moving it keeps the pointer valid.
@@ -71,8 +56,7 @@ std::optional<parsed_adu> adu_of(const std::string& input, std::string& error,
     if (wanted != mo::unknown_length && (wanted == 0 || wanted > in.size())) {
       error = mb::to_string(mb::errc::truncated);
       if (wanted != 0) {
-        evidence.add("expected_bytes", static_cast<std::int64_t>(wanted))
-            .add("received_bytes", static_cast<std::int64_t>(in.size()));
+        evidence.add("expected_bytes", wanted).add("received_bytes", in.size());
       }
       return std::nullopt;
     }
@@ -90,113 +74,9 @@ std::size_t request_size(mb::byte_view in) {
 
 }  // namespace
 
-namespace modbus_io {
-
-cli::outcome describe_request(const mo::rtu_frame& frame) {
-  const mo::rtu_frame* adu = &frame;
-  const auto q = mo::decode_request(adu->pdu);
-  if (!q.is_complete()) {
-    return cli::failure_of(q, 2);
-  }
-  cli::record f;
-  f.add("slave", static_cast<std::int64_t>(adu->slave));
-  f.hex("function", static_cast<std::int64_t>(q->function));
-  const std::uint8_t fc = q->function;
-  if (fc <= 0x06 || fc == 0x0F || fc == 0x10 || fc == 0x16 || fc == 0x17) {
-    f.hex("address", static_cast<std::int64_t>(q->address), 4);
-  }
-  if (fc <= 0x04 || fc == 0x0F || fc == 0x10 || fc == 0x17) {
-    f.add("quantity", static_cast<std::int64_t>(q->quantity));
-  }
-  if (fc == 0x05 || fc == 0x06) {
-    f.add("value", static_cast<std::int64_t>(q->value));
-  }
-  if (fc == 0x16) {
-    f.hex("and_mask", static_cast<std::int64_t>(q->and_mask), 4);
-    f.hex("or_mask", static_cast<std::int64_t>(q->or_mask), 4);
-  }
-  if (fc == 0x17) {
-    f.hex("write_address", static_cast<std::int64_t>(q->write_address), 4);
-    f.add("write_quantity", static_cast<std::int64_t>(q->write_quantity));
-  }
-  if (fc == 0x0F) {
-    f.add("byte_count", static_cast<std::int64_t>(q->data.size()));
-    f.add("values", bits_of(q->data, q->quantity));
-  } else if (fc == 0x10 || fc == 0x17) {
-    f.add("byte_count", static_cast<std::int64_t>(q->data.size()));
-    f.add("values", registers_of(q->data));
-  } else if (!q->data.empty()) {
-    f.bytes("data", q->data.data(), q->data.size());
-  }
-  f.hex("crc", static_cast<std::int64_t>(adu->crc), 4);
-  return cli::outcome::success(f);
-}
-
-cli::outcome describe_response(const mo::rtu_frame& frame, const mo::rtu_frame* request_adu,
-                               mo::report_id_format fc11) {
-  const mo::rtu_frame* adu = &frame;
-  const mb::byte_view pdu = adu->pdu;
-  std::optional<mo::request> request;
-  mb::decode_result<mo::response> r = mb::need_input{1};
-  if (request_adu != nullptr) {
-    if (request_adu->slave != adu->slave && request_adu->slave != 0) {
-      cli::record e;
-      e.add("expected_slave", static_cast<std::int64_t>(request_adu->slave))
-          .add("received_slave", static_cast<std::int64_t>(adu->slave));
-      return cli::outcome::failure(mb::to_string(mb::errc::modbus_mismatch), e);
-    }
-    const auto q = mo::decode_request(request_adu->pdu);
-    if (q.is_complete()) {
-      request = q.value();
-    }
-    r = mo::decode_response_for(request_adu->pdu, pdu, fc11);
-  } else {
-    r = mo::decode_response_unpaired(pdu, fc11);  // no request: what the response carries
-  }
-  if (!r.is_complete()) {
-    return cli::failure_of(r, 2);
-  }
-  cli::record f;
-  f.add("slave", static_cast<std::int64_t>(adu->slave));
-  const std::uint8_t fc = r->function;
-  f.hex("function", static_cast<std::int64_t>(fc));
-  if (r->exception) {
-    f.hex("exception", static_cast<std::int64_t>(r->exception_code));
-    f.add("exception_name", modbus_io::exception_name(r->exception_code));
-  } else if (fc <= 0x04 || fc == 0x17) {
-    f.add("byte_count", static_cast<std::int64_t>(r->byte_count));
-    if (fc <= 0x02) {
-      f.add("values", bits_of(r->data, request ? request->quantity : r->data.size() * 8U));
-    } else {
-      f.add("values", registers_of(r->data));
-    }
-  } else if (fc == 0x05 || fc == 0x06 || fc == 0x0F || fc == 0x10) {
-    f.hex("address", static_cast<std::int64_t>(r->address), 4);
-    f.add(fc <= 0x06 ? "value" : "quantity",
-          static_cast<std::int64_t>(fc <= 0x06 ? r->value : r->quantity));
-  } else if (fc == 0x16) {
-    f.hex("address", static_cast<std::int64_t>(r->address), 4);
-    f.hex("and_mask", static_cast<std::int64_t>(r->and_mask), 4);
-    f.hex("or_mask", static_cast<std::int64_t>(r->or_mask), 4);
-  } else if (fc == 0x11 && fc11 == mo::report_id_format::two_bytes_no_count) {
-    // the SM unit's layout: version upper, version lower (SM unit guideline §11)
-    f.add("version_upper", static_cast<std::int64_t>(r->data[0]));
-    f.add("version_lower", static_cast<std::int64_t>(r->data[1]));
-    f.add("version", modbus_io::sm_version_text(r->data[0], r->data[1]));
-  } else {
-    // FC11 (standard layout: byte count, then the device's bytes) and the other functions:
-    // the data part as hex
-    f.bytes("data", pdu.data() + 1, pdu.size() - 1);
-  }
-  f.hex("crc", static_cast<std::int64_t>(adu->crc), 4);
-  return cli::outcome::success(f);
-}
-
-}  // namespace modbus_io
-
 namespace {
 
-cli::outcome decode_request_line(const std::string& input, const cli::options&) {
+cli::outcome decode_request_line(const std::string& input, const cli::no_options&) {
   std::string error;
   cli::record evidence;
   const auto parsed = adu_of(input, error, evidence, &request_size);
@@ -206,13 +86,15 @@ cli::outcome decode_request_line(const std::string& input, const cli::options&) 
   return modbus_io::describe_request(parsed->frame);
 }
 
-cli::outcome decode_response_line(const std::string& input, const cli::options& opts) {
-  const mo::report_id_format fc11 = modbus_io::fc11_of(opts, mo::report_id_format::standard);
+// A response in hex as a client sees it, checked against the request (hex) when given.
+cli::outcome describe_response_hex(const std::string& input,
+                                   const std::optional<std::string>& request_hex,
+                                   mo::report_id_format fc11) {
   std::optional<parsed_adu> request;
-  if (const auto text = opts.get("request")) {
+  if (request_hex) {
     std::string request_error;
     cli::record request_evidence;
-    request = adu_of(*text, request_error, request_evidence, &request_size);
+    request = adu_of(*request_hex, request_error, request_evidence, &request_size);
     if (!request || !mo::decode_request(request->frame.pdu).is_complete()) {
       throw cli::usage_error{"--request is not a valid RTU request"};
     }
@@ -229,6 +111,19 @@ cli::outcome decode_response_line(const std::string& input, const cli::options& 
     return cli::outcome::failure(error, evidence);
   }
   return modbus_io::describe_response(parsed->frame, request ? &request->frame : nullptr, fc11);
+}
+
+struct response_options {
+  std::optional<std::string> request;
+  std::string fc11 = "standard";
+  void bind(CLI::App& app) {
+    cli::text(app, "request", request);
+    cli::text(app, "fc11", fc11);
+  }
+};
+
+cli::outcome decode_response_line(const std::string& input, const response_options& opts) {
+  return describe_response_hex(input, opts.request, modbus_io::fc11_of(opts.fc11));
 }
 
 // --values as numbers: registers 0..65535, or coils on/off (1/0), the only two states of a coil
@@ -258,17 +153,25 @@ std::vector<std::uint16_t> parse_values(const std::string& text, bool coils) {
   return out;
 }
 
-std::uint16_t option16(const cli::options& opts, const char* name, std::uint16_t fallback) {
-  const auto v = opts.get(name);
-  if (!v) {
-    return fallback;
+// The request's options (encode and read): --function, --slave, their fields, --values, --data.
+struct request_options {
+  std::optional<std::string> function;
+  std::optional<std::string> slave;
+  std::uint16_t address = 0;
+  std::uint16_t quantity = 1;
+  std::uint16_t write_address = 0;
+  std::optional<std::string> values;
+  std::optional<std::string> data;
+  void bind(CLI::App& app) {
+    cli::text(app, "function", function);
+    cli::text(app, "slave", slave);
+    cli::number(app, "address", address, 0, 0xFFFF);
+    cli::number(app, "quantity", quantity, 0, 0xFFFF);
+    cli::text(app, "values", values);
+    cli::number(app, "write-address", write_address, 0, 0xFFFF);
+    cli::text(app, "data", data);
   }
-  const auto n = cli::parse_uint(*v);
-  if (!n || *n > 0xFFFF) {
-    throw cli::usage_error{std::string("--") + name + " takes 0..65535"};
-  }
-  return static_cast<std::uint16_t>(*n);
-}
+};
 
 // How many --values a function takes: at least `min`, at most `max` (0: none, it takes no
 // --values). A write is never sent with a value the user did not give.
@@ -289,9 +192,9 @@ values_rule values_rule_of(std::uint8_t fc) {
 }
 
 // The --values of function `fc`, checked against what it takes (a usage error otherwise).
-std::vector<std::uint16_t> values_for(const cli::options& opts, std::uint8_t fc) {
+std::vector<std::uint16_t> values_for(const request_options& opts, std::uint8_t fc) {
   const values_rule rule = values_rule_of(fc);
-  const auto text = opts.get("values");
+  const auto& text = opts.values;
   char fc_text[8];
   std::snprintf(fc_text, sizeof fc_text, "0x%02X", static_cast<unsigned>(fc));
   if (rule.max == 0) {
@@ -316,22 +219,21 @@ std::vector<std::uint16_t> values_for(const cli::options& opts, std::uint8_t fc)
 
 // Builds the request ADU from the options; a usage error when they are incomplete or the codec
 // refuses them (nothing is sent).
-std::vector<std::uint8_t> build_request(const cli::options& opts) {
-  const auto fc_value = cli::parse_uint(opts.get("function").value_or(""));
+std::vector<std::uint8_t> build_request(const request_options& opts) {
+  const auto fc_value = cli::parse_uint(opts.function.value_or(""));
   if (!fc_value || *fc_value == 0 || *fc_value > 0x7F) {
     throw cli::usage_error{"--function takes a function code 1..127 (decimal or 0x..)"};
   }
-  const auto slave_text = opts.get("slave");
-  const auto slave = slave_text ? cli::parse_uint(*slave_text) : std::nullopt;
+  const auto slave = opts.slave ? cli::parse_uint(*opts.slave) : std::nullopt;
   if (!slave || *slave > 255) {
     throw cli::usage_error{"--slave N (0..247) is required"};
   }
   const auto fc = static_cast<std::uint8_t>(*fc_value);
-  const std::uint16_t address = option16(opts, "address", 0);
+  const std::uint16_t address = opts.address;
   const std::vector<std::uint16_t> regs = values_for(opts, fc);
   const mb::span<const std::uint16_t> reg_view(regs.data(), regs.size());
   const bool raw = fc > 0x06 && fc != 0x0F && fc != 0x10 && fc != 0x16 && fc != 0x17;
-  if (!raw && opts.get("data")) {
+  if (!raw && opts.data) {
     throw cli::usage_error{"--data is for the function codes without their own options"};
   }
   std::uint8_t pdu[mo::max_pdu_size] = {};
@@ -340,7 +242,7 @@ std::vector<std::uint8_t> build_request(const cli::options& opts) {
     case 0x01:
     case 0x02:
     case 0x03:
-    case 0x04: n = mo::encode_read(fc, address, option16(opts, "quantity", 1), pdu); break;
+    case 0x04: n = mo::encode_read(fc, address, opts.quantity, pdu); break;
     case 0x05: n = mo::encode_write_single_coil(address, regs[0] != 0, pdu); break;
     case 0x06: n = mo::encode_write_single_register(address, regs[0], pdu); break;
     case 0x0F: {
@@ -357,15 +259,14 @@ std::vector<std::uint8_t> build_request(const cli::options& opts) {
     case 0x10: n = mo::encode_write_multiple_registers(address, reg_view, pdu); break;
     case 0x16: n = mo::encode_mask_write_register(address, regs[0], regs[1], pdu); break;
     case 0x17:
-      n = mo::encode_read_write_multiple_registers(address, option16(opts, "quantity", 1),
-                                                   option16(opts, "write-address", 0), reg_view,
-                                                   pdu);
+      n = mo::encode_read_write_multiple_registers(address, opts.quantity, opts.write_address,
+                                                   reg_view, pdu);
       break;
     default: {
       std::string hex_error;
       std::vector<std::uint8_t> data;
-      if (const auto d = opts.get("data")) {
-        const auto parsed = cli::parse_hex(*d, hex_error);
+      if (opts.data) {
+        const auto parsed = cli::parse_hex(*opts.data, hex_error);
         if (!parsed) {
           throw cli::usage_error{"--data takes hex bytes"};
         }
@@ -382,12 +283,23 @@ std::vector<std::uint8_t> build_request(const cli::options& opts) {
   return std::vector<std::uint8_t>(adu, adu + k);
 }
 
-int encode_request(const cli::options& opts) {
-  const auto adu = build_request(opts);
+struct encode_options {
+  request_options request;
+  std::optional<std::string> vcd;
+  cli::serial_line line = cli::serial_line::modbus();  // the --vcd waveform's line settings
+  void bind(CLI::App& app) {
+    request.bind(app);
+    cli::text(app, "vcd", vcd);
+    line.bind_settings(app);
+  }
+};
+
+int encode_request(const encode_options& opts) {
+  const auto adu = build_request(opts.request);
   cli::record f;
   f.bytes("hex", adu.data(), adu.size());
-  if (const auto vcd = opts.get("vcd")) {  // the UART line at the line settings, from 1 us
-    const serial::settings s = modbus_io::line_settings(opts);
+  if (const auto& vcd = opts.vcd) {  // the UART line at the line settings, from 1 us
+    const serial::settings s = opts.line.settings();
     capture::channel line;
     line.name = "line";
     capture::uart_levels(adu, s.baud, s.parity, s.stop_bits, 1e-6, line);
@@ -399,29 +311,38 @@ int encode_request(const cli::options& opts) {
 
 // read modbus: one transaction as a client; the response printed like `decode modbus response
 // --request`.
-int read_modbus(const cli::options& opts) {
-  const auto adu = build_request(opts);
+struct read_options {
+  cli::serial_line line = cli::serial_line::modbus();
+  request_options request;
+  int timeout_ms = 1000;
+  std::string fc11 = "standard";
+  void bind(CLI::App& app) {
+    line.bind(app);
+    request.bind(app);
+    cli::number(app, "timeout-ms", timeout_ms, 0, 60000);
+    cli::text(app, "fc11", fc11);
+  }
+};
+
+int read_modbus(const read_options& opts) {
+  const auto adu = build_request(opts.request);
   if (adu[0] == 0) {
     throw cli::usage_error{"read modbus needs a unicast --slave (1..247)"};
   }
   serial::port port;
-  if (!modbus_io::open_port(port, opts)) {
+  if (!opts.line.open(port)) {
     return 1;
   }
-  const auto timeout = cli::option_number(opts, "timeout-ms", 1000, 60000);
-  const mo::report_id_format fc11 = modbus_io::fc11_of(opts, mo::report_id_format::standard);
-  const auto e =
-      modbus_io::transact(port, adu[0], adu.data(), adu.size(), fc11, static_cast<int>(timeout));
+  const mo::report_id_format fc11 = modbus_io::fc11_of(opts.fc11);
+  const auto e = modbus_io::transact(port, adu[0], adu.data(), adu.size(), fc11, opts.timeout_ms);
   if (!e.error.empty()) {
     cli::print(cli::outcome::failure(e.error));
     return 1;
   }
   std::uint8_t response[mo::max_rtu_size] = {};
   const auto k = mo::encode_rtu(adu[0], mb::byte_view(e.pdu.data(), e.pdu.size()), response);
-  cli::options decode_opts;
-  decode_opts.values["request"] = cli::to_hex(adu.data(), adu.size());
-  decode_opts.values["fc11"] = modbus_io::fc11_name(fc11);
-  cli::outcome o = decode_response_line(cli::to_hex(response, k.value_or(0)), decode_opts);
+  cli::outcome o = describe_response_hex(cli::to_hex(response, k.value_or(0)),
+                                         cli::to_hex(adu.data(), adu.size()), fc11);
   if (o.ok && (e.pdu[0] & mo::exception_flag) != 0U) {
     // The server refused the request (Modbus Application Protocol V1.1b3 §7): the transaction
     // failed, exit status 1, with the exception's fields as the evidence.
@@ -437,58 +358,18 @@ namespace cli {
 
 protocol_entries modbus_entries() {
   protocol_entries e;
-  e.decoders.push_back({"decode",
-                        "modbus",
-                        "request",
-                        "a request RTU ADU as a server sees it: slave, function, fields, CRC",
-                        &decode_request_line,
-                        {},
-                        {}});
-  e.decoders.push_back({"decode",
-                        "modbus",
-                        "response",
-                        "a response RTU ADU as a client sees it (paired with --request if given)",
-                        &decode_response_line,
-                        {"request", {"fc11", "standard"}},
-                        {}});
-  e.commands.push_back({"encode",
-                        "modbus",
-                        "request",
-                        "a request RTU ADU",
-                        &encode_request,
-                        {"function",
-                         "slave",
-                         {"address", "0"},
-                         {"quantity", "1"},
-                         "values",
-                         "write-address",
-                         "data",
-                         "vcd",
-                         {"baud", "9600"},
-                         {"parity", "E"},
-                         {"stop-bits", "1"}},
-                        {},
-                        {}});
-  e.commands.push_back({"read",
-                        "modbus",
-                        "",
-                        "one request to a Modbus RTU server and its response, decoded",
-                        &read_modbus,
-                        {"device",
-                         "slave",
-                         "function",
-                         {"address", "0"},
-                         {"quantity", "1"},
-                         "values",
-                         "write-address",
-                         "data",
-                         {"baud", "9600"},
-                         {"parity", "E"},
-                         {"stop-bits", "1"},
-                         {"timeout-ms", "1000"},
-                         {"fc11", "standard"}},
-                        {},
-                        {}});
+  e.decoders.push_back(lines("decode", "modbus", "request",
+                             "a request RTU ADU as a server sees it: slave, function, fields, CRC",
+                             &decode_request_line));
+  e.decoders.push_back(
+      lines("decode", "modbus", "response",
+            "a response RTU ADU as a client sees it (paired with --request if given)",
+            &decode_response_line));
+  e.typed.push_back(
+      cli::typed("encode", "modbus", "request", "a request RTU ADU", &encode_request));
+  e.typed.push_back(cli::typed("read", "modbus", "",
+                               "one request to a Modbus RTU server and its response, decoded",
+                               &read_modbus));
   return e;
 }
 

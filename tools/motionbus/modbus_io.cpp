@@ -1,12 +1,38 @@
-// Modbus RTU transactions on a serial port for the CLI.
+// Modbus RTU pieces shared by the CLI's commands (decode, read, serve, monitor): records of
+// requests and responses, transactions on a serial port, line settings.
 #include "modbus_io.hpp"
 
+#include <motionbus/modbus.hpp>
 #include <motionbus/modbus/framer.hpp>
 
 #include <iostream>
+#include <string>
+#include <vector>
+
+#include "options.hpp"
 
 namespace mb = motionbus;
 namespace mo = motionbus::modbus;
+
+namespace {
+
+std::vector<std::int64_t> registers_of(mb::byte_view data) {
+  std::vector<std::int64_t> out;
+  for (std::size_t i = 0; i + 1 < data.size(); i += 2) {
+    out.push_back(mo::register_at(data, i / 2));
+  }
+  return out;
+}
+
+std::vector<std::int64_t> bits_of(mb::byte_view packed, std::size_t count) {
+  std::vector<std::int64_t> out;
+  for (std::size_t i = 0; i < count && i / 8 < packed.size(); ++i) {
+    out.push_back(mo::bit_at(packed, i) ? 1 : 0);
+  }
+  return out;
+}
+
+}  // namespace
 
 namespace modbus_io {
 
@@ -59,9 +85,11 @@ exchange transact(serial::port& port, std::uint8_t slave, const std::uint8_t* ad
 
 mo::report_id_format fc11_of(const cli::options& opts, mo::report_id_format fallback) {
   const auto v = opts.get("fc11");
-  if (!v) {
-    return fallback;
-  }
+  return v ? fc11_of(*v) : fallback;
+}
+
+mo::report_id_format fc11_of(const std::string& name) {
+  const std::string* v = &name;
   if (*v == "standard") {
     return mo::report_id_format::standard;
   }
@@ -85,7 +113,7 @@ void print_served(const mo::rtu_frame& request, const std::uint8_t* reply, std::
     r.add("answer", "none");
   }
   cli::record at;
-  at.add("time_us", static_cast<std::int64_t>(time_us));
+  at.add("time_us", time_us);
   cli::print(o, at);
   std::cout.flush();
 }
@@ -111,27 +139,7 @@ std::string sm_version_text(std::uint8_t upper, std::uint8_t lower) {
 }
 
 serial::settings line_settings(const cli::options& opts) {
-  serial::settings s;
-  s.baud = 9600;
-  if (const auto b = opts.get("baud")) {
-    const auto v = cli::parse_uint(*b);
-    if (!v || *v == 0 || *v > 4000000) {
-      throw cli::usage_error{"--baud needs a rate up to 4000000"};
-    }
-    s.baud = static_cast<unsigned>(*v);
-  }
-  const std::string parity = opts.get("parity").value_or("E");
-  if (parity != "E" && parity != "N" && parity != "O") {
-    throw cli::usage_error{"--parity is E, N or O"};
-  }
-  s.parity = parity[0];
-  if (const auto sb = opts.get("stop-bits")) {
-    if (*sb != "1" && *sb != "2") {
-      throw cli::usage_error{"--stop-bits is 1 or 2"};
-    }
-    s.stop_bits = *sb == "2" ? 2U : 1U;
-  }
-  return s;
+  return cli::serial_line::of(opts, cli::serial_line::kind::modbus).settings();
 }
 
 mo::parity parity_of(const serial::settings& s) {
@@ -140,11 +148,105 @@ mo::parity parity_of(const serial::settings& s) {
 }
 
 bool open_port(serial::port& port, const cli::options& opts) {
-  const auto device = opts.get("device");
-  if (!device) {
-    throw cli::usage_error{"--device PATH is required"};
+  return cli::serial_line::of(opts, cli::serial_line::kind::modbus).open(port);
+}
+
+cli::outcome describe_request(const mo::rtu_frame& frame) {
+  const mo::rtu_frame* adu = &frame;
+  const auto q = mo::decode_request(adu->pdu);
+  if (!q.is_complete()) {
+    return cli::failure_of(q, 2);
   }
-  return serial::open_reporting(port, *device, line_settings(opts));
+  cli::record f;
+  f.add("slave", adu->slave);
+  f.hex("function", q->function);
+  const std::uint8_t fc = q->function;
+  if (fc <= 0x06 || fc == 0x0F || fc == 0x10 || fc == 0x16 || fc == 0x17) {
+    f.hex("address", q->address, 4);
+  }
+  if (fc <= 0x04 || fc == 0x0F || fc == 0x10 || fc == 0x17) {
+    f.add("quantity", q->quantity);
+  }
+  if (fc == 0x05 || fc == 0x06) {
+    f.add("value", q->value);
+  }
+  if (fc == 0x16) {
+    f.hex("and_mask", q->and_mask, 4);
+    f.hex("or_mask", q->or_mask, 4);
+  }
+  if (fc == 0x17) {
+    f.hex("write_address", q->write_address, 4);
+    f.add("write_quantity", q->write_quantity);
+  }
+  if (fc == 0x0F) {
+    f.add("byte_count", q->data.size());
+    f.add("values", bits_of(q->data, q->quantity));
+  } else if (fc == 0x10 || fc == 0x17) {
+    f.add("byte_count", q->data.size());
+    f.add("values", registers_of(q->data));
+  } else if (!q->data.empty()) {
+    f.bytes("data", q->data.data(), q->data.size());
+  }
+  f.hex("crc", adu->crc, 4);
+  return cli::outcome::success(f);
+}
+
+cli::outcome describe_response(const mo::rtu_frame& frame, const mo::rtu_frame* request_adu,
+                               mo::report_id_format fc11) {
+  const mo::rtu_frame* adu = &frame;
+  const mb::byte_view pdu = adu->pdu;
+  std::optional<mo::request> request;
+  mb::decode_result<mo::response> r = mb::need_input{1};
+  if (request_adu != nullptr) {
+    if (request_adu->slave != adu->slave && request_adu->slave != 0) {
+      cli::record e;
+      e.add("expected_slave", request_adu->slave).add("received_slave", adu->slave);
+      return cli::outcome::failure(mb::to_string(mb::errc::modbus_mismatch), e);
+    }
+    const auto q = mo::decode_request(request_adu->pdu);
+    if (q.is_complete()) {
+      request = q.value();
+    }
+    r = mo::decode_response_for(request_adu->pdu, pdu, fc11);
+  } else {
+    r = mo::decode_response_unpaired(pdu, fc11);  // no request: what the response carries
+  }
+  if (!r.is_complete()) {
+    return cli::failure_of(r, 2);
+  }
+  cli::record f;
+  f.add("slave", adu->slave);
+  const std::uint8_t fc = r->function;
+  f.hex("function", fc);
+  if (r->exception) {
+    f.hex("exception", r->exception_code);
+    f.add("exception_name", modbus_io::exception_name(r->exception_code));
+  } else if (fc <= 0x04 || fc == 0x17) {
+    f.add("byte_count", r->byte_count);
+    if (fc <= 0x02) {
+      f.add("values", bits_of(r->data, request ? request->quantity : r->data.size() * 8U));
+    } else {
+      f.add("values", registers_of(r->data));
+    }
+  } else if (fc == 0x05 || fc == 0x06 || fc == 0x0F || fc == 0x10) {
+    f.hex("address", r->address, 4);
+    f.add(fc <= 0x06 ? "value" : "quantity", fc <= 0x06 ? r->value : r->quantity);
+  } else if (fc == 0x16) {
+    f.hex("address", r->address, 4);
+    f.hex("and_mask", r->and_mask, 4);
+    f.hex("or_mask", r->or_mask, 4);
+  } else if (fc == 0x11 && fc11 == mo::report_id_format::two_bytes_no_count) {
+    // the SM unit's layout: version upper, version lower (SM unit guideline §11)
+    f.add("version_upper", r->data[0]);
+    f.add("version_lower", r->data[1]);
+    f.add("version", modbus_io::sm_version_text(r->data[0], r->data[1]));
+  } else {
+    // FC11 (standard layout: byte count, then the device's bytes) and the other functions:
+    // the data part as hex
+    f.bytes("data", pdu.data() + 1, pdu.size() - 1);
+  }
+  f.hex("crc", adu->crc, 4);
+  return cli::outcome::success(f);
 }
 
 }  // namespace modbus_io

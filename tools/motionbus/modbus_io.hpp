@@ -29,6 +29,8 @@ exchange transact(serial::port& port, std::uint8_t slave, const std::uint8_t* ad
 /// The FC11 response layout from --fc11 (standard | sm), `fallback` when absent.
 motionbus::modbus::report_id_format fc11_of(const cli::options& opts,
                                             motionbus::modbus::report_id_format fallback);
+/// The FC11 response layout named "standard" or "sm" (a usage error otherwise).
+motionbus::modbus::report_id_format fc11_of(const std::string& name);
 const char* fc11_name(motionbus::modbus::report_id_format f);
 /// The name of a Modbus exception code (Modbus Application Protocol V1.1b3 §7), "unknown" for
 /// a code it does not define.
@@ -50,13 +52,15 @@ cli::outcome describe_response(const motionbus::modbus::rtu_frame& frame,
 void print_served(const motionbus::modbus::rtu_frame& request, const std::uint8_t* reply,
                   std::size_t size, std::uint32_t time_us);
 
-/// Line settings from --baud, --parity (E, N, O) and --stop-bits; defaults 9600 8E1.
+/// Line settings from --baud, --parity (E, N, O) and --stop-bits; defaults 9600 8E1
+/// (cli::serial_line, for the commands that take their options by name: capture, monitor).
 serial::settings line_settings(const cli::options& opts);
 
 /// The library's parity for the line settings (character and silence times: modbus/timing.hpp).
 motionbus::modbus::parity parity_of(const serial::settings& s);
 
-/// Opens --device with those settings; false (message on stderr) when it cannot.
+/// Opens --device with those settings (cli::serial_line::open); false (message on stderr) when
+/// it cannot.
 bool open_port(serial::port& port, const cli::options& opts);
 
 }  // namespace modbus_io

@@ -26,6 +26,7 @@
 #include "bus_monitor.hpp"
 #include "cli.hpp"
 #include "modbus_io.hpp"
+#include "options.hpp"
 #include "serial.hpp"
 
 namespace mo = motionbus::modbus;
@@ -102,17 +103,10 @@ int monitor_modbus(const cli::options& opts) {
 
 int monitor_tformat(const cli::options& opts) {
   const limits l = limits::of(opts);
-  serial::settings s;
-  s.baud = static_cast<unsigned>(cli::option_number(opts, "baud", 2500000, 100000000));
-  if (s.baud == 0) {
-    throw cli::usage_error{"--baud must be above 0"};
-  }
-  const auto device = opts.get("device");
-  if (!device) {
-    throw cli::usage_error{"--device PORT is required"};
-  }
+  const cli::serial_line line = cli::serial_line::of(opts, cli::serial_line::kind::tformat);
+  const serial::settings s = line.settings();
   serial::port port;
-  if (!serial::open_reporting(port, *device, s)) {
+  if (!line.open(port)) {
     return 1;
   }
   tformat_monitor m(bus_monitor::gap_of(opts, min_gap_us), 10U * 1000000U / s.baud, l.response_us);
@@ -129,7 +123,7 @@ protocol_entries monitor_entries() {
   std::vector<option_use> modbus = {
       "device", {"baud", "9600"}, {"parity", "E"}, {"stop-bits", "1"}, {"fc11", "standard"}};
   modbus.insert(modbus.end(), common.begin(), common.end());
-  std::vector<option_use> tformat = {"device", {"baud", "2500000"}};
+  std::vector<option_use> tformat = {"device", {"baud", std::to_string(cli::tformat_baud)}};
   tformat.insert(tformat.end(), common.begin(), common.end());
   protocol_entries e;
   e.commands.push_back({"monitor",

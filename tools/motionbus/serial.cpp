@@ -12,7 +12,6 @@
 
 #include <chrono>
 #include <csignal>
-#include <iostream>
 #include <thread>
 
 #ifndef _WIN32
@@ -189,19 +188,6 @@ void port::flush_input() {
   std::uint8_t sink[256];
   while (read_some(sink, sizeof sink, 0) > 0) {
   }
-}
-
-bool open_reporting(port& p, const std::string& path, const settings& s) {
-  std::string warning;
-  std::string error;
-  if (!p.open(path, s, warning, error)) {
-    std::cerr << "motionbus: " << error << '\n';
-    return false;
-  }
-  if (!warning.empty()) {
-    std::cerr << "motionbus: " << path << ": " << warning << '\n';
-  }
-  return true;
 }
 
 std::uint32_t now_us() {

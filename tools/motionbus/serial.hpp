@@ -42,9 +42,6 @@ class port {
   int pty_fd_ = -1;  // a pseudo-terminal, which libserialport does not open (POSIX only)
 };
 
-/// port::open that reports an error or warning on stderr ("motionbus: ..."); false on error.
-bool open_reporting(port& p, const std::string& path, const settings& s);
-
 /// Monotonic microseconds (wraps at 2^32).
 std::uint32_t now_us();
 /// Sleeps at least `us` microseconds.

@@ -22,6 +22,7 @@
 
 #include "cli.hpp"
 #include "modbus_io.hpp"
+#include "options.hpp"
 #include "serial.hpp"
 
 namespace mb = motionbus;
@@ -30,14 +31,9 @@ namespace sm = motionbus::devices::sm_unit;
 
 namespace {
 
-unsigned option(const cli::options& opts, const char* name, unsigned fallback, unsigned max) {
-  return static_cast<unsigned>(cli::option_number(opts, name, fallback, max));
-}
-
 // The SM unit's addresses are 1..16 (SM unit guideline §2, "Slave addresses 1-16"): another
 // is a usage error, before anything is sent.
-std::uint8_t slave_of(const cli::options& opts) {
-  const unsigned slave = option(opts, "slave", 1, 255);
+std::uint8_t slave_of(unsigned slave) {
   if (slave < sm::min_slave || slave > sm::max_slave) {
     throw cli::usage_error{"--slave " + std::to_string(slave) +
                            ": the SM unit's addresses are 1..16 (SM unit guideline, section 2)"};
@@ -47,8 +43,7 @@ std::uint8_t slave_of(const cli::options& opts) {
 
 // The password as the unit takes it (§10: 8 to 16 characters, each 0x21..0x7E); a usage error
 // otherwise.
-std::string password_of(const cli::options& opts) {
-  std::string password = opts.get("password").value_or("password");
+std::string password_of(std::string password) {
   const auto e = sm::check_password(
       mb::byte_view(reinterpret_cast<const std::uint8_t*>(password.data()), password.size()));
   if (e != mb::errc::ok) {
@@ -59,22 +54,32 @@ std::string password_of(const cli::options& opts) {
   return password;
 }
 
-int serve_sm_unit(const cli::options& opts) {
+// serve and read: the line, and the unit's address (1 by default).
+struct serve_options {
+  cli::serial_line line = cli::serial_line::modbus();
+  unsigned slave = 1;
+  void bind(CLI::App& app) {
+    line.bind(app);
+    cli::number(app, "slave", slave, 0, 255);
+  }
+};
+
+int serve_sm_unit(const serve_options& opts) {
   serial::port port;
-  const std::uint8_t slave = slave_of(opts);
-  if (!modbus_io::open_port(port, opts)) {
+  const std::uint8_t slave = slave_of(opts.slave);
+  if (!opts.line.open(port)) {
     return 1;
   }
   serial::install_stop_handler();
   sm::emulator unit;
   mo::rtu_framer rx({mo::framer_role::server, slave});
-  const serial::settings s = modbus_io::line_settings(opts);
+  const serial::settings s = opts.line.settings();
   const mo::parity p = modbus_io::parity_of(s);
   // t3.5, but at least the SM unit's own 5 ms silent interval; the OS adds its own delays
   const int silence_ms = static_cast<int>((mo::t35_us(s.baud, p, s.stop_bits) + 999U) / 1000U) + 4;
   const std::uint32_t start = serial::now_us();
   std::cerr << "motionbus: SM unit emulator, slave " << static_cast<unsigned>(slave) << ", on "
-            << *opts.get("device") << '\n';
+            << opts.line.device << '\n';
   std::uint8_t buffer[256];
   while (!serial::stop_requested()) {
     const long n = port.read_some(buffer, sizeof buffer, rx.pending() > 0 ? silence_ms : 100);
@@ -154,17 +159,29 @@ class paced_link {
   std::vector<std::uint8_t> pdu_;  // the last reply: the response's views point into it
 };
 
-int read_sm_unit(const cli::options& opts) {
+struct read_options {
+  serve_options unit;
+  std::string password = "password";
+  std::string read = "instantaneous";
+  std::string fc11 = "sm";
+  void bind(CLI::App& app) {
+    unit.bind(app);
+    cli::text(app, "password", password);
+    cli::text(app, "read", read);
+    cli::text(app, "fc11", fc11);
+  }
+};
+
+int read_sm_unit(const read_options& opts) {
   serial::port port;
-  const std::uint8_t slave = slave_of(opts);
-  const std::string what = opts.get("read").value_or("instantaneous");
+  const std::uint8_t slave = slave_of(opts.unit.slave);
+  const std::string& what = opts.read;
   if (what != "instantaneous" && what != "password") {
     throw cli::usage_error{"--read is instantaneous (data and version) or password"};
   }
-  const mo::report_id_format fc11 =
-      modbus_io::fc11_of(opts, mo::report_id_format::two_bytes_no_count);
-  const std::string password = password_of(opts);
-  if (!modbus_io::open_port(port, opts)) {
+  const mo::report_id_format fc11 = modbus_io::fc11_of(opts.fc11);
+  const std::string password = password_of(opts.password);
+  if (!opts.unit.line.open(port)) {
     return 1;
   }
   paced_link link(port, slave, fc11);
@@ -175,7 +192,7 @@ int read_sm_unit(const cli::options& opts) {
     return 1;
   };
   cli::record out;
-  out.add("slave", static_cast<std::int64_t>(slave));
+  out.add("slave", slave);
   if (what == "password") {
     // Reading the password needs the login state (§6 note *1): log in only if logged out,
     // and leave the unit as it was found.
@@ -283,30 +300,14 @@ int read_sm_unit(const cli::options& opts) {
 namespace cli {
 
 protocol_entries sm_unit_entries() {
-  const std::vector<option_use> line = {
-      "device", {"slave", "1"}, {"baud", "9600"}, {"parity", "E"}, {"stop-bits", "1"}};
-  std::vector<option_use> read_options = line;
-  read_options.insert(read_options.end(),
-                      {{"password", "password"}, {"read", "instantaneous"}, {"fc11", "sm"}});
   protocol_entries e;
-  e.commands.push_back(
-      {"serve",
-       "sm-unit",
-       "",
-       "the Tsubaki SM unit emulator: a Modbus RTU server on the port; prints each "
-       "request served with the answer's bytes",
-       &serve_sm_unit,
-       line,
-       {},
-       {}});
-  e.commands.push_back({"read",
-                        "sm-unit",
-                        "",
-                        "the SM unit's instantaneous data and version (or its password)",
-                        &read_sm_unit,
-                        read_options,
-                        {},
-                        {}});
+  e.typed.push_back(cli::typed("serve", "sm-unit", "",
+                               "the Tsubaki SM unit emulator: a Modbus RTU server on the port; "
+                               "prints each request served with the answer's bytes",
+                               &serve_sm_unit));
+  e.typed.push_back(cli::typed("read", "sm-unit", "",
+                               "the SM unit's instantaneous data and version (or its password)",
+                               &read_sm_unit));
   return e;
 }
 

@@ -16,6 +16,7 @@
 
 #include "capture.hpp"
 #include "cli.hpp"
+#include "options.hpp"
 #include "serial.hpp"
 #include "tformat_io.hpp"
 
@@ -47,26 +48,26 @@ const char* alarm_name(tf::almc_bit a) {
 cli::record response_record(const tf::response& r) {
   cli::record f;
   const tf::response_layout lay = r.layout();
-  f.add("data_id", static_cast<std::int64_t>(static_cast<std::uint8_t>(r.id)));
-  f.hex("cf", static_cast<std::int64_t>(r.cf));
+  f.add("data_id", r.id);
+  f.hex("cf", r.cf);
   if (lay.sf()) {
-    f.hex("sf", static_cast<std::int64_t>(r.sf));
+    f.hex("sf", r.sf);
     f.add("ea0", bit(r.ea0()))
         .add("ea1", bit(r.ea1()))
         .add("ca0", bit(r.ca0()))
         .add("ca1", bit(r.ca1()));
   }
   if (lay.abs()) {
-    f.add("abs", static_cast<std::int64_t>(r.abs));
+    f.add("abs", r.abs);
   }
   if (lay.abm()) {
-    f.add("abm", static_cast<std::int64_t>(r.abm));
+    f.add("abm", r.abm);
   }
   if (lay.enid()) {
-    f.hex("enid", static_cast<std::int64_t>(r.enid));
+    f.hex("enid", r.enid);
   }
   if (lay.almc()) {
-    f.hex("almc", static_cast<std::int64_t>(r.almc));
+    f.hex("almc", r.almc);
     // JSON: the symbols of the ALMC bits (the T-format specification, Table 3); text: their names
     std::vector<std::string> symbols;
     std::string text;
@@ -79,24 +80,24 @@ cli::record response_record(const tf::response& r) {
     f.add("alarms", symbols, text.empty() ? "none" : "\"" + text + "\"");
   }
   if (lay.eeprom()) {
-    f.hex("address", static_cast<std::int64_t>(r.address));
+    f.hex("address", r.address);
     f.add("busy", bit(r.busy));
-    f.hex("edf", static_cast<std::int64_t>(r.edf));
+    f.hex("edf", r.edf);
   }
-  f.hex("crc", static_cast<std::int64_t>(r.crc));
+  f.hex("crc", r.crc);
   return f;
 }
 
 cli::record request_record(const tf::request& q) {
   cli::record f;
-  f.add("data_id", static_cast<std::int64_t>(static_cast<std::uint8_t>(q.id)));
-  f.hex("cf", static_cast<std::int64_t>(q.cf));
+  f.add("data_id", q.id);
+  f.hex("cf", q.cf);
   if (q.id == tf::data_id::eeprom_write || q.id == tf::data_id::eeprom_read) {
-    f.hex("address", static_cast<std::int64_t>(q.address));
+    f.hex("address", q.address);
     if (q.id == tf::data_id::eeprom_write) {
-      f.hex("edf", static_cast<std::int64_t>(q.edf));
+      f.hex("edf", q.edf);
     }
-    f.hex("crc", static_cast<std::int64_t>(q.crc));
+    f.hex("crc", q.crc);
   }
   return f;
 }
@@ -105,41 +106,42 @@ cli::record request_record(const tf::request& q) {
 
 namespace {
 
-constexpr unsigned default_baud = 2500000;
+// The EEPROM's addresses: 0..127 (T-format, EEPROM read/write: ADF).
+constexpr std::uint64_t max_eeprom_address = 127;
 
-unsigned option_uint(const cli::options& opts, const std::string& name, unsigned fallback,
-                     unsigned max) {
-  return static_cast<unsigned>(cli::option_number(opts, name, fallback, max));
-}
+// --resolution: the single-turn bits, 1..24; absent, an ID3 response's ENID selects them.
+constexpr std::uint64_t max_resolution = 24;
 
-tf::decode_options options_for(const cli::options& opts) {
+tf::decode_options options_for(std::optional<std::uint8_t> resolution) {
   tf::decode_options o;
-  if (opts.get("resolution")) {
-    o.res.single_turn_bits = static_cast<std::uint8_t>(option_uint(opts, "resolution", 17, 24));
-    if (o.res.single_turn_bits == 0) {
-      throw cli::usage_error{"--resolution must be 1..24"};
-    }
+  if (resolution) {
+    o.res.single_turn_bits = *resolution;
   } else {
-    o.resolution_from_enid = true;  // an ID3 response's ENID selects the resolution
+    o.resolution_from_enid = true;
   }
   return o;
 }
 
-cli::outcome decode_response_line(const std::string& input, const cli::options& opts) {
+struct response_options {
+  std::optional<std::uint8_t> resolution;
+  void bind(CLI::App& app) { cli::number(app, "resolution", resolution, 1, max_resolution); }
+};
+
+cli::outcome decode_response_line(const std::string& input, const response_options& opts) {
   std::string error;
   const auto bytes = cli::parse_hex(input, error);
   if (!bytes) {
     return cli::outcome::failure(error);
   }
-  const auto r =
-      tf::decode_response_frame(mb::byte_view(bytes->data(), bytes->size()), options_for(opts));
+  const auto r = tf::decode_response_frame(mb::byte_view(bytes->data(), bytes->size()),
+                                           options_for(opts.resolution));
   if (!r.is_complete()) {
     return cli::failure_of(r, 2);
   }
   return cli::outcome::success(tformat_io::response_record(r.value()));
 }
 
-cli::outcome decode_request_line(const std::string& input, const cli::options&) {
+cli::outcome decode_request_line(const std::string& input, const cli::no_options&) {
   std::string error;
   const auto bytes = cli::parse_hex(input, error);
   if (!bytes) {
@@ -155,8 +157,7 @@ cli::outcome decode_request_line(const std::string& input, const cli::options&) 
   }
   if (q.consumed() != in.size()) {
     cli::record e;
-    e.add("expected_bytes", static_cast<std::int64_t>(q.consumed()))
-        .add("received_bytes", static_cast<std::int64_t>(in.size()));
+    e.add("expected_bytes", q.consumed()).add("received_bytes", in.size());
     return cli::outcome::failure(mb::to_string(mb::errc::tformat_length), e);
   }
   return cli::outcome::success(tformat_io::request_record(q.value()));
@@ -178,8 +179,8 @@ std::optional<std::uint8_t> parse_data_id(const std::string& text) {
   return static_cast<std::uint8_t>(*v);
 }
 
-std::uint8_t data_id_of(const cli::options& opts) {
-  const auto id = opts.get("id") ? parse_data_id(*opts.get("id")) : std::nullopt;
+std::uint8_t data_id_of(const std::optional<std::string>& text) {
+  const auto id = text ? parse_data_id(*text) : std::nullopt;
   if (!id) {
     throw cli::usage_error{"--id takes a Data ID: one hex digit 0..F"};
   }
@@ -197,45 +198,60 @@ std::size_t request_of(std::uint8_t id, unsigned address, unsigned data,
           std::to_string(address));
 }
 
-int encode_request(const cli::options& opts) {
-  const std::uint8_t id = data_id_of(opts);
-  const unsigned address = option_uint(opts, "address", 0, 0xFF);
-  const unsigned data = option_uint(opts, "data", 0, 0xFF);
+// --id, --address and --data: a request (encode, read). The library refuses an EEPROM address
+// past 127 (out_of_range); `max_address` lets encode show that refusal.
+struct request_options {
+  std::optional<std::string> id;
+  unsigned address = 0;
+  unsigned data = 0;
+  void bind(CLI::App& app, std::uint64_t max_address) {
+    cli::text(app, "id", id);
+    cli::number(app, "address", address, 0, max_address);
+    cli::number(app, "data", data, 0, 0xFF);
+  }
+  // The request frame (its size).
+  std::size_t build(std::uint8_t (&out)[tf::max_request_size]) const {
+    return request_of(data_id_of(id), address, data, out);
+  }
+};
+
+struct encode_options {
+  request_options request;
+  std::optional<std::string> vcd;
+  std::uint64_t baud = cli::tformat_baud;
+  void bind(CLI::App& app) {
+    request.bind(app, 0xFF);
+    cli::text(app, "vcd", vcd);
+    cli::number(app, "baud", baud, 1, 100000000);
+  }
+};
+
+int encode_request(const encode_options& opts) {
   std::uint8_t out[tf::max_request_size] = {};
-  const std::size_t n = request_of(id, address, data, out);
+  const std::size_t n = opts.request.build(out);
   cli::record f;
   f.bytes("hex", out, n);
-  if (const auto vcd = opts.get("vcd")) {  // the UART line, 8N1 at --baud, from 1 us
+  if (opts.vcd) {  // the UART line, 8N1 at --baud, from 1 us
     capture::channel line;
     line.name = "line";
-    capture::uart_levels(std::vector<std::uint8_t>(out, out + n),
-                         static_cast<double>(cli::option_number(opts, "baud", 2500000, 100000000)),
+    capture::uart_levels(std::vector<std::uint8_t>(out, out + n), static_cast<double>(opts.baud),
                          'N', 1, 1e-6, line);
-    capture::write_vcd_file(*vcd, {line});
-    f.add("vcd", *vcd);
+    capture::write_vcd_file(*opts.vcd, {line});
+    f.add("vcd", *opts.vcd);
   }
   return cli::finish(cli::outcome::success(f));
 }
 
-serial::settings line_settings(const cli::options& opts) {
-  serial::settings s;
-  s.baud = option_uint(opts, "baud", default_baud, 100000000);
-  return s;
-}
-
-bool open_device(serial::port& port, const cli::options& opts) {
-  const auto device = opts.get("device");
-  if (!device) {
-    throw cli::usage_error{"--device PATH is required"};
-  }
-  return serial::open_reporting(port, *device, line_settings(opts));
-}
+struct serve_options {
+  cli::serial_line line = cli::serial_line::tformat();
+  void bind(CLI::App& app) { line.bind(app); }
+};
 
 // serve tformat-encoder: answers each request as the TS5700N8500 emulator does. A frame ends when
 // its length (from the CF) is reached, or when the line is idle for 1 ms.
-int serve_encoder(const cli::options& opts) {
+int serve_encoder(const serve_options& opts) {
   serial::port port;
-  if (!open_device(port, opts)) {
+  if (!opts.line.open(port)) {
     return 1;
   }
   serial::install_stop_handler();
@@ -243,7 +259,7 @@ int serve_encoder(const cli::options& opts) {
   const std::uint32_t start = serial::now_us();
   std::uint8_t frame[tf::max_request_size] = {};
   std::size_t size = 0;
-  std::cerr << "motionbus: T-format encoder emulator on " << *opts.get("device") << '\n';
+  std::cerr << "motionbus: T-format encoder emulator on " << opts.line.device << '\n';
   while (!serial::stop_requested()) {
     std::uint8_t byte = 0;
     const long n = port.read_some(&byte, 1, size == 0 ? 100 : 1);
@@ -282,7 +298,7 @@ int serve_encoder(const cli::options& opts) {
         fields.add("answer", "none");
       }
       cli::record at;
-      at.add("time_us", static_cast<std::int64_t>(now - start));
+      at.add("time_us", now - start);
       cli::print(o, at);
       std::cout.flush();
       size = 0;
@@ -292,20 +308,33 @@ int serve_encoder(const cli::options& opts) {
 }
 
 // read tformat: one transaction, printed like `decode tformat response`.
-int read_encoder(const cli::options& opts) {
-  const std::uint8_t id = data_id_of(opts);
+struct read_options {
+  cli::serial_line line = cli::serial_line::tformat();
+  request_options request;
+  std::optional<std::uint8_t> resolution;
+  int timeout_ms = 200;
+  bool echo = false;
+  void bind(CLI::App& app) {
+    line.bind(app);
+    request.bind(app, max_eeprom_address);
+    cli::number(app, "resolution", resolution, 1, max_resolution);
+    cli::number(app, "timeout-ms", timeout_ms, 0, 60000);
+    cli::flag(app, "echo", echo);
+  }
+};
+
+int read_encoder(const read_options& opts) {
   std::uint8_t request[tf::max_request_size] = {};
-  const std::size_t n = request_of(id, option_uint(opts, "address", 0, 127),
-                                   option_uint(opts, "data", 0, 255), request);
-  const int timeout_ms = static_cast<int>(option_uint(opts, "timeout-ms", 200, 60000));
+  const std::size_t n = opts.request.build(request);
+  const int timeout_ms = opts.timeout_ms;
   serial::port port;
-  if (!open_device(port, opts)) {
+  if (!opts.line.open(port)) {
     return 1;
   }
   port.flush_input();
   tf::receiver_options ro;
-  ro.echo_mode = opts.has("echo") ? tf::echo::expected : tf::echo::none;
-  ro.decode = options_for(opts);
+  ro.echo_mode = opts.echo ? tf::echo::expected : tf::echo::none;
+  ro.decode = options_for(opts.resolution);
   tf::receiver rx(ro);
   if (!port.write_all(request, n)) {
     std::cerr << "motionbus: write error\n";
@@ -348,52 +377,23 @@ namespace cli {
 
 protocol_entries tformat_entries() {
   protocol_entries e;
-  e.decoders.push_back({"decode",
-                        "tformat",
-                        "request",
-                        "a request as the encoder receives it (CF, and ADF/EDF/CRC for EEPROM)",
-                        &decode_request_line,
-                        {},
-                        {}});
-  e.decoders.push_back({"decode",
-                        "tformat",
-                        "response",
-                        "a response as the master receives it: position, status, alarms, CRC",
-                        &decode_response_line,
-                        {"resolution"},
-                        {}});
-  e.commands.push_back({"encode",
-                        "tformat",
-                        "request",
-                        "a request frame for a Data ID (EEPROM: with --address and --data)",
-                        &encode_request,
-                        {"id", {"address", "0"}, {"data", "0"}, "vcd", {"baud", "2500000"}},
-                        {},
-                        {}});
-  e.commands.push_back(
-      {"serve",
-       "tformat-encoder",
-       "",
-       "the TS5700N8500 encoder emulator: answers every request on the port and prints it "
-       "with the answer's bytes",
-       &serve_encoder,
-       {"device", {"baud", "2500000"}},
-       {},
-       {}});
-  e.commands.push_back({"read",
-                        "tformat",
-                        "",
-                        "one request to an encoder and its response, decoded",
-                        &read_encoder,
-                        {"device",
-                         {"baud", "2500000"},
-                         "id",
-                         {"address", "0"},
-                         {"data", "0"},
-                         "resolution",
-                         {"timeout-ms", "200"}},
-                        {"echo"},
-                        {}});
+  e.decoders.push_back(
+      lines("decode", "tformat", "request",
+            "a request as the encoder receives it (CF, and ADF/EDF/CRC for EEPROM)",
+            &decode_request_line));
+  e.decoders.push_back(lines("decode", "tformat", "response",
+                             "a response as the master receives it: position, status, alarms, CRC",
+                             &decode_response_line));
+  e.typed.push_back(cli::typed("encode", "tformat", "request",
+                               "a request frame for a Data ID (EEPROM: with --address and --data)",
+                               &encode_request));
+  e.typed.push_back(cli::typed(
+      "serve", "tformat-encoder", "",
+      "the TS5700N8500 encoder emulator: answers every request on the port and prints it with "
+      "the answer's bytes",
+      &serve_encoder));
+  e.typed.push_back(cli::typed(
+      "read", "tformat", "", "one request to an encoder and its response, decoded", &read_encoder));
   return e;
 }
 

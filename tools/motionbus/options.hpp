@@ -1,0 +1,134 @@
+// Typed options for the CLI's commands: a command's options are a struct whose fields CLI11
+// fills, each bound once with its range (the field's initial value is the default, the help
+// text is the catalogue's, commands.cpp), and the serial-line group that read, serve and
+// monitor share, with the one way the CLI opens a port.
+#ifndef MOTIONBUS_TOOLS_OPTIONS_HPP
+#define MOTIONBUS_TOOLS_OPTIONS_HPP
+
+#include <CLI/CLI.hpp>
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "cli.hpp"
+#include "serial.hpp"
+
+namespace cli {
+
+/// T-format's line rate: 2.5 Mbps (Tamagawa T-format, "communication specification").
+constexpr unsigned tformat_baud = 2500000;
+/// The Modbus RTU default line: 9600 bit/s, even parity (Modbus over Serial Line V1.02 §2.5.1).
+constexpr unsigned modbus_baud = 9600;
+
+/// An option of the catalogue (commands.cpp): what its value looks like, what it means, the
+/// values allowed (empty: any).
+struct option_info {
+  const char* type;
+  const char* help;
+  std::vector<std::string> allowed;
+};
+/// The catalogue's entry for `--name` (a logic error when there is none).
+const option_info& option_help(const std::string& name);
+
+/// The number `text` as --name takes it, from `min` to `max`, else a usage error.
+std::uint64_t number_in_range(const std::string& name, const std::string& text, std::uint64_t min,
+                              std::uint64_t max);
+
+/// Binds `--name` to `field`: a number, decimal or 0x.. (parse_uint), from `min` to `max`, else
+/// a usage error. The field's value before parsing is the default, shown in --help.
+CLI::Option* number(CLI::App& app, const std::string& name, std::uint64_t& field, std::uint64_t min,
+                    std::uint64_t max);
+template <class T>
+CLI::Option* number(CLI::App& app, const std::string& name, T& field, std::uint64_t min,
+                    std::uint64_t max) {
+  CLI::Option* o = app.add_option_function<std::string>(
+      "--" + name,
+      [&field, name, min, max](const std::string& text) {
+        field = static_cast<T>(number_in_range(name, text, min, max));
+      },
+      option_help(name).help);
+  o->type_name(option_help(name).type)->default_str(std::to_string(field));
+  return o;
+}
+/// A number with no default: empty when the option is absent.
+template <class T>
+CLI::Option* number(CLI::App& app, const std::string& name, std::optional<T>& field,
+                    std::uint64_t min, std::uint64_t max) {
+  CLI::Option* o = app.add_option_function<std::string>(
+      "--" + name,
+      [&field, name, min, max](const std::string& text) {
+        field = static_cast<T>(number_in_range(name, text, min, max));
+      },
+      option_help(name).help);
+  o->type_name(option_help(name).type);
+  return o;
+}
+/// Binds `--name` to a text field (checked against the catalogue's allowed values, if any);
+/// a non-empty initial value is the default shown in --help.
+CLI::Option* text(CLI::App& app, const std::string& name, std::string& field);
+CLI::Option* text(CLI::App& app, const std::string& name, std::optional<std::string>& field);
+/// Binds the switch `--name`.
+CLI::Option* flag(CLI::App& app, const std::string& name, bool& field);
+
+/// The serial line of read, serve and monitor: --device (required), --baud, and for Modbus
+/// --parity and --stop-bits (8 data bits always).
+struct serial_line {
+  enum class kind : std::uint8_t { tformat, modbus };
+  std::string device;
+  std::uint64_t baud = tformat_baud;
+  std::string parity = "N";
+  unsigned stop_bits = 1;
+  kind line_kind = kind::tformat;
+
+  /// T-format: 2.5 Mbaud 8N1, --device and --baud.
+  static serial_line tformat();
+  /// Modbus: 9600 8E1, --device, --baud, --parity, --stop-bits.
+  static serial_line modbus();
+  /// The same group read from a command that still takes its options by name (monitor).
+  static serial_line of(const options& opts, kind k);
+
+  void bind(CLI::App& app);
+  /// --baud, --parity and --stop-bits alone (encode --vcd draws the line without opening it).
+  void bind_settings(CLI::App& app);
+  serial::settings settings() const;
+  /// Opens the port (an error or warning on stderr, "motionbus: ..."); false when it cannot.
+  bool open(serial::port& port) const;
+};
+
+/// A typed_command for `run`, whose options are `Options` (with `void bind(CLI::App&)`).
+template <class Options>
+typed_command typed(const char* group, const char* protocol, const char* kind, const char* help,
+                    int (*run)(const Options&)) {
+  return {group, protocol, kind, help, [run](CLI::App& app) {
+            auto o = std::make_shared<Options>();
+            o->bind(app);
+            return std::function<int()>([o, run] { return run(*o); });
+          }};
+}
+
+/// Options of a decoder that takes none.
+struct no_options {
+  void bind(CLI::App&) {}
+};
+
+/// A decoder whose options are `Options` (with `void bind(CLI::App&)`): `handle` runs on each
+/// input with them.
+template <class Options>
+decoder lines(const char* group, const char* protocol, const char* kind, const char* help,
+              outcome (*handle)(const std::string&, const Options&)) {
+  decoder d{group, protocol, kind, help, {}};
+  d.bind = [handle](CLI::App& app) {
+    auto o = std::make_shared<Options>();
+    o->bind(app);
+    return line_function([o, handle](const std::string& input) { return handle(input, *o); });
+  };
+  return d;
+}
+
+}  // namespace cli
+
+#endif
