@@ -109,6 +109,20 @@ MOTIONBUS_INLINE constexpr std::size_t checked_chain_bits(span<const slave_layou
 
 namespace detail {
 
+// decode_chain's starting result, overwritten by every exit. It is the caller's object (the
+// return slot), so its starting stores stay: for one slave the default (all zeros, "1 more
+// bit needed"), stored from one zero register; for a chain from a run-time value (a constant
+// one lets GCC clear the whole object first).
+template <std::size_t N>
+MOTIONBUS_INLINE constexpr frame_result<N> initial_frame_result(std::size_t chain_size) noexcept {
+  if constexpr (N == 1U) {
+    static_cast<void>(chain_size);
+    return frame_result<N>{};
+  } else {
+    return need_input{chain_size};
+  }
+}
+
 // decode_frame into a chain_frame<N> (chain.size() <= N).
 // Forced inline although long, the one exception to the policy (docs/design.md): a layout
 // known at the call site folds its checks, field offsets and CRC choice away, 81 instead of
@@ -120,9 +134,8 @@ MOTIONBUS_INLINE constexpr frame_result<N> decode_chain(span<const Word> words,
                                                         const decode_options& opt,
                                                         bit_order order) noexcept {
   // Every exit settles `result` through `o` and returns it: the frame is filled in place
-  // (no copy of up to max_chain slaves). Initialised from a run-time value: a constant one
-  // lets GCC clear the whole object first.
-  frame_result<N> result = need_input{chain.size()};
+  // (no copy of up to max_chain slaves).
+  frame_result<N> result = detail::initial_frame_result<N>(chain.size());
   typename frame_result<N>::outcome o(result);
   if (chain.empty() || chain.size() > N) {
     o.fail(errc::invalid_argument, 0);
