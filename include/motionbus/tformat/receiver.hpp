@@ -35,7 +35,7 @@
 //     and its index stored, nothing else written). An ID3 response: 26.2 a byte, decode and
 //     check included, 143 at its last byte; an ID0 response (the short layouts' path): 52.5 a
 //     byte, 230 at its last byte; the last byte of a response with a bad CRC (the bytes held
-//     rescanned): 623, the worst measured. 168 bytes of stack at worst (the last byte of an
+//     rescanned): 599, the worst measured. 168 bytes of stack at worst (the last byte of an
 //     ID0 response; measured with the receiver alone in its translation unit, as in a receive
 //     interrupt's file, where the compiler inlines more than beside other code).
 //   Interrupts: put() or feed() may run in the UART receive interrupt, idle() in the
