@@ -64,7 +64,7 @@ echo
 
 echo "== BiSS-C: master <-> AMO ABSYS emulator over an in-memory bit stream (examples/biss_demo.cpp)"
 "$build/examples/motionbus_example_biss_demo"
-frame="$("$cli" encode biss csd --position 123456 --ack 3 --cds 1 --idle 2 --json |
+frame="$("$cli" encode biss csd --position 123456 --ack 3 --cds 1 --line-delay 2 --json |
   sed -E 's/.*"bits":"([01]*)".*/\1/')"
 echo "  a frame as a logic analyzer samples it, decoded by the CLI:"
 echo "    \$ motionbus decode biss csd $frame"

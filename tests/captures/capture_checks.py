@@ -97,7 +97,7 @@ def tb_vcd(cli, source, work):
     text = subprocess.run([cli, "decode", "biss", "capture", vcd, "--clock", "ma", "--data",
                            "slo"], stdout=subprocess.PIPE, text=True, timeout=60).stdout
     check("VCD (Icarus): the BiSS-C frames in text", text.splitlines()[:1] == [
-        "time_us=2 clocks=45  ok  position=123456 ne=1 nw=1 cds=0 crc=0x3E start=3 ack_bits=3"],
+        "time_us=2 clocks=45  ok  position=123456 ne=1 nw=1 cds=0 crc=0x3E line_delay=0 start=3 ack_bits=3"],
         text)
     text = subprocess.run([cli, "decode", "tformat", "capture", vcd, "--line", "tf_line"],
                           stdout=subprocess.PIPE, text=True, timeout=60).stdout

@@ -47,19 +47,19 @@ TEST_CASE("decode biss csd: bit strings and hex words, every field") {
   int status = -1;
   CHECK_JSON(testcli::run("decode biss csd " + f, &status),
              "{\"ok\":true,\"position\":123456,\"ne\":1,\"nw\":0,\"cds\":1,\"crc\":" +
-                 crc_field(f) + ",\"start\":5,\"ack_bits\":3}\n");
+                 crc_field(f) + ",\"line_delay\":2,\"start\":5,\"ack_bits\":3}\n");
   CHECK(status == 0);
   CHECK_JSON(
       testcli::run("decode biss csd --hex '" + hex_of(f) + "' --bits " + std::to_string(f.size())),
       "{\"ok\":true,\"position\":123456,\"ne\":1,\"nw\":0,\"cds\":1,\"crc\":" + crc_field(f) +
-          ",\"start\":5,\"ack_bits\":3}\n");
+          ",\"line_delay\":2,\"start\":5,\"ack_bits\":3}\n");
   // trailing samples after the CRC (hex padding, timeout) do not matter
   CHECK_FIELDS(testcli::run("decode biss csd --hex '" + hex_of(f + "0000000") + "'"),
                "{\"position\":123456}");
   const std::string g = absys_frame(0, 1, false, 0xFFFFFFFFU, false, true);
   CHECK_JSON(testcli::run("decode biss csd " + g),
              "{\"ok\":true,\"position\":4294967295,\"ne\":0,\"nw\":1,\"cds\":0,\"crc\":" +
-                 crc_field(g) + ",\"start\":1,\"ack_bits\":1}\n");
+                 crc_field(g) + ",\"line_delay\":0,\"start\":1,\"ack_bits\":1}\n");
 }
 
 TEST_CASE("decode biss csd: errors") {
@@ -90,7 +90,7 @@ TEST_CASE("decode biss csd: other layouts through --data-bits and the CRC option
       testcli::run("decode biss csd " + f +
                    " --data-bits 18 --crc-bits 5 --crc-poly 25 --crc-start 3 --no-crc-invert"),
       "{\"ok\":true,\"position\":175053,\"ne\":1,\"nw\":0,\"cds\":0,\"crc\":" +
-          std::to_string(crc) + ",\"start\":4,\"ack_bits\":2}\n");
+          std::to_string(crc) + ",\"line_delay\":2,\"start\":4,\"ack_bits\":2}\n");
   // the polynomial without its x^5 term is the same polynomial
   CHECK_FIELDS(
       testcli::run("decode biss csd " + f +
@@ -105,7 +105,7 @@ TEST_CASE("decode and encode biss csd in text") {
   CHECK(testcli::run_as_is("encode biss csd --position 123456 --ack 3 --cds 1") ==
         "ok  bits=000110000000000000001111000100100000011111110\n");
   CHECK(testcli::run_as_is("decode biss csd 000110000000000000001111000100100000011111110") ==
-        "ok  position=123456 ne=1 nw=1 cds=1 crc=0x3E start=3 ack_bits=3\n");
+        "ok  position=123456 ne=1 nw=1 cds=1 crc=0x3E line_delay=0 start=3 ack_bits=3\n");
   CHECK(testcli::run_as_is("decode biss csd 000110000000000000001111000100100000011111111") ==
         "FAIL crc_mismatch  expected=0x3E received=0x3F\n");
 }
@@ -122,8 +122,9 @@ TEST_CASE("encode biss csd: the frame of the notes, and a round trip") {
   CHECK(status == 2);
   CHECK(testcli::run_stderr("encode biss csd --position 4294967296").find("out_of_range") !=
         std::string::npos);
-  const std::string out = testcli::run("encode biss csd --position 99 --ne 0 --ack 5 --idle 2");
+  const std::string out =
+      testcli::run("encode biss csd --position 99 --ne 0 --ack 5 --line-delay 2");
   const std::string bits = out.substr(out.find("bits\":\"") + 7, 2 + 5 + 2 + 40);
   CHECK_FIELDS(testcli::run("decode biss csd " + bits),
-               "{\"position\":99,\"ne\":0,\"nw\":1,\"cds\":0}");
+               "{\"position\":99,\"ne\":0,\"nw\":1,\"cds\":0,\"line_delay\":2}");
 }

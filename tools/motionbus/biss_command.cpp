@@ -1,8 +1,8 @@
 // BiSS-C in the CLI:
 //   decode biss csd <bits> [layout options]                the 0/1 samples on SL from the first
 //   clock decode biss csd --hex <words> [--bits N] [layout options]  the same as hex words, MSB
-//   first encode biss csd --position N [--ne B] [--nw B] [--ack N] [--cds B] [--idle N] [layout
-//   options]
+//   first encode biss csd --position N [--ne B] [--nw B] [--ack N] [--cds B] [--line-delay N]
+//   [layout options]
 // Layout options (default: AMO ABSYS): --data-bits N (32), --crc-bits N (6), --crc-poly HEX
 // (BiSS notation with the x^N term, 43; the form without it is accepted too), --crc-start N (0),
 // --no-crc-invert.
@@ -141,6 +141,7 @@ cli::outcome describe_samples(const std::vector<std::uint8_t>& samples,
   f.add("nw", d.nw ? 1 : 0);
   f.add("cds", r->cds ? 1 : 0);
   f.hex("crc", d.crc);
+  f.add("line_delay", r->line_delay);
   f.add("start", r->start);
   f.add("ack_bits", r->ack_bits());
   return cli::outcome::success(f);
@@ -218,7 +219,7 @@ struct encode_options {
   unsigned nw = 1;
   std::size_t ack = 1;
   unsigned cds = 0;
-  std::size_t idle = 0;
+  std::size_t line_delay = 0;
   std::optional<std::string> vcd;
   std::uint64_t baud = 1000000;
   void bind(CLI::App& app) {
@@ -228,7 +229,7 @@ struct encode_options {
     cli::number(app, "nw", nw, 0, 1);
     cli::number(app, "ack", ack, 1, 4096);
     cli::number(app, "cds", cds, 0, 1);
-    cli::number(app, "idle", idle, 0, 4096);
+    cli::number(app, "line-delay", line_delay, 0, 4096);
     cli::text(app, "vcd", vcd);
     cli::number(app, "baud", baud, 1, 100000000);
   }
@@ -245,7 +246,7 @@ int encode_csd(const encode_options& opts) {
   v.nw = opts.nw != 0U;
   bs::line_options line;
   line.ack_bits = opts.ack;
-  line.line_delay = opts.idle;
+  line.line_delay = opts.line_delay;
   line.cds = opts.cds != 0U;
   std::vector<std::uint8_t> words(
       (bs::encoded_bits(mb::span<const bs::slave_layout>(&layout, 1), line) + 7U) / 8U + 1U, 0);

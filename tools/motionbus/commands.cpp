@@ -101,7 +101,7 @@ const std::map<std::string, option_info>& catalogue() {
       {"nw", {"0|1", "BiSS-C nW (warning) bit, active low: 1 = no warning", {}}},
       {"ack", {"N", "BiSS-C Ack bits before the Start bit", {}}},
       {"cds", {"0|1", "BiSS-C CDS bit", {}}},
-      {"idle", {"N", "idle (high) bits before the frame", {}}},
+      {"line-delay", {"N", "the line delay: idle (high) bits before the Ack", {}}},
       // Recordings and waveforms
       {"line", {"CHANNEL", "the channel holding the UART line (as the recording names it)", {}}},
       {"clock", {"CHANNEL", "the channel holding BiSS-C MA (as the recording names it)", {}}},
