@@ -1,0 +1,394 @@
+// Modbus client PDUs: requests encoded to the worked examples of the Modbus Application
+// Protocol V1.1b3 §6, responses decoded and checked against their request.
+#include "motionbus/modbus/pdu_client.hpp"
+
+#include <doctest/doctest.h>
+
+#include <cstdint>
+#include <vector>
+
+#include "../support/bytes.hpp"
+#include "../support/modbus_examples.hpp"
+
+using namespace motionbus;
+using namespace motionbus::modbus;
+
+using namespace testutil;
+
+TEST_CASE("client: requests encode to the spec's example bytes") {
+  std::uint8_t out[32] = {};
+  CHECK(output(encode_read(function_code::read_coils, 19, 19, out), out) ==
+        spec_examples()[0].request);
+  CHECK(output(encode_read(function_code::read_discrete_inputs, 196, 22, out), out) ==
+        spec_examples()[1].request);
+  CHECK(output(encode_read(function_code::read_holding_registers, 107, 3, out), out) ==
+        spec_examples()[2].request);
+  CHECK(output(encode_read(function_code::read_input_registers, 8, 1, out), out) ==
+        spec_examples()[3].request);
+  CHECK(output(encode_write_single_coil(172, true, out), out) == spec_examples()[4].request);
+  CHECK(output(encode_write_single_register(1, 3, out), out) == spec_examples()[5].request);
+  const std::uint8_t coils[] = {0xCD, 0x01};
+  CHECK(output(encode_write_multiple_coils(19, 10, coils, out), out) == spec_examples()[6].request);
+  const std::uint16_t regs[] = {0x000A, 0x0102};
+  CHECK(output(encode_write_multiple_registers(1, regs, out), out) == spec_examples()[7].request);
+  CHECK(output(encode_mask_write_register(4, 0x00F2, 0x0025, out), out) ==
+        spec_examples()[8].request);
+  const std::uint16_t w[] = {0x00FF, 0x00FF, 0x00FF};
+  CHECK(output(encode_read_write_multiple_registers(3, 6, 14, w, out), out) ==
+        spec_examples()[9].request);
+  const std::uint8_t none[1] = {};
+  CHECK(output(encode_raw(0x11, byte_view(none, 0), out), out) == bytes{0x11});
+}
+
+TEST_CASE("client: every spec example response decodes against its request") {
+  for (const auto& ex : spec_examples()) {
+    CAPTURE(ex.name);
+    const auto r = decode_response_for(view(ex.request), view(ex.response));
+    REQUIRE(r.is_complete());
+    CHECK(!r->exception);
+    CHECK(r->function == ex.request[0]);
+  }
+  const auto examples = spec_examples();  // decoded views refer to these bytes: keep them alive
+  const auto fc03 = decode_response_for(view(examples[2].request), view(examples[2].response));
+  CHECK(register_at(fc03->data, 0) == 0x022B);
+  CHECK(register_at(fc03->data, 2) == 0x0064);
+  const auto fc01 = decode_response_for(view(examples[0].request), view(examples[0].response));
+  CHECK(fc01->data.size() == 3);
+  CHECK(bit_at(fc01->data, 0));   // coil 20 on (0xCD bit 0)
+  CHECK(!bit_at(fc01->data, 1));  // coil 21 off
+}
+
+TEST_CASE("client: exceptions pass through, mismatches and counts are errors") {
+  const bytes req = spec_examples()[2].request;  // FC03 read 3 registers
+  auto r = decode_response_for(view(req), view({0x83, 0x02}));
+  REQUIRE(r.is_complete());
+  CHECK(r->exception);
+  CHECK(r->exception_code == 0x02);
+  r = decode_response_for(view(req), view({0x83, 0x42}));  // unknown code: unchanged
+  CHECK(r->exception_code == 0x42);
+  CHECK(decode_response_for(view(req), view({0x83})).error() == errc::truncated);
+  CHECK(decode_response_for(view(req), view({0x84, 0x02})).error() == errc::modbus_mismatch);
+  CHECK(decode_response_for(view(req), view({0x04, 0x06, 0, 0, 0, 0, 0, 0})).error() ==
+        errc::modbus_mismatch);
+  CHECK(decode_response_for(view(req), view({0x03, 0x04, 0, 0, 0, 0})).error() ==
+        errc::modbus_byte_count);
+  CHECK(decode_response_for(view(req), view({0x03, 0x06, 0, 0, 0, 0})).error() == errc::truncated);
+  CHECK(decode_response_for(view(req), view({0x03, 0x06, 0, 0, 0, 0, 0, 0, 0})).error() ==
+        errc::modbus_byte_count);
+  // FC01 for 19 coils: 3 bytes, the top 5 bits of the last must be 0
+  const bytes fc01 = spec_examples()[0].request;
+  CHECK(decode_response_for(view(fc01), view({0x01, 0x03, 0xCD, 0x6B, 0x0D})).error() ==
+        errc::reserved_bits);
+  // echoes
+  const bytes fc06 = spec_examples()[5].request;
+  CHECK(decode_response_for(view(fc06), view({0x06, 0x00, 0x01, 0x00, 0x04})).error() ==
+        errc::modbus_mismatch);
+  const bytes fc10 = spec_examples()[7].request;
+  CHECK(decode_response_for(view(fc10), view({0x10, 0x00, 0x01, 0x00, 0x03})).error() ==
+        errc::modbus_mismatch);
+  // FC11: standard (byte count) and the SM unit's two bytes without a count
+  const bytes fc11 = {0x11};
+  const bytes standard = {0x11, 0x03, 0xAA, 0xBB, 0xFF};
+  r = decode_response_for(view(fc11), view(standard));
+  REQUIRE(r.is_complete());
+  CHECK(r->data.size() == 3);
+  CHECK(decode_response_for(view(fc11), view({0x11, 0x05, 0xAA})).error() ==
+        errc::modbus_byte_count);
+  const bytes sm_unit = {0x11, 0x01, 0x00};  // Ver.1.0.0
+  r = decode_response_for(view(fc11), view(sm_unit), report_id_format::two_bytes_no_count);
+  REQUIRE(r.is_complete());
+  CHECK(r->data[0] == 0x01);
+  CHECK(r->data[1] == 0x00);
+  CHECK(decode_response_for(view(fc11), view({0x11, 0x01}), report_id_format::two_bytes_no_count)
+            .error() == errc::truncated);
+  // an invalid request cannot be matched
+  CHECK(decode_response_for(view({0x03, 0x00}), view({0x03, 0x02, 0, 0})).error() ==
+        errc::invalid_argument);
+}
+
+TEST_CASE("client, one function: read and write decoders agree with decode_response") {
+  // decode_read_response / decode_write_response take what the client asked as values (no
+  // request bytes to decode); on every spec example, and on each damaged form of it, they
+  // must give what decode_response gives from the request bytes.
+  int compared = 0;
+  for (const auto& ex : spec_examples()) {
+    const auto sent = decode_request(view(ex.request));
+    REQUIRE(sent.is_complete());
+    const request& q = sent.value();
+    const std::uint8_t f = q.function;
+    const bool read = f <= 0x04U || f == 0x17U;
+    const bool write = f == 0x05U || f == 0x06U || f == 0x0FU || f == 0x10U;
+    if (!read && !write) {
+      continue;
+    }
+    std::vector<bytes> answers = {ex.response,
+                                  {static_cast<std::uint8_t>(f | 0x80U), 0x04},
+                                  {static_cast<std::uint8_t>(f | 0x80U)},
+                                  {}};
+    for (std::size_t cut = 1; cut < ex.response.size(); ++cut) {
+      answers.emplace_back(ex.response.begin(), ex.response.begin() + static_cast<long>(cut));
+    }
+    for (std::size_t at = 0; at < ex.response.size(); ++at) {
+      for (unsigned bit = 0; bit < 8U; ++bit) {
+        bytes flipped = ex.response;
+        flipped[at] = static_cast<std::uint8_t>(flipped[at] ^ (1U << bit));
+        answers.push_back(flipped);
+      }
+    }
+    bytes longer = ex.response;
+    longer.push_back(0);
+    answers.push_back(longer);
+    for (const bytes& a : answers) {
+      CAPTURE(ex.name);
+      CAPTURE(a.size());
+      const auto generic = decode_response_for(view(ex.request), view(a));
+      const auto one =
+          read ? decode_read_response(view(a), f, q.quantity)
+               : decode_write_response(view(a), f, q.address, f <= 0x06U ? q.value : q.quantity);
+      REQUIRE(one.status() == generic.status());
+      CHECK(one.error() == generic.error());
+      CHECK(one.consumed() == generic.consumed());
+      CHECK(one.expected() == generic.expected());
+      CHECK(one.received() == generic.received());
+      CHECK(one->exception == generic->exception);
+      CHECK(one->exception_code == generic->exception_code);
+      CHECK(one->address == generic->address);
+      CHECK(one->quantity == generic->quantity);
+      CHECK(one->value == generic->value);
+      CHECK(one->data.size() == generic->data.size());
+      ++compared;
+    }
+  }
+  CHECK(compared > 500);
+  // The values themselves, and what only these decoders can be asked.
+  const bytes fc03 = spec_examples()[2].response;
+  const auto r = decode_read_response(view(fc03), function_code::read_holding_registers, 3);
+  REQUIRE(r.is_complete());
+  CHECK(register_at(r->data, 1) == 0x0000);
+  CHECK(register_at(r->data, 2) == 0x0064);
+  // asked for 4 registers, the byte count says 3
+  CHECK(decode_read_response(view(fc03), function_code::read_holding_registers, 4).error() ==
+        errc::modbus_byte_count);
+  CHECK(decode_read_response(view(fc03), function_code::write_single_register, 3).error() ==
+        errc::invalid_argument);
+  const auto other = decode_read_response(view(fc03), function_code::read_input_registers, 3);
+  CHECK(other.error() == errc::modbus_mismatch);
+  CHECK(other.expected() == 0x04);
+  CHECK(other.received() == 0x03);
+  CHECK(decode_write_response(view({0x10, 0x00, 0x01, 0x00, 0x02}), function_code::read_coils, 1, 2)
+            .error() == errc::invalid_argument);
+  const auto w = decode_write_response(view({0x10, 0x00, 0x01, 0x00, 0x02}),
+                                       function_code::write_multiple_registers, 1, 2);
+  REQUIRE(w.is_complete());
+  CHECK(w->address == 1);
+  CHECK(w->quantity == 2);
+  const auto echo = decode_write_response(view({0x06, 0x00, 0x01, 0x00, 0x03}),
+                                          function_code::write_single_register, 1, 4);
+  CHECK(echo.error() == errc::modbus_mismatch);
+  CHECK(echo.expected() == 0);  // an echo mismatch has no function evidence
+}
+
+TEST_CASE("client encoders refuse what a server would refuse") {
+  std::uint8_t out[300] = {};
+  CHECK(encode_read(function_code::read_coils, 0, 0, out).error() == errc::modbus_quantity);
+  CHECK(encode_read(function_code::read_holding_registers, 0, 126, out).error() ==
+        errc::modbus_quantity);
+  CHECK(encode_read(function_code::read_holding_registers, 0xFFFF, 2, out).error() ==
+        errc::modbus_address_overflow);
+  CHECK(encode_read(function_code::write_single_coil, 0, 1, out).error() == errc::invalid_argument);
+  CHECK(encode_read(function_code::read_coils, 0, 1, mutable_byte_view(out, 4)).error() ==
+        errc::buffer_too_small);
+  const std::uint8_t one[] = {0xFF};
+  CHECK(encode_write_multiple_coils(0, 9, one, out).error() == errc::modbus_byte_count);
+  REQUIRE(encode_write_multiple_coils(0, 3, one, out).value() == 7);
+  CHECK(out[6] == 0x07);  // unused high bits cleared
+  std::uint16_t many[124] = {};
+  CHECK(encode_write_multiple_registers(0, span<const std::uint16_t>(many, 124), out).error() ==
+        errc::modbus_quantity);
+  CHECK(encode_write_multiple_registers(0, span<const std::uint16_t>(many, 0), out).error() ==
+        errc::modbus_quantity);
+  CHECK(encode_read_write_multiple_registers(0, 1, 0, span<const std::uint16_t>(many, 122), out)
+            .error() == errc::modbus_quantity);
+  std::uint8_t big[253] = {};
+  CHECK(encode_raw(0x41, byte_view(big, 253), out).error() == errc::modbus_pdu_length);
+  CHECK(encode_raw(0x81, byte_view(big, 1), out).error() == errc::invalid_argument);
+}
+
+TEST_CASE("client: a response without its request, every check it carries itself") {
+  auto ok = [](const bytes& pdu, report_id_format fc11 = report_id_format::standard) {
+    const auto r = decode_response_unpaired(view(pdu), fc11);
+    REQUIRE(r.is_complete());
+    CHECK(r.consumed() == pdu.size());
+    return r.value();
+  };
+  auto error = [](const bytes& pdu, report_id_format fc11 = report_id_format::standard) {
+    const auto r = decode_response_unpaired(view(pdu), fc11);
+    REQUIRE(r.is_failed());
+    return r.error();
+  };
+  // reads: the byte count against the bytes present; registers in pairs
+  auto r = ok({0x03, 0x04, 0x00, 0x01, 0x00, 0x02});
+  CHECK(r.quantity == 2);
+  CHECK(r.byte_count == 4);
+  CHECK(ok({0x01, 0x01, 0x05}).quantity == 8);
+  CHECK(error({0x03, 0x05, 0x00, 0x01, 0x00, 0x02}) == errc::modbus_byte_count);
+  CHECK(error({0x04, 0x03, 0x00, 0x01, 0x00}) == errc::modbus_byte_count);
+  CHECK(error({0x03}) == errc::truncated);
+  // writes: five bytes, the echo as it came
+  r = ok({0x06, 0x00, 0x24, 0x03, 0x20});
+  CHECK(r.address == 0x24);
+  CHECK(r.value == 0x320);
+  CHECK(ok({0x10, 0x00, 0x01, 0x00, 0x02}).quantity == 2);
+  CHECK(error({0x05, 0x00, 0x01, 0xFF}) == errc::truncated);
+  CHECK(error({0x0F, 0x00, 0x01, 0x00, 0x02, 0x00}) == errc::modbus_byte_count);
+  CHECK(ok({0x16, 0x00, 0x04, 0x00, 0xF2, 0x00, 0x25}).or_mask == 0x25);
+  CHECK(ok({0x07, 0x6D}).status == 0x6D);
+  CHECK(ok({0x0B, 0xFF, 0xFF, 0x01, 0x08}).event_count == 0x108);
+  // FC08: sub-function 00 echoes an even number of bytes; the others carry two
+  CHECK(ok({0x08, 0x00, 0x00, 0xA5, 0x37, 0x12, 0x34}).data.size() == 4);
+  CHECK(error({0x08, 0x00, 0x00, 0xA5, 0x37, 0x12}) == errc::modbus_byte_count);
+  CHECK(ok({0x08, 0x00, 0x0B, 0x00, 0x07}).sub_function == 0x0B);
+  CHECK(error({0x08, 0x00, 0x0B, 0x00}) == errc::modbus_byte_count);
+  // FC11: the standard layout's count; the SM unit's two bytes
+  CHECK(error({0x11, 0xFA, 0xB4, 0xFF}) == errc::modbus_byte_count);
+  CHECK(ok({0x11, 0x02, 0x01, 0xFF}).data.size() == 2);
+  CHECK(ok({0x11, 0x02, 0x03}, report_id_format::two_bytes_no_count).data.size() == 2);
+  CHECK(error({0x11, 0x02, 0x03, 0x04}, report_id_format::two_bytes_no_count) ==
+        errc::modbus_byte_count);
+  // FC18, FC0C, FC2B/0E: counts and objects inside the PDU
+  CHECK(ok({0x18, 0x00, 0x06, 0x00, 0x02, 0x01, 0xB8, 0x12, 0x84}).fifo_count == 2);
+  CHECK(error({0x18, 0x00, 0x08, 0x00, 0x02, 0x01, 0xB8, 0x12, 0x84}) == errc::modbus_byte_count);
+  CHECK(ok({0x0C, 0x08, 0x00, 0x00, 0x01, 0x08, 0x01, 0x21, 0x20, 0x00}).message_count == 0x121);
+  CHECK(ok({0x2B, 0x0E, 0x01, 0x01, 0x00, 0x00, 0x01, 0x00, 0x02, 'A', 'm'}).object_count == 1);
+  CHECK(error({0x2B, 0x0E, 0x01, 0x01, 0x00, 0x00, 0x01, 0x00, 0x09, 'A', 'm'}) ==
+        errc::modbus_byte_count);
+  // exceptions, an empty PDU, a function without a layout (raw data)
+  r = ok({0x83, 0x02});
+  CHECK(r.exception);
+  CHECK(r.function == 0x03);
+  CHECK(r.exception_code == 0x02);
+  CHECK(error({0x83, 0x02, 0x00}) == errc::modbus_byte_count);
+  CHECK(error({}) == errc::modbus_pdu_length);
+  CHECK(ok({0x41, 0x01, 0x02}).data.size() == 2);
+}
+
+namespace {
+
+errc decode_error(const bytes& response, const bytes& request) {
+  return decode_response_for(view(request), view(response)).error();
+}
+
+}  // namespace
+
+TEST_CASE("client encoders: each bad argument has its own error, and a short buffer is refused") {
+  std::uint8_t out[260] = {};
+  std::uint8_t tiny[3] = {};
+  const mutable_byte_view big(out, sizeof out);
+  const mutable_byte_view small(tiny, sizeof tiny);
+  const std::uint16_t regs[3] = {1, 2, 3};
+  const span<const std::uint16_t> three(regs, 3);
+  const std::uint8_t packed[2] = {0xFF, 0x03};
+  const byte_view two_bytes(packed, 2);
+
+  // FC0F: 1..1968 coils, packed bytes for all of them, no address wrap, room for 6 + n bytes
+  CHECK(encode_write_multiple_coils(0, 0, two_bytes, big).error() == errc::modbus_quantity);
+  CHECK(encode_write_multiple_coils(0, 17, two_bytes, big).error() == errc::modbus_byte_count);
+  CHECK(encode_write_multiple_coils(0xFFFF, 10, two_bytes, big).error() ==
+        errc::modbus_address_overflow);
+  CHECK(encode_write_multiple_coils(0, 10, two_bytes, small).error() == errc::buffer_too_small);
+  // FC10: no address wrap, room for 6 + 2n bytes
+  CHECK(encode_write_multiple_registers(0xFFFE, three, big).error() ==
+        errc::modbus_address_overflow);
+  CHECK(encode_write_multiple_registers(0, three, small).error() == errc::buffer_too_small);
+  // FC16: 7 bytes
+  CHECK(encode_mask_write_register(0, 0xFFFF, 0, small).error() == errc::buffer_too_small);
+  // FC17: no wrap of either range, room for 10 + 2n bytes
+  CHECK(encode_read_write_multiple_registers(0xFFFF, 2, 0, three, big).error() ==
+        errc::modbus_address_overflow);
+  CHECK(encode_read_write_multiple_registers(0, 2, 0xFFFF, three, big).error() ==
+        errc::modbus_address_overflow);
+  CHECK(encode_read_write_multiple_registers(0, 2, 0, three, small).error() ==
+        errc::buffer_too_small);
+  // raw: function and data copied; room for 1 + n bytes
+  const auto raw = encode_raw(0x41, two_bytes, big);
+  REQUIRE(raw.ok());
+  CHECK(raw.value() == 3);
+  CHECK((out[0] == 0x41 && out[1] == 0xFF && out[2] == 0x03));
+  CHECK(encode_raw(0x41, two_bytes, mutable_byte_view(tiny, 2)).error() == errc::buffer_too_small);
+  // FC08: at most 253 bytes in all; room for 3 + n bytes
+  const std::vector<std::uint8_t> long_data(252, 0);
+  CHECK(encode_diagnostics(diagnostic::return_query_data, byte_view(long_data.data(), 252), big)
+            .error() == errc::modbus_pdu_length);
+  CHECK(encode_diagnostics(diagnostic::return_query_data, two_bytes, small).error() ==
+        errc::buffer_too_small);
+  // FC18 and FC2B/0E requests
+  CHECK(encode_read_fifo_queue(0, mutable_byte_view(tiny, 2)).error() == errc::buffer_too_small);
+  CHECK(encode_read_device_identification(1, 0, small).error() == errc::buffer_too_small);
+}
+
+TEST_CASE("client: functions other than reads and writes, each length and echo rule") {
+  // Exception response and a response to another function, for a non-read/write request.
+  const bytes fc07 = {0x07};
+  auto r = decode_response_for(view(fc07), view({0x87, 0x01}));
+  REQUIRE(r.is_complete());
+  CHECK(r->exception);
+  CHECK(r->exception_code == 0x01);
+  r = decode_response_for(view(fc07), view({0x0B, 0x00, 0x00, 0x00, 0x00}));
+  CHECK(r.error() == errc::modbus_mismatch);
+  CHECK(r.expected() == 0x07);
+  CHECK(r.received() == 0x0B);
+  // FC07: function and one status byte
+  CHECK(decode_error({0x07}, fc07) == errc::truncated);
+  CHECK(decode_error({0x07, 0x6D, 0x00}, fc07) == errc::modbus_byte_count);
+  // FC16: the request echoed, 7 bytes
+  const bytes fc16 = {0x16, 0x00, 0x04, 0x00, 0xF2, 0x00, 0x25};
+  CHECK(decode_error({0x16, 0x00, 0x04}, fc16) == errc::truncated);
+  CHECK(decode_error({0x16, 0x00, 0x04, 0x00, 0xF2, 0x00, 0x25, 0x00}, fc16) ==
+        errc::modbus_byte_count);
+  CHECK(decode_error({0x16, 0x00, 0x04, 0x00, 0xF2, 0x00, 0x26}, fc16) == errc::modbus_mismatch);
+  // FC08: sub-function echoed; return query data echoed exactly; others two data bytes
+  const bytes echo = {0x08, 0x00, 0x00, 0xA5, 0x37};
+  CHECK(decode_error({0x08, 0x00}, echo) == errc::truncated);
+  CHECK(decode_error({0x08, 0x00, 0x01, 0xA5, 0x37}, echo) == errc::modbus_mismatch);
+  CHECK(decode_error({0x08, 0x00, 0x00, 0xA5}, echo) == errc::modbus_byte_count);
+  CHECK(decode_error({0x08, 0x00, 0x00, 0xA5, 0x38}, echo) == errc::modbus_mismatch);
+  const bytes counter = {0x08, 0x00, 0x0B, 0x00, 0x00};
+  CHECK(decode_error({0x08, 0x00, 0x0B, 0x00}, counter) == errc::modbus_byte_count);
+  CHECK(decode_response_for(view(counter), view({0x08, 0x00, 0x0B, 0x00, 0x07})).is_complete());
+  // FC0B: status and event count, 5 bytes
+  const bytes fc0b = {0x0B};
+  CHECK(decode_error({0x0B, 0xFF, 0xFF}, fc0b) == errc::truncated);
+  CHECK(decode_error({0x0B, 0xFF, 0xFF, 0x01, 0x08, 0x00}, fc0b) == errc::modbus_byte_count);
+  // FC0C: byte count = bytes after it, 6..70
+  const bytes fc0c = {0x0C};
+  CHECK(decode_error({0x0C, 0x06, 0x00, 0x00}, fc0c) == errc::truncated);
+  CHECK(decode_error({0x0C, 0x07, 0x00, 0x00, 0x01, 0x08, 0x01, 0x21}, fc0c) ==
+        errc::modbus_byte_count);
+  // FC18: byte count = 2 + 2 * FIFO count, at most 31 registers
+  const bytes fc18 = {0x18, 0x04, 0xDE};
+  CHECK(decode_error({0x18, 0x00, 0x06}, fc18) == errc::truncated);
+  CHECK(decode_error({0x18, 0x00, 0x42, 0x00, 0x20}, fc18) == errc::modbus_quantity);
+  CHECK(decode_error({0x18, 0x00, 0x06, 0x00, 0x02, 0x01, 0xB8}, fc18) == errc::modbus_byte_count);
+  // FC2B/0E: 7 bytes of header; MEI type and read code echoed; objects inside the PDU
+  const bytes fc2b = {0x2B, 0x0E, 0x01, 0x00};
+  CHECK(decode_error({0x2B, 0x0E, 0x01, 0x81}, fc2b) == errc::truncated);
+  CHECK(decode_error({0x2B, 0x0E, 0x02, 0x81, 0x00, 0x00, 0x00}, fc2b) == errc::modbus_mismatch);
+  CHECK(decode_error({0x2B, 0x0E, 0x01, 0x81, 0x00, 0x00, 0x01, 0x00, 0x05, 'A'}, fc2b) ==
+        errc::modbus_byte_count);
+  CHECK(decode_error({0x2B, 0x0E, 0x01, 0x81, 0x00, 0x00, 0x00, 0x00}, fc2b) ==
+        errc::modbus_byte_count);  // a byte after the last object
+  // object_at refuses an object running past the data
+  response bad;
+  const bytes objects = {0x00, 0x09, 'A'};
+  bad.function = 0x2B;
+  bad.object_count = 1;
+  bad.data = view(objects);
+  CHECK(object_at(bad, 0).error() == errc::modbus_byte_count);
+  // FC11 standard form: byte count, then that many bytes
+  CHECK(decode_error({0x11}, {0x11}) == errc::truncated);
+  // any other function: the data, raw
+  const bytes user = {0x41, 0x01};
+  r = decode_response_for(view(user), view({0x41, 0x09, 0x08}));
+  REQUIRE(r.is_complete());
+  CHECK(r->data.size() == 2);
+}
