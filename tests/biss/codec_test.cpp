@@ -133,17 +133,6 @@ TEST_CASE("CRC6, CRC4 and run-time CRCs match long division on random inputs up 
   }
 }
 
-TEST_CASE("BiSS polynomial notations") {
-  CHECK(crc_from_biss_notation(0x43) == crc6_43);
-  CHECK(crc_from_biss_notation(0x13).width == 4);
-  CHECK(crc_from_biss_notation(0x13).poly == 0x3);
-  CHECK(crc_from_biss_notation(0x97).width == 7);
-  CHECK(crc_from_biss_notation(0x1).width == 0);
-  CHECK(crc_from_eds(0x21) == crc6_43);  // EDS CPOLY (31:1) 0x21 is 0x43
-  CHECK(absys_layout.frame_bits() == 40);
-  CHECK(absys_layout.data_bits() == 32);
-}
-
 TEST_CASE("ABSYS frame: encoder output equals the frame built from the notes, decoder reads it") {
   const std::vector<slave_layout> chain{absys_layout};
   testutil::splitmix64 rng(7);

@@ -1,0 +1,58 @@
+// BiSS-C frame vocabulary (frame.hpp): CRC formats from the BiSS and EDS polynomial notations,
+// slave layouts, their bit counts and their validation.
+#include "motionbus/biss/frame.hpp"
+
+#include <doctest/doctest.h>
+
+using namespace motionbus;
+using namespace motionbus::biss;
+
+TEST_CASE("BiSS polynomial notations") {
+  CHECK(crc_from_biss_notation(0x43) == crc6_43);
+  CHECK(crc_from_biss_notation(0x13).width == 4);
+  CHECK(crc_from_biss_notation(0x13).poly == 0x3);
+  CHECK(crc_from_biss_notation(0x97).width == 7);
+  CHECK(crc_from_biss_notation(0x1).width == 0);
+  CHECK(crc_from_eds(0x21) == crc6_43);  // EDS CPOLY (31:1) 0x21 is 0x43
+  CHECK(absys_layout.frame_bits() == 40);
+  CHECK(absys_layout.data_bits() == 32);
+}
+
+TEST_CASE("slave_layout: frame_bits() counts data, nE, nW and CRC bits") {
+  slave_layout l;
+  l.multi_turn_bits = 12;
+  l.single_turn_bits = 18;
+  l.alignment_bits = 2;
+  CHECK(l.data_bits() == 32);
+  CHECK(l.status_bits() == 2);
+  CHECK(l.frame_bits() == 32 + 2 + 6);
+  l.has_warning = false;
+  l.crc = crc_from_biss_notation(0x13);  // CRC4
+  CHECK(l.status_bits() == 1);
+  CHECK(l.frame_bits() == 32 + 1 + 4);
+}
+
+TEST_CASE("slave_layout: validate() takes 1..64 data bits and a CRC that fits its width") {
+  CHECK(absys_layout.validate() == errc::ok);
+  slave_layout l;
+  l.multi_turn_bits = 32;
+  CHECK(l.validate() == errc::ok);  // 64 data bits
+  l.alignment_bits = 1;
+  CHECK(l.validate() == errc::biss_layout);  // 65
+  l = slave_layout{};
+  l.single_turn_bits = 0;
+  CHECK(l.validate() == errc::biss_layout);  // none
+  l = slave_layout{};
+  l.multi_turn_bits = ~0U;  // a width that would overflow the sum is refused on its own
+  l.single_turn_bits = 2;
+  CHECK(l.validate() == errc::biss_layout);
+  l = slave_layout{};
+  l.crc.width = 17;
+  CHECK(l.validate() == errc::biss_layout);
+  l = slave_layout{};
+  l.crc.poly = 0x43;  // 7 bits in a 6-bit CRC
+  CHECK(l.validate() == errc::biss_layout);
+  l = slave_layout{};
+  l.crc.start = 0x40;
+  CHECK(l.validate() == errc::biss_layout);
+}

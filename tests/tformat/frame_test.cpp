@@ -1,0 +1,72 @@
+// T-format frame vocabulary (frame.hpp): control fields (spec Table 1), response layouts
+// (Table 2), alarm bits and their symbols, resolutions and the combined position.
+#include "motionbus/tformat/frame.hpp"
+
+#include <doctest/doctest.h>
+
+#include <cstdint>
+#include <cstring>
+
+#include "../support/tformat.hpp"
+
+using namespace motionbus;
+using namespace motionbus::tformat;
+
+using namespace testutil;
+
+TEST_CASE(
+    "control field bytes follow the specification's Table 1, sent least significant bit first") {
+  for (const auto& row : table1) {
+    CAPTURE(static_cast<int>(row.id));
+    CHECK(control_field(row.id) == cf_from_table(row));
+    CHECK(sync_ok(control_field(row.id)));
+    CHECK(parity_ok(control_field(row.id)));
+  }
+  CHECK(control_field(data_id::read_abs) == 0x02);
+  CHECK(control_field(data_id::read_abm) == 0x8A);
+  CHECK(control_field(data_id::read_enid) == 0x92);
+  CHECK(control_field(data_id::read_all) == 0x1A);
+  CHECK(control_field(data_id::eeprom_write) == 0x32);
+  CHECK(control_field(data_id::reset_errors) == 0xBA);
+  CHECK(control_field(data_id::reset_single_turn) == 0xC2);
+  CHECK(control_field(data_id::reset_multi_turn) == 0x62);
+  CHECK(control_field(data_id::eeprom_read) == 0xEA);
+  CHECK(!parity_ok(0x02 | 0x80));
+  CHECK(!sync_ok(0x03));
+}
+
+TEST_CASE("layout_of: each response's size is its CF, CRC and the bytes of its fields") {
+  for (unsigned code = 0; code < 16U; ++code) {
+    const response_layout l = layout_of(static_cast<data_id>(code));
+    CAPTURE(code);
+    const unsigned bytes = 2U + (l.sf() ? 1U : 0U) + (l.abs() ? 3U : 0U) + (l.enid() ? 1U : 0U) +
+                           (l.abm() ? 3U : 0U) + (l.almc() ? 1U : 0U) + (l.eeprom() ? 2U : 0U);
+    CHECK(l.size == bytes);
+    CHECK(l.size <= max_response_size);
+  }
+  CHECK(layout_of(data_id::read_all).fields == field_bit::read_all);
+  CHECK(layout_of(data_id::eeprom_read).eeprom());
+  CHECK(!layout_of(data_id::eeprom_read).sf());
+}
+
+TEST_CASE("request_size: the CF alone, but CF ADF CRC for ID D and CF ADF EDF CRC for ID 6") {
+  CHECK(request_size(data_id::read_abs) == 1U);
+  CHECK(request_size(data_id::reset_multi_turn) == 1U);
+  CHECK(request_size(data_id::eeprom_read) == 3U);
+  CHECK(request_size(data_id::eeprom_write) == 4U);
+}
+
+TEST_CASE("resolution_for_enid and absolute_position: turns above the single-turn bits") {
+  CHECK(resolution_for_enid(0x11).single_turn_bits == 17);
+  CHECK(resolution_for_enid(0x17).single_turn_bits == 23);
+  CHECK(resolution_for_enid(0x0B).single_turn_bits == 11);
+  CHECK(resolution_for_enid(0x99, {20, 16}).single_turn_bits == 20);
+
+  CHECK(absolute_position(0x1ABCD, 3) == (3ULL << 17U) + 0x1ABCD);
+  CHECK(absolute_position(5, 2, 23) == (2ULL << 23U) + 5);
+}
+
+TEST_CASE("alarm symbols: an undefined bit value has none") {
+  CHECK(std::strcmp(symbol(almc_bit::ba), "BA") == 0);
+  CHECK(std::strcmp(symbol(static_cast<almc_bit>(0x03)), "??") == 0);
+}
