@@ -288,12 +288,13 @@ TEST_CASE("frame_buffer: the last byte in two steps, place_last then count_last"
 
 TEST_CASE("frame_buffer: restart(n) drops everything and wants n from the front") {
   frame_buffer<8> b;
-  push_count(b, 4);
-  b.drop(1);
+  push_before_count(b, 8, 7);
+  b.drop(6, 1);
+  b.reserve(4);  // 7 moved to the front
   b.restart(2);  // everything dropped: 2 wanted from the front, the bytes still readable
   CHECK(b.empty());
   CHECK(b.wanted() == 2);
-  CHECK(b.data()[0] == 1);
+  CHECK(b.data()[0] == 7);
   CHECK(b.push_before(0x11));
   CHECK(!b.push_before(0x12));
   b.restart(0);
