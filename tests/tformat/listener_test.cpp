@@ -273,3 +273,17 @@ TEST_CASE("listener: the silence drops the rest of a rejected response (no phant
     CHECK(one_by_one(b, line) == out);
   }
 }
+
+TEST_CASE("listener: a response that does not answer its request (another EEPROM address) fails") {
+  // IDD read of address 5, answered for address 6: CRC-valid, but not this request's answer
+  const bytes line = cat({with_crc({0xEA, 0x05}), with_crc({0xEA, 0x06, 0x55})});
+  line_listener l;
+  const auto out = chunks(l, line, line.size());
+  REQUIRE(out.size() >= 2U);
+  CHECK(out[0].ok);
+  CHECK(!out[0].response);
+  CHECK(!out[1].ok);
+  CHECK(out[1].error == errc::tformat_address_mismatch);
+  line_listener b;
+  CHECK(one_by_one(b, line) == out);
+}

@@ -478,7 +478,7 @@ class basic_rtu_framer {
 
   MOTIONBUS_INLINE constexpr bool for_us(std::uint8_t slave) const noexcept {
     if (listening()) {
-      return true;
+      return true;  // coverage: the listener frames in listen(), which never asks
     }
     if (server()) {
       return slave == options_.address || slave == broadcast_address;
@@ -607,6 +607,7 @@ class basic_rtu_framer {
         }
       }
       if (total == 0U && size >= max_rtu_size) {
+        // coverage: defensive; with 256 bytes held every rule gives a size (FC2B: too long)
         total = max_rtu_size + 1U;  // a rule never wants more than 256 bytes: too long
       }
       if (total == 0U) {  // a count byte is still missing
