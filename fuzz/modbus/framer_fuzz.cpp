@@ -167,8 +167,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   mo::rtu_framer f(options);
   mo::rtu_framer by_byte(options);
   if (!server) {
-    f.sent(address, data[0] >> 3U);
-    by_byte.sent(address, data[0] >> 3U);
+    const std::uint8_t request_head[2] = {address, static_cast<std::uint8_t>(data[0] >> 3U)};
+    f.sent(mb::byte_view(request_head, 2));
+    by_byte.sent(mb::byte_view(request_head, 2));
   }
   const std::uint8_t* stream = data + 3;
   const std::size_t n = size - 3;
@@ -210,7 +211,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const std::uint8_t pdu[] = {0x06, 0x00, 0x01, 0x00, 0x03};
   const std::size_t k = mo::encode_rtu(address, pdu, frame).value();
   if (!server) {
-    f.sent(address, 0x06);
+    const std::uint8_t request_head[2] = {address, 0x06};
+    f.sent(mb::byte_view(request_head, 2));
   }
   std::size_t found = 0;
   for (std::size_t at = 0; at < k; at += chunk) {

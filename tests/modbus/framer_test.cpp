@@ -109,8 +109,8 @@ TEST_CASE("framer put(): byte by byte, the results of feed() in chunks (random s
     rtu_framer by_byte(options);
     rtu_server_framer server(options);
     if (options.role == framer_role::client) {
-      chunked.sent(options.address, function);
-      by_byte.sent(options.address, function);
+      testutil::sent_to(chunked, options.address, function);
+      testutil::sent_to(by_byte, options.address, function);
     }
     const auto expected = run(chunked, stream, 1U + static_cast<std::size_t>(rng.below(40)));
     CAPTURE(round);
@@ -228,13 +228,13 @@ TEST_CASE("framer resynchronises after garbage and a corrupted frame, bounded") 
 
 TEST_CASE("client framer: response lengths follow the outstanding request") {
   rtu_framer f({framer_role::client, 0x11});
-  f.sent(0x11, 0x03);
+  testutil::sent_to(f, 0x11, 0x03);
   const bytes resp = rtu(0x11, {0x03, 0x06, 0x02, 0x2B, 0x00, 0x00, 0x00, 0x64});
   auto ev = run(f, resp, 1);
   REQUIRE(ev.size() == 1);
   CHECK(ev[0].pdu.size() == 8);
   // exception response: 5 bytes whatever the function
-  f.sent(0x11, 0x03);
+  testutil::sent_to(f, 0x11, 0x03);
   ev = run(f, rtu(0x11, {0x83, 0x02}), 2);
   REQUIRE(ev.size() == 1);
   CHECK(ev[0].pdu == bytes{0x83, 0x02});
@@ -242,15 +242,33 @@ TEST_CASE("client framer: response lengths follow the outstanding request") {
   framer_options sm_layout{framer_role::client, 0x01};
   sm_layout.fc11 = report_id_format::two_bytes_no_count;
   rtu_framer sm(sm_layout);
-  sm.sent(0x01, 0x11);
+  testutil::sent_to(sm, 0x01, 0x11);
   ev = run(sm, rtu(0x01, {0x11, 0x01, 0x00}), 1);
   REQUIRE(ev.size() == 1);
   CHECK(ev[0].pdu == bytes{0x11, 0x01, 0x00});
   // a response from another slave is skipped
-  f.sent(0x11, 0x06);
+  testutil::sent_to(f, 0x11, 0x06);
   ev = run(f, rtu(0x05, {0x06, 0x00, 0x01, 0x00, 0x03}), 4);
   CHECK(ev.empty());
   CHECK(f.skipped() == 1);
+}
+
+TEST_CASE("client framer: sent() takes the request ADU written, from its address and function") {
+  rtu_framer f({framer_role::client, 0x11});
+  // a request to another slave than the configured one: its response is the one framed
+  const bytes request = rtu(0x22, {0x03, 0x00, 0x00, 0x00, 0x01});
+  f.sent(view(request));
+  auto ev = run(f, rtu(0x22, {0x03, 0x02, 0x12, 0x34}), 1);
+  REQUIRE(ev.size() == 1);
+  CHECK(ev[0].pdu == bytes{0x03, 0x02, 0x12, 0x34});
+  ev = run(f, rtu(0x11, {0x03, 0x02, 0x12, 0x34}), 1);
+  CHECK(ev.empty());
+  CHECK(f.skipped() == 1);
+  // an empty request: any slave, no function pending (only an exception has a length rule)
+  f.sent(byte_view{});
+  ev = run(f, rtu(0x05, {0x83, 0x02}), 1);
+  REQUIRE(ev.size() == 1);
+  CHECK(ev[0].pdu == bytes{0x83, 0x02});
 }
 
 TEST_CASE("idle() frames functions without a length rule, and drops partial frames") {
@@ -302,7 +320,7 @@ TEST_CASE("FC08 sub-function 00 (Return Query Data): 8 + 2k bytes, the CRC tells
         } else {  // a client frames each FC08 response (the echo) after its request
           std::size_t at = 0;
           for (std::size_t k = 0; k + 1 < sizes.size(); ++k) {
-            f.sent(0x01, stream[at + 1]);
+            testutil::sent_to(f, 0x01, stream[at + 1]);
             const bytes one(stream.begin() + static_cast<std::ptrdiff_t>(at),
                             stream.begin() + static_cast<std::ptrdiff_t>(at + sizes[k] + 3));
             const auto got = run(f, one, chunk);
@@ -418,7 +436,7 @@ TEST_CASE("fixed-role framers frame as the run-time role does") {
     CHECK(a[1].pdu == b[1].pdu);
   }
   rtu_client_framer c({framer_role::server /* not used */, 0x11});
-  c.sent(0x11, 0x03);
+  testutil::sent_to(c, 0x11, 0x03);
   const auto r = c.feed(byte_view(response.data(), response.size()));
   REQUIRE(r.is_complete());
   CHECK(r->pdu.size() == 8);
@@ -662,7 +680,7 @@ TEST_CASE("client framer: result() keeps the last settled result through puts th
   // issue 23 §4: the header's contract (valid until the next put() that returns true)
   framer_options options{framer_role::client, 0x11};
   rtu_client_framer f(options);
-  f.sent(0x11, 0x03);
+  testutil::sent_to(f, 0x11, 0x03);
   const bytes response = rtu(0x11, {0x03, 0x02, 0x00, 0x2A});
   bool settled = false;
   for (const std::uint8_t b : response) {
@@ -706,7 +724,7 @@ TEST_CASE("framer: an FC2B response whose objects outgrow 256 bytes fails (no en
     framer_options options{framer_role::client, 0x01};
     options.ends = frame_end::length;
     rtu_client_framer f(options);
-    f.sent(0x01, 0x2B);
+    testutil::sent_to(f, 0x01, 0x2B);
     std::vector<errc> errors;
     const auto each = [&](const auto& r) {
       errors.push_back(r.error());

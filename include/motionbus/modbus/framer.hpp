@@ -213,12 +213,15 @@ template <crc_table_size Table = default_crc_table, framer_roles Roles = framer_
 class basic_rtu_framer {
  public:
   /// A fixed-role type takes its role from the type (options.role is not used).
-  constexpr explicit basic_rtu_framer(framer_options options = {}) noexcept : options_(options) {}
+  constexpr explicit basic_rtu_framer(framer_options options = {}) noexcept
+      : options_(options), slave_(options.address) {}
 
-  /// Client: records the request just sent (its function selects the response layout).
-  constexpr void sent(std::uint8_t slave, std::uint8_t function) noexcept {
-    options_.address = slave;
-    function_ = function;
+  /// Client: records the request just sent, the RTU ADU written to the line (address,
+  /// function, ...): the response is expected from its slave (any, for 0) and in the layout of
+  /// its function. The configured options.address is kept. Drops any partial frame.
+  constexpr void sent(byte_view request_adu) noexcept {
+    slave_ = request_adu.size() > 0U ? request_adu[0] : std::uint8_t{0};
+    function_ = request_adu.size() > 1U ? request_adu[1] : std::uint8_t{0};
     buf_.want(0);
     buf_.clear();
     waiting_ = 0;
@@ -483,7 +486,7 @@ class basic_rtu_framer {
     if (server()) {
       return slave == options_.address || slave == broadcast_address;
     }
-    return options_.address == 0U || slave == options_.address;
+    return slave_ == 0U || slave == slave_;
   }
 
   // FC08 sub-function 00 (Return Query Data) carries any even number of data bytes and no
@@ -675,7 +678,7 @@ class basic_rtu_framer {
       // The response rule: the pending request's function from its slave; with no request
       // pending (it was lost, e.g. corrupted), a response that carries its own length, its own
       // function read as the request's (the CRC decides); an exception from any slave.
-      const std::uint8_t asked = function_ != 0U ? (held[0] == options_.address ? function_ : 0U)
+      const std::uint8_t asked = function_ != 0U ? (held[0] == slave_ ? function_ : 0U)
                                  : self_sized_response(held[1]) ? held[1]
                                                                 : 0U;
       const bool response_possible = asked != 0U || (held[1] & exception_flag) != 0U;
@@ -719,7 +722,7 @@ class basic_rtu_framer {
         if (rule == 0U || f.value().slave == broadcast_address) {
           function_ = 0;  // a request comes next
         } else {
-          options_.address = f.value().slave;
+          slave_ = f.value().slave;
           function_ = f.value().pdu[0];
         }
         return hand_over(f.value(), total, used);
@@ -742,6 +745,9 @@ class basic_rtu_framer {
 
   frame_buffer<max_rtu_size> buf_;  // first: put() stores at the object's address
   framer_options options_;
+  // client: the slave of the request sent (options.address until sent(); 0: any); listener:
+  // the slave of the request heard
+  std::uint8_t slave_ = 0;
   std::uint8_t function_ = 0;
   // A bool (the length rule failed on the bytes held: only idle() decides), or the CRC's low
   // byte while a Return Query Data is awaited (keep_query_crc())
