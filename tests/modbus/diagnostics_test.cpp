@@ -123,7 +123,7 @@ TEST_CASE("FC2B/0E read device identification: objects inside the PDU") {
   // framed by length on a client, object by object
   std::uint8_t adu[256] = {};
   const std::size_t k = encode_rtu(1, view(resp), adu).value();
-  rtu_framer f({framer_role::client, 1});
+  rtu_framer f(framer_role::client, {1});
   testutil::sent_to(f, 1, 0x2B);
   std::size_t frames = 0;
   for (std::size_t i = 0; i < k; ++i) {

@@ -9,14 +9,14 @@
 // observed (frame_end::length), the length rule alone frames and everything else is garbage.
 // A server keeps frames for its address and broadcasts; a client frames the response to its
 // outstanding request; a listener (rtu_listener: a bus monitor, a capture decoder) frames both
-// directions of a tapped line (framer_roles::listener). After garbage or a bad CRC the framer drops
+// directions of a tapped line (framer_role::listener). After garbage or a bad CRC the framer drops
 // one byte at a time and rescans (at most 256 bytes are ever held, in a frame_buffer: a dropped
 // byte moves an index, nothing is shifted; a frame is handed over as a view into it, not copied).
 // The same shape as the T-format receiver: built from an options struct, given bytes by put() (one
 // byte, from a UART interrupt) and feed() (a chunk), told of the line's silence by idle(). `Table`
 // selects the CRC table. No heap, no I/O.
 //
-//   rtu_server_framer rx({framer_role::server, 0x11});
+//   rtu_server_framer rx({0x11});
 //   on_rx_interrupt(b):                 // one byte: true when something is settled
 //     if (rx.put(b) && rx.result()) handle(rx.result().value());
 //   on_bytes(in):                       // or a chunk (core/stream.hpp: the feed loop)
@@ -56,6 +56,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <type_traits>
 
 #include "motionbus/core/bytes.hpp"
 #include "motionbus/core/errc.hpp"
@@ -68,8 +69,6 @@
 
 namespace motionbus {
 namespace modbus {
-
-enum class framer_role : std::uint8_t { server = 0, client = 1 };
 
 /// Predicted size of the RTU frame at the start of `in` (address, function, ...): the total
 /// size in bytes, 0 when more bytes are needed to tell, or `unknown_length` when the function
@@ -179,17 +178,17 @@ enum class frame_end : std::uint8_t {
 
 /// The framer's run-time choices.
 struct framer_options {
-  framer_role role = framer_role::server;
   /// A server's own address (1..247; it also takes broadcasts), or for a client the slave it
-  /// talks to (0: accept any).
+  /// talks to until the first sent() (0: accept any).
   std::uint8_t address = 0;
   frame_end ends = frame_end::silence;
   report_id_format fc11 = report_id_format::standard;  ///< client: FC11 response layout
 };
 
-/// The roles a framer type can take: either (framer_options::role chooses at run time), or one
-/// fixed by the type, so that a server links only the request length rule (no client code)
-/// and a client only the response's.
+/// A framer's role, the template parameter of basic_rtu_framer: fixed by the type, so that a
+/// server links only the request length rule (no client code) and a client only the
+/// response's; or `either`, the one type whose role is chosen at run time (its constructor's
+/// first argument: server or client).
 ///
 /// listener: a passive node on a tapped line (a bus monitor, a capture decoder) that frames the
 /// requests and the responses of every node. After a request, a frame is tried as that
@@ -201,20 +200,19 @@ struct framer_options {
 /// behind a bad one is lost; bytes no rule sizes (an unknown function, garbage) are dropped
 /// one at a time (dropped()) whatever options.ends says: on a tapped line the silence is a
 /// hint (idle()), never the only delimiter. heard_response() tells which rule framed the last
-/// frame. options.address and options.role are not used.
-enum class framer_roles : std::uint8_t {
-  either = 0,
-  server_only = 1,
-  client_only = 2,
-  listener = 3
-};
+/// frame. options.address is not used.
+enum class framer_role : std::uint8_t { server = 0, client = 1, listener = 2, either = 3 };
 
-template <crc_table_size Table = default_crc_table, framer_roles Roles = framer_roles::either>
+template <crc_table_size Table = default_crc_table, framer_role Role = framer_role::either>
 class basic_rtu_framer {
  public:
-  /// A fixed-role type takes its role from the type (options.role is not used).
+  /// The role the type fixes (`either`: a server).
   constexpr explicit basic_rtu_framer(framer_options options = {}) noexcept
       : options_(options), slave_(options.address) {}
+  /// The `either` type: the role chosen at run time (server or client).
+  template <framer_role R = Role, std::enable_if_t<R == framer_role::either, int> = 0>
+  constexpr explicit basic_rtu_framer(framer_role role, framer_options options = {}) noexcept
+      : options_(options), slave_(options.address), role_(role) {}
 
   /// Client: records the request just sent, the RTU ADU written to the line (address,
   /// function, ...): the response is expected from its slave (any, for 0) and in the layout of
@@ -290,7 +288,7 @@ class basic_rtu_framer {
     if (buf_.empty()) {
       return need_input{1};
     }
-    if constexpr (Roles == framer_roles::listener) {
+    if constexpr (Role == framer_role::listener) {
       phase_ = phase::scanning;
       const decode_result<rtu_frame> r = listen(0, true);
       if (buf_.empty()) {
@@ -454,7 +452,7 @@ class basic_rtu_framer {
     waiting_ = 0;
   }
 
-  static constexpr bool listening() noexcept { return Roles == framer_roles::listener; }
+  static constexpr bool listening() noexcept { return Role == framer_role::listener; }
 
   // Responses whose length their own bytes give (a count, FC2B's objects): the listener frames
   // them with no request pending (MODBUS Application Protocol V1.1b3 §6).
@@ -464,12 +462,10 @@ class basic_rtu_framer {
   }
 
   constexpr bool server() const noexcept {
-    if constexpr (Roles == framer_roles::server_only) {
-      return true;
-    } else if constexpr (Roles == framer_roles::client_only || Roles == framer_roles::listener) {
-      return false;
+    if constexpr (Role == framer_role::either) {
+      return role_ == framer_role::server;
     } else {
-      return options_.role == framer_role::server;
+      return Role == framer_role::server;
     }
   }
 
@@ -563,9 +559,8 @@ class basic_rtu_framer {
   }
 
   // Decides on the bytes held. True: settled, into `out` (built there: no local result). False
-  // (`out` untouched): wanted() (> size) is how many to hold before the next decision. Out of line:
-  // inlined into the chunk loop, it made that loop 8 % slower on x86-64 (bench/RESULTS.md, session
-  // 9).
+  // (`out` untouched): wanted() (> size) is how many to hold before the next decision. Out of
+  // line: the chunk loop that calls it stays small and fast when the scan is not inlined into it.
   MOTIONBUS_NOINLINE constexpr bool scan(decode_result<rtu_frame>& out, std::size_t used,
                                          bool at_end) noexcept {
     // the last decision waited for Return Query Data: its CRC so far, up to wanted() - 2
@@ -576,7 +571,7 @@ class basic_rtu_framer {
       query_crc = take_query_crc();
     }
     phase_ = phase::scanning;
-    if constexpr (Roles == framer_roles::listener) {
+    if constexpr (Role == framer_role::listener) {
       const decode_result<rtu_frame> r = listen(used, at_end);
       return !r.is_incomplete() && settled(out, r);
     }
@@ -657,7 +652,7 @@ class basic_rtu_framer {
     }
   }
 
-  // The listener's decision on the bytes held (framer_roles::listener). The response rule
+  // The listener's decision on the bytes held (framer_role::listener). The response rule
   // (after a request, from its slave; an exception from any slave) is tried before the request
   // rule; the first rule whose length is held and whose CRC matches frames. Incomplete: the
   // bytes the nearest rule still needs are wanted. Neither: the first failure met, one byte
@@ -764,18 +759,19 @@ class basic_rtu_framer {
   phase phase_ = phase::scanning;
   // listener: a bool, see heard_response(); else the CRC's high byte (keep_query_crc())
   std::uint8_t heard_response_ = 0;
+  framer_role role_ = framer_role::server;  // the `either` type's (run-time) role
   std::size_t dropped_ = 0;
   std::size_t skipped_ = 0;
   decode_result<rtu_frame> result_;  // put()'s
 };
 
-/// The framer with the default CRC table, either role (framer_options::role).
+/// The framer with the default CRC table, either role (chosen at run time).
 using rtu_framer = basic_rtu_framer<>;
 /// A server's framer (links no client code) and a client's, default CRC table.
-using rtu_server_framer = basic_rtu_framer<default_crc_table, framer_roles::server_only>;
-using rtu_client_framer = basic_rtu_framer<default_crc_table, framer_roles::client_only>;
-/// A bus monitor's framer: both directions of a tapped line (framer_roles::listener).
-using rtu_listener = basic_rtu_framer<default_crc_table, framer_roles::listener>;
+using rtu_server_framer = basic_rtu_framer<default_crc_table, framer_role::server>;
+using rtu_client_framer = basic_rtu_framer<default_crc_table, framer_role::client>;
+/// A bus monitor's framer: both directions of a tapped line (framer_role::listener).
+using rtu_listener = basic_rtu_framer<default_crc_table, framer_role::listener>;
 
 }  // namespace modbus
 }  // namespace motionbus
