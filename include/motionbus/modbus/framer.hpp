@@ -34,7 +34,7 @@
 //
 // Firmware contract (Cortex-M4; sizes checked by the test command, stack and instructions by
 // the meter at -Os: docs/footprint.md):
-//   rtu_framer size: 304 bytes (a 256-byte frame buffer, its state and put()'s result; the
+//   rtu_framer size: 308 bytes (a 256-byte frame buffer, its state and put()'s result; the
 //     same for rtu_server_framer and rtu_client_framer). A default-constructed `static` framer
 //     is all zeros: .bss, no start-up code, no flash copied to RAM.
 //   put(byte), rtu_server_framer: 12 instructions for a byte inside a frame, the call included
