@@ -424,16 +424,7 @@ class basic_rtu_framer {
   // and decides as often as needed. True when something is settled, into `out` (nothing else
   // writes it); false when all of `in` was taken (wanted() bytes are then to be held).
   constexpr bool decide(decode_result<rtu_frame>& out, byte_view in, std::size_t& used) noexcept {
-    for (;;) {
-      if (buf_.size() >= buf_.wanted() && scan(out, used, false)) {
-        return true;
-      }
-      // here wanted() > size and wanted() <= 256
-      if (used >= in.size()) {
-        return false;
-      }
-      used += buf_.append(in.subspan(used), buf_.wanted() - buf_.size());
-    }
+    return buf_.fill_and_decide(in, used, [&] { return scan(out, used, false); });
   }
 
   // `out` = `r` (or the failure `f`), built in place; true.
