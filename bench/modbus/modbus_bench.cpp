@@ -160,7 +160,7 @@ std::vector<std::uint8_t> request_stream() {
 void bm_framer(benchmark::State& state) {
   const auto s = request_stream();
   for (auto _ : state) {
-    mo::rtu_framer rx({mo::framer_role::server, 1});
+    mo::rtu_framer rx(mo::framer_role::server, {1});
     std::size_t frames = 0;
     mb::byte_view in(s.data(), s.size());
     for (;;) {

@@ -36,7 +36,7 @@ template <class Device, class EachPass>
 [[noreturn]] void serve_forever(Device& device, EachPass&& each_pass) {
   static motionbus::modbus::rtu_server_framer rx;
   static std::uint8_t reply[motionbus::modbus::max_rtu_size];
-  rx = motionbus::modbus::rtu_server_framer({motionbus::modbus::framer_role::server, slave});
+  rx = motionbus::modbus::rtu_server_framer({slave});
   const auto serve = [&device](const motionbus::modbus::rtu_frame& frame) {
     const auto n = motionbus::modbus::serve_frame(
         device, slave, frame, motionbus::mutable_byte_view(reply, sizeof reply));

@@ -160,15 +160,17 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const bool server = (data[0] & 1U) != 0;
   const std::uint8_t address = static_cast<std::uint8_t>(1U + data[1] % 247U);
   const std::size_t chunk = 1U + data[2] % 32U;
-  mo::framer_options options{server ? mo::framer_role::server : mo::framer_role::client, address};
+  const mo::framer_role role = server ? mo::framer_role::server : mo::framer_role::client;
+  mo::framer_options options{address};
   options.fc11 = (data[0] & 2U) != 0 ? mo::report_id_format::two_bytes_no_count
                                      : mo::report_id_format::standard;
   options.ends = (data[0] & 4U) != 0 ? mo::frame_end::silence : mo::frame_end::length;
-  mo::rtu_framer f(options);
-  mo::rtu_framer by_byte(options);
+  mo::rtu_framer f(role, options);
+  mo::rtu_framer by_byte(role, options);
   if (!server) {
-    f.sent(address, data[0] >> 3U);
-    by_byte.sent(address, data[0] >> 3U);
+    const std::uint8_t request_head[2] = {address, static_cast<std::uint8_t>(data[0] >> 3U)};
+    f.sent(mb::byte_view(request_head, 2));
+    by_byte.sent(mb::byte_view(request_head, 2));
   }
   const std::uint8_t* stream = data + 3;
   const std::size_t n = size - 3;
@@ -210,7 +212,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const std::uint8_t pdu[] = {0x06, 0x00, 0x01, 0x00, 0x03};
   const std::size_t k = mo::encode_rtu(address, pdu, frame).value();
   if (!server) {
-    f.sent(address, 0x06);
+    const std::uint8_t request_head[2] = {address, 0x06};
+    f.sent(mb::byte_view(request_head, 2));
   }
   std::size_t found = 0;
   for (std::size_t at = 0; at < k; at += chunk) {

@@ -66,7 +66,7 @@ class unit_on_pty {
 
  private:
   void loop() {
-    mo::rtu_framer rx({mo::framer_role::server, 1});
+    mo::rtu_framer rx(mo::framer_role::server, {1});
     clock_type::time_point start{};
     while (!stop_) {
       pollfd p{pty_.master, POLLIN, 0};

@@ -12,7 +12,7 @@
 
 #include "server_device.hpp"
 
-extern "C" unsigned probe_entry(md::basic_rtu_framer<table, md::framer_roles::server_only>* rx,
+extern "C" unsigned probe_entry(md::basic_rtu_framer<table, md::framer_role::server>* rx,
                                 const unsigned char* in, unsigned n, unsigned char* out,
                                 std::uint8_t* bits, std::uint8_t* registers) {
   device d{bits, registers};

@@ -36,7 +36,7 @@ one_register registers;
 mb::biss::control_slave<one_register> data_control_slave(registers);
 
 extern "C" unsigned probe_entry(const unsigned char* in, unsigned n) {
-  static_rtu_framer = mb::modbus::rtu_framer({mb::modbus::framer_role::server, in[0]});
+  static_rtu_framer = mb::modbus::rtu_framer(mb::modbus::framer_role::server, {in[0]});
   const auto f = static_rtu_framer.feed(mb::byte_view(in, n));
   const auto r = static_receiver.feed(mb::byte_view(in, n));
   const auto reply = static_ts5700n8500_emulator.respond(mb::byte_view(in, n), n);

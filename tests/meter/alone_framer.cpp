@@ -12,11 +12,11 @@ namespace md = motionbus::modbus;
 extern "C" std::uint32_t meter_out[64];
 
 namespace {
-md::rtu_server_framer framer({md::framer_role::server, 1});
+md::rtu_server_framer framer({1});
 }  // namespace
 
 METER_OP void op_alone_framer_start() {
-  framer = md::rtu_server_framer({md::framer_role::server, 1});
+  framer = md::rtu_server_framer({1});
 }
 METER_OP bool op_alone_framer_byte(unsigned byte) {
   return framer.put(static_cast<std::uint8_t>(byte));

@@ -88,8 +88,8 @@ motionbus::devices::ts5700n8500::reply encoder_reply;
 // --- Modbus -------------------------------------------------------------------------------------
 // The server's framer (a server's firmware links no client code), and the framer whose role is
 // chosen at run time, measured beside it.
-md::rtu_server_framer framer({md::framer_role::server, 1});
-md::rtu_framer either_framer({md::framer_role::server, 1});
+md::rtu_server_framer framer({1});
+md::rtu_framer either_framer(md::framer_role::server, {1});
 
 struct holding_registers {
   std::uint8_t read_registers(std::uint8_t, std::uint16_t address, mb::span<std::uint16_t> out) {
@@ -237,14 +237,14 @@ METER_OP void op_modbus_crc16_byte() {
   meter_out[0] = mb::crc16_modbus<mb::crc_table_size::byte>::compute(input());
 }
 METER_OP void op_modbus_framer_start() {
-  framer = md::rtu_server_framer({md::framer_role::server, 1});
+  framer = md::rtu_server_framer({1});
   rtu_result = mb::need_input{};
 }
 METER_OP bool op_modbus_framer_byte(unsigned byte) {
   return framer.put(static_cast<std::uint8_t>(byte));
 }
 METER_OP void op_modbus_either_framer_start() {
-  either_framer = md::rtu_framer({md::framer_role::server, 1});
+  either_framer = md::rtu_framer(md::framer_role::server, {1});
   rtu_result = mb::need_input{};
 }
 METER_OP bool op_modbus_either_framer_byte(unsigned byte) {

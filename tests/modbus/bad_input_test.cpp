@@ -81,7 +81,7 @@ TEST_CASE("CVE class: oversize ADUs and PDUs") {
   std::vector<std::uint8_t> pdu(254, 0x03);
   CHECK(request_error(pdu) == errc::modbus_pdu_length);
   // a stream of bytes never makes the framer hold more than one ADU
-  rtu_framer f({framer_role::server, 1});
+  rtu_framer f(framer_role::server, {1});
   std::vector<std::uint8_t> noise(4096, 0x10);
   byte_view in(noise.data(), noise.size());
   for (int guard = 0; guard < 10000; ++guard) {

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "../support/bytes.hpp"
+#include "../support/modbus.hpp"
 #include "motionbus/modbus.hpp"
 
 using namespace motionbus;
@@ -122,8 +123,8 @@ TEST_CASE("FC2B/0E read device identification: objects inside the PDU") {
   // framed by length on a client, object by object
   std::uint8_t adu[256] = {};
   const std::size_t k = encode_rtu(1, view(resp), adu).value();
-  rtu_framer f({framer_role::client, 1});
-  f.sent(1, 0x2B);
+  rtu_framer f(framer_role::client, {1});
+  testutil::sent_to(f, 1, 0x2B);
   std::size_t frames = 0;
   for (std::size_t i = 0; i < k; ++i) {
     const auto e = f.feed(byte_view(adu + i, 1));

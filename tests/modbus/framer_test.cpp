@@ -101,22 +101,22 @@ TEST_CASE("framer put(): byte by byte, the results of feed() in chunks (random s
         }
       }
     }
-    framer_options options{rng.below(2) == 0 ? framer_role::server : framer_role::client,
-                           static_cast<std::uint8_t>(rng.below(3))};
+    const framer_role role = rng.below(2) == 0 ? framer_role::server : framer_role::client;
+    framer_options options{static_cast<std::uint8_t>(rng.below(3))};
     options.ends = rng.below(2) == 0 ? frame_end::silence : frame_end::length;
     const auto function = static_cast<std::uint8_t>(rng.below(2) == 0 ? 0x03 : 0x10);
-    rtu_framer chunked(options);
-    rtu_framer by_byte(options);
+    rtu_framer chunked(role, options);
+    rtu_framer by_byte(role, options);
     rtu_server_framer server(options);
-    if (options.role == framer_role::client) {
-      chunked.sent(options.address, function);
-      by_byte.sent(options.address, function);
+    if (role == framer_role::client) {
+      testutil::sent_to(chunked, options.address, function);
+      testutil::sent_to(by_byte, options.address, function);
     }
     const auto expected = run(chunked, stream, 1U + static_cast<std::size_t>(rng.below(40)));
     CAPTURE(round);
     CHECK(run_put(by_byte, stream) == expected);
     CHECK(by_byte.pending() == chunked.pending());
-    if (options.role == framer_role::server) {
+    if (role == framer_role::server) {
       CHECK(run_put(server, stream) == expected);
     }
     for (const auto& e : expected) {
@@ -127,7 +127,7 @@ TEST_CASE("framer put(): byte by byte, the results of feed() in chunks (random s
 }
 
 TEST_CASE("framer put(): result() holds what the last true settled") {
-  framer_options options{framer_role::server, 0x11};
+  framer_options options{0x11};
   options.ends = frame_end::length;  // a bad CRC fails at once (not held for the silence)
   rtu_server_framer f(options);
   CHECK(f.result().is_incomplete());  // before any: a default result
@@ -164,7 +164,7 @@ TEST_CASE("server framer: lengths from function codes and counts, any chunking")
     stream.insert(stream.end(), f->begin(), f->end());
   }
   for (std::size_t chunk = 1; chunk <= stream.size(); chunk += 3) {
-    rtu_framer f({framer_role::server, 0x11});
+    rtu_framer f(framer_role::server, {0x11});
     const auto ev = run(f, stream, chunk);
     CAPTURE(chunk);
     REQUIRE(ev.size() == 5);
@@ -189,7 +189,7 @@ TEST_CASE("framer resynchronises after garbage and a corrupted frame, bounded") 
   stream.insert(stream.end(), corrupt.begin(), corrupt.end());
   stream.insert(stream.end(), good.begin(), good.end());
   // without a t3.5 signal, the length rule and the CRC alone find the frame
-  rtu_framer f({framer_role::server, 0x11, frame_end::length});
+  rtu_framer f(framer_role::server, {0x11, frame_end::length});
   const auto ev = run(f, stream, 1);
   int frames = 0;
   int crc_errors = 0;
@@ -201,7 +201,7 @@ TEST_CASE("framer resynchronises after garbage and a corrupted frame, bounded") 
   CHECK(crc_errors >= 1);
   CHECK(f.dropped() >= 2);
   // with it (the default), the bytes wait for the silence, which finds the frame in them
-  rtu_framer s({framer_role::server, 0x11});
+  rtu_framer s(framer_role::server, {0x11});
   CHECK(run(s, stream, 1).empty());
   const auto found = s.idle();
   REQUIRE(found.is_complete());
@@ -212,7 +212,7 @@ TEST_CASE("framer resynchronises after garbage and a corrupted frame, bounded") 
   // idle() is always found
   testutil::splitmix64 rng(3);
   for (int round = 0; round < 100; ++round) {
-    rtu_framer g({framer_role::server, 0x11});
+    rtu_framer g(framer_role::server, {0x11});
     bytes noise(static_cast<std::size_t>(rng.below(600)));
     for (auto& x : noise) {
       x = rng.byte();
@@ -227,41 +227,59 @@ TEST_CASE("framer resynchronises after garbage and a corrupted frame, bounded") 
 }
 
 TEST_CASE("client framer: response lengths follow the outstanding request") {
-  rtu_framer f({framer_role::client, 0x11});
-  f.sent(0x11, 0x03);
+  rtu_framer f(framer_role::client, {0x11});
+  testutil::sent_to(f, 0x11, 0x03);
   const bytes resp = rtu(0x11, {0x03, 0x06, 0x02, 0x2B, 0x00, 0x00, 0x00, 0x64});
   auto ev = run(f, resp, 1);
   REQUIRE(ev.size() == 1);
   CHECK(ev[0].pdu.size() == 8);
   // exception response: 5 bytes whatever the function
-  f.sent(0x11, 0x03);
+  testutil::sent_to(f, 0x11, 0x03);
   ev = run(f, rtu(0x11, {0x83, 0x02}), 2);
   REQUIRE(ev.size() == 1);
   CHECK(ev[0].pdu == bytes{0x83, 0x02});
   // SM unit FC11: two bytes and no count
-  framer_options sm_layout{framer_role::client, 0x01};
+  framer_options sm_layout{0x01};
   sm_layout.fc11 = report_id_format::two_bytes_no_count;
-  rtu_framer sm(sm_layout);
-  sm.sent(0x01, 0x11);
+  rtu_framer sm(framer_role::client, sm_layout);
+  testutil::sent_to(sm, 0x01, 0x11);
   ev = run(sm, rtu(0x01, {0x11, 0x01, 0x00}), 1);
   REQUIRE(ev.size() == 1);
   CHECK(ev[0].pdu == bytes{0x11, 0x01, 0x00});
   // a response from another slave is skipped
-  f.sent(0x11, 0x06);
+  testutil::sent_to(f, 0x11, 0x06);
   ev = run(f, rtu(0x05, {0x06, 0x00, 0x01, 0x00, 0x03}), 4);
   CHECK(ev.empty());
   CHECK(f.skipped() == 1);
 }
 
+TEST_CASE("client framer: sent() takes the request ADU written, from its address and function") {
+  rtu_framer f(framer_role::client, {0x11});
+  // a request to another slave than the configured one: its response is the one framed
+  const bytes request = rtu(0x22, {0x03, 0x00, 0x00, 0x00, 0x01});
+  f.sent(view(request));
+  auto ev = run(f, rtu(0x22, {0x03, 0x02, 0x12, 0x34}), 1);
+  REQUIRE(ev.size() == 1);
+  CHECK(ev[0].pdu == bytes{0x03, 0x02, 0x12, 0x34});
+  ev = run(f, rtu(0x11, {0x03, 0x02, 0x12, 0x34}), 1);
+  CHECK(ev.empty());
+  CHECK(f.skipped() == 1);
+  // an empty request: any slave, no function pending (only an exception has a length rule)
+  f.sent(byte_view{});
+  ev = run(f, rtu(0x05, {0x83, 0x02}), 1);
+  REQUIRE(ev.size() == 1);
+  CHECK(ev[0].pdu == bytes{0x83, 0x02});
+}
+
 TEST_CASE("idle() frames functions without a length rule, and drops partial frames") {
-  rtu_framer plain({framer_role::server, 0x11, frame_end::length});
+  rtu_framer plain(framer_role::server, {0x11, frame_end::length});
   CHECK(run(plain, rtu(0x11, {0x41, 0x01, 0x02, 0x03}), 1).empty());
   // unknown function: garbage when framed by length alone; the next bytes may look like another
   // frame's start (here 41 01 = FC01 from slave 0x41), which the t3.5 signal then clears
   CHECK(plain.dropped() >= 1);
   CHECK(!plain.idle().is_complete());
   CHECK(plain.pending() == 0);
-  rtu_framer f({framer_role::server, 0x11});  // frame_end::silence
+  rtu_framer f(framer_role::server, {0x11});  // frame_end::silence
   const bytes custom = rtu(0x11, {0x41, 0x01, 0x02, 0x03});
   auto ev = run(f, custom, 2);
   CHECK(ev.empty());
@@ -295,14 +313,14 @@ TEST_CASE("FC08 sub-function 00 (Return Query Data): 8 + 2k bytes, the CRC tells
     for (const framer_role role : {framer_role::server, framer_role::client}) {
       for (std::size_t chunk = 1; chunk <= stream.size(); chunk += 4) {
         CAPTURE(chunk);
-        rtu_framer f({role, 0x01, ends});
+        rtu_framer f(role, {0x01, ends});
         std::vector<event> ev;
         if (role == framer_role::server) {
           ev = run(f, stream, chunk);
         } else {  // a client frames each FC08 response (the echo) after its request
           std::size_t at = 0;
           for (std::size_t k = 0; k + 1 < sizes.size(); ++k) {
-            f.sent(0x01, stream[at + 1]);
+            testutil::sent_to(f, 0x01, stream[at + 1]);
             const bytes one(stream.begin() + static_cast<std::ptrdiff_t>(at),
                             stream.begin() + static_cast<std::ptrdiff_t>(at + sizes[k] + 3));
             const auto got = run(f, one, chunk);
@@ -326,7 +344,7 @@ TEST_CASE("FC08 sub-function 00 (Return Query Data): 8 + 2k bytes, the CRC tells
   bad[5] ^= 0x01;
   bad.insert(bad.end(), read.begin(), read.end());
   for (const frame_end ends : {frame_end::silence, frame_end::length}) {
-    rtu_framer f({framer_role::server, 0x01, ends});
+    rtu_framer f(framer_role::server, {0x01, ends});
     CHECK(run(f, bad, 1).empty());
     CHECK(f.pending() == bad.size());
     const auto r = f.idle();
@@ -336,7 +354,7 @@ TEST_CASE("FC08 sub-function 00 (Return Query Data): 8 + 2k bytes, the CRC tells
 }
 
 TEST_CASE("idle(): a frame for another address ends in silence too, and is skipped") {
-  rtu_framer f({framer_role::server, 0x11});
+  rtu_framer f(framer_role::server, {0x11});
   const bytes other = rtu(0x12, {0x42, 0x01, 0x02});  // unknown function: only the silence ends it
   CHECK(run(f, other, 3).empty());
   CHECK(f.pending() == other.size());
@@ -393,8 +411,8 @@ TEST_CASE("fixed-role framers frame as the run-time role does") {
   bytes requests = request;
   requests.insert(requests.end(), request.begin(), request.end());
   for (std::size_t chunk = 1; chunk <= requests.size(); chunk += 5) {
-    rtu_server_framer s({framer_role::client /* not used: the type's role */, 0x11});
-    rtu_framer either({framer_role::server, 0x11});
+    rtu_server_framer s({0x11});
+    rtu_framer either(framer_role::server, {0x11});
     std::vector<event> a;
     std::vector<event> b;
     for (std::size_t at = 0; at < requests.size(); at += chunk) {
@@ -417,8 +435,8 @@ TEST_CASE("fixed-role framers frame as the run-time role does") {
     REQUIRE(b.size() == 2);
     CHECK(a[1].pdu == b[1].pdu);
   }
-  rtu_client_framer c({framer_role::server /* not used */, 0x11});
-  c.sent(0x11, 0x03);
+  rtu_client_framer c({0x11});
+  testutil::sent_to(c, 0x11, 0x03);
   const auto r = c.feed(byte_view(response.data(), response.size()));
   REQUIRE(r.is_complete());
   CHECK(r->pdu.size() == 8);
@@ -455,7 +473,7 @@ TEST_CASE("frame size prediction: each length rule, and when it cannot tell yet"
 TEST_CASE("framer framing by silence: a full buffer with no frame end resynchronises") {
   // frame_end::silence: a function without a length rule waits for idle(), but never
   // beyond the largest ADU: then the oldest byte is dropped and the scan goes on.
-  rtu_framer f({framer_role::server, 0x11});
+  rtu_framer f(framer_role::server, {0x11});
   bytes noise = {0x11, 0x41};
   noise.resize(max_rtu_size + 10, 0x55);
   std::size_t used = 0;
@@ -660,9 +678,9 @@ TEST_CASE("listener put(): byte by byte, the results of feed() in chunks (random
 
 TEST_CASE("client framer: result() keeps the last settled result through puts that return false") {
   // issue 23 §4: the header's contract (valid until the next put() that returns true)
-  framer_options options{framer_role::client, 0x11};
+  framer_options options{0x11};
   rtu_client_framer f(options);
-  f.sent(0x11, 0x03);
+  testutil::sent_to(f, 0x11, 0x03);
   const bytes response = rtu(0x11, {0x03, 0x02, 0x00, 0x2A});
   bool settled = false;
   for (const std::uint8_t b : response) {
@@ -703,10 +721,10 @@ TEST_CASE("framer: an FC2B response whose objects outgrow 256 bytes fails (no en
   const bytes line = fc2b_overlong();
   for (int by_put = 0; by_put < 2; ++by_put) {
     CAPTURE(by_put);
-    framer_options options{framer_role::client, 0x01};
+    framer_options options{0x01};
     options.ends = frame_end::length;
     rtu_client_framer f(options);
-    f.sent(0x01, 0x2B);
+    testutil::sent_to(f, 0x01, 0x2B);
     std::vector<errc> errors;
     const auto each = [&](const auto& r) {
       errors.push_back(r.error());
@@ -795,7 +813,7 @@ TEST_CASE("framer and listener: FC08 Return Query Data of every even length (8 +
     CHECK(frames[1].e.pdu == pdu);
     rtu_listener g;
     CHECK(listen_bytes(g, line) == all);
-    rtu_server_framer server({framer_role::server, 0x11});
+    rtu_server_framer server({0x11});
     const auto served = run_put(server, cat({frame, frame}));
     REQUIRE(served.size() == 2U);
     CHECK(served[0].pdu == pdu);

@@ -161,9 +161,8 @@ TEST_CASE("server: exceptions in the spec's order, from the codec and from the d
 namespace {
 std::vector<bytes> serve_stream(const bytes& stream, std::size_t chunk, framer_options options) {
   array_device dev;
-  options.role = framer_role::server;
   options.address = 0x11;
-  rtu_framer rx(options);
+  rtu_framer rx(framer_role::server, options);
   std::vector<bytes> sent;
   auto answer = [&](const rtu_frame& frame) {
     std::uint8_t out[256] = {};
@@ -206,11 +205,8 @@ TEST_CASE("server over a framer: requests whose counts disagree with their lengt
     REQUIRE(sent.size() == 1);
     CHECK(sent[0] == bytes{0x11, 0xC2, 0x01, 0xB1, 0x65});
     // without the silence, the length rule cannot frame either: nothing is sent
-    CHECK(serve_stream(count_zero, chunk,
-                       framer_options{framer_role::server, 0x11, frame_end::length})
-              .empty());
-    CHECK(serve_stream(unknown, chunk, framer_options{framer_role::server, 0x11, frame_end::length})
-              .empty());
+    CHECK(serve_stream(count_zero, chunk, framer_options{0x11, frame_end::length}).empty());
+    CHECK(serve_stream(unknown, chunk, framer_options{0x11, frame_end::length}).empty());
   }
 }
 
@@ -290,7 +286,7 @@ TEST_CASE("server: serve_frame answers a frame the framer checked, without decod
   const std::uint8_t pdu[] = {0x03, 0x00, 0x02, 0x00, 0x01};
   std::uint8_t adu[8] = {};
   REQUIRE(encode_rtu(0x11, byte_view(pdu, sizeof pdu), adu).value() == sizeof adu);
-  rtu_framer rx({framer_role::server, 0x11});
+  rtu_framer rx(framer_role::server, {0x11});
   const auto f = rx.feed(byte_view(adu, sizeof adu));
   REQUIRE(f.is_complete());
   std::uint8_t out[256] = {};
@@ -425,7 +421,7 @@ struct checked_table : u16_table {
 // pass); empty when nothing is sent.
 template <class Device>
 bytes call_frame(Device& dev, const bytes& adu, std::uint8_t own = 0x11) {
-  rtu_framer rx({framer_role::server, own});
+  rtu_framer rx(framer_role::server, {own});
   const auto f = rx.feed(byte_view(adu.data(), adu.size()));
   REQUIRE(f.is_complete());
   std::uint8_t out[256] = {};

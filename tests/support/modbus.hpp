@@ -42,6 +42,14 @@ bytes serve_pdu(Device& device, std::uint8_t own, const bytes& pdu) {
   return serve_adu(device, own, view(rtu(own, pdu)));
 }
 
+/// Tells the client framer `f` that a request for `function` went to `slave`: sent() with the
+/// head of its ADU (the framer reads the address and the function only).
+template <class Framer>
+void sent_to(Framer& f, std::uint8_t slave, std::uint8_t function) {
+  const std::uint8_t head[2] = {slave, function};
+  f.sent(motionbus::byte_view(head, 2));
+}
+
 }  // namespace testutil
 
 #endif  // MOTIONBUS_TESTS_MODBUS_HPP

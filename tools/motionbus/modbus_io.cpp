@@ -42,10 +42,10 @@ exchange transact(serial::port& port, std::uint8_t slave, const std::uint8_t* ad
   if (!port.write_all(adu, size)) {
     return {{}, "write_error"};
   }
-  mo::framer_options options{mo::framer_role::client, slave};
+  mo::framer_options options{slave};
   options.fc11 = fc11;
-  mo::rtu_framer rx(options);
-  rx.sent(slave, adu[1]);
+  mo::rtu_client_framer rx(options);
+  rx.sent(mb::byte_view(adu, size));
   const std::uint32_t deadline = serial::now_us() + static_cast<std::uint32_t>(timeout_ms) * 1000U;
   std::uint8_t buffer[256];
   std::string failure;

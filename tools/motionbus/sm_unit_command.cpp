@@ -72,7 +72,7 @@ int serve_sm_unit(const serve_options& opts) {
   }
   serial::install_stop_handler();
   sm::emulator unit;
-  mo::rtu_framer rx({mo::framer_role::server, slave});
+  mo::rtu_framer rx(mo::framer_role::server, {slave});
   const serial::settings s = opts.line.settings();
   const mo::parity p = modbus_io::parity_of(s);
   // t3.5, but at least the SM unit's own 5 ms silent interval; the OS adds its own delays

@@ -133,6 +133,21 @@ class frame_buffer {
     end_ = static_cast<index>(end_ + n);
     return n;
   }
+  /// The feed loop of a stream object, written once: whenever wanted() bytes are held, asks
+  /// `decide()` (true: something settled, stop); else appends from `in`, at `used` (advanced),
+  /// what wanted() still needs. True when decide() settled; false when `in` is used up.
+  template <class Decide>
+  constexpr bool fill_and_decide(byte_view in, std::size_t& used, Decide&& decide) noexcept {
+    for (;;) {
+      if (size() >= wanted() && decide()) {
+        return true;
+      }
+      if (used >= in.size()) {
+        return false;
+      }
+      used += append(in.subspan(used), wanted() - size());
+    }
+  }
   /// Drops the first `n` bytes held (n <= size()); wanted() then counts from the front left.
   constexpr void drop(std::size_t n) noexcept { drop(n, want_); }
   /// drop(n) and want(next_want) in one step.

@@ -9,14 +9,14 @@
 // observed (frame_end::length), the length rule alone frames and everything else is garbage.
 // A server keeps frames for its address and broadcasts; a client frames the response to its
 // outstanding request; a listener (rtu_listener: a bus monitor, a capture decoder) frames both
-// directions of a tapped line (framer_roles::listener). After garbage or a bad CRC the framer drops
+// directions of a tapped line (framer_role::listener). After garbage or a bad CRC the framer drops
 // one byte at a time and rescans (at most 256 bytes are ever held, in a frame_buffer: a dropped
 // byte moves an index, nothing is shifted; a frame is handed over as a view into it, not copied).
 // The same shape as the T-format receiver: built from an options struct, given bytes by put() (one
 // byte, from a UART interrupt) and feed() (a chunk), told of the line's silence by idle(). `Table`
 // selects the CRC table. No heap, no I/O.
 //
-//   rtu_server_framer rx({framer_role::server, 0x11});
+//   rtu_server_framer rx({0x11});
 //   on_rx_interrupt(b):                 // one byte: true when something is settled
 //     if (rx.put(b) && rx.result()) handle(rx.result().value());
 //   on_bytes(in):                       // or a chunk (core/stream.hpp: the feed loop)
@@ -34,7 +34,7 @@
 //
 // Firmware contract (Cortex-M4; sizes checked by the test command, stack and instructions by
 // the meter at -Os: docs/footprint.md):
-//   rtu_framer size: 304 bytes (a 256-byte frame buffer, its state and put()'s result; the
+//   rtu_framer size: 308 bytes (a 256-byte frame buffer, its state and put()'s result; the
 //     same for rtu_server_framer and rtu_client_framer). A default-constructed `static` framer
 //     is all zeros: .bss, no start-up code, no flash copied to RAM.
 //   put(byte), rtu_server_framer: 12 instructions for a byte inside a frame, the call included
@@ -56,6 +56,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <type_traits>
 
 #include "motionbus/core/bytes.hpp"
 #include "motionbus/core/errc.hpp"
@@ -68,8 +69,6 @@
 
 namespace motionbus {
 namespace modbus {
-
-enum class framer_role : std::uint8_t { server = 0, client = 1 };
 
 /// Predicted size of the RTU frame at the start of `in` (address, function, ...): the total
 /// size in bytes, 0 when more bytes are needed to tell, or `unknown_length` when the function
@@ -179,17 +178,17 @@ enum class frame_end : std::uint8_t {
 
 /// The framer's run-time choices.
 struct framer_options {
-  framer_role role = framer_role::server;
   /// A server's own address (1..247; it also takes broadcasts), or for a client the slave it
-  /// talks to (0: accept any).
+  /// talks to until the first sent() (0: accept any).
   std::uint8_t address = 0;
   frame_end ends = frame_end::silence;
   report_id_format fc11 = report_id_format::standard;  ///< client: FC11 response layout
 };
 
-/// The roles a framer type can take: either (framer_options::role chooses at run time), or one
-/// fixed by the type, so that a server links only the request length rule (no client code)
-/// and a client only the response's.
+/// A framer's role, the template parameter of basic_rtu_framer: fixed by the type, so that a
+/// server links only the request length rule (no client code) and a client only the
+/// response's; or `either`, the one type whose role is chosen at run time (its constructor's
+/// first argument: server or client).
 ///
 /// listener: a passive node on a tapped line (a bus monitor, a capture decoder) that frames the
 /// requests and the responses of every node. After a request, a frame is tried as that
@@ -201,24 +200,26 @@ struct framer_options {
 /// behind a bad one is lost; bytes no rule sizes (an unknown function, garbage) are dropped
 /// one at a time (dropped()) whatever options.ends says: on a tapped line the silence is a
 /// hint (idle()), never the only delimiter. heard_response() tells which rule framed the last
-/// frame. options.address and options.role are not used.
-enum class framer_roles : std::uint8_t {
-  either = 0,
-  server_only = 1,
-  client_only = 2,
-  listener = 3
-};
+/// frame. options.address is not used.
+enum class framer_role : std::uint8_t { server = 0, client = 1, listener = 2, either = 3 };
 
-template <crc_table_size Table = default_crc_table, framer_roles Roles = framer_roles::either>
+template <crc_table_size Table = default_crc_table, framer_role Role = framer_role::either>
 class basic_rtu_framer {
  public:
-  /// A fixed-role type takes its role from the type (options.role is not used).
-  constexpr explicit basic_rtu_framer(framer_options options = {}) noexcept : options_(options) {}
+  /// The role the type fixes (`either`: a server).
+  constexpr explicit basic_rtu_framer(framer_options options = {}) noexcept
+      : options_(options), slave_(options.address) {}
+  /// The `either` type: the role chosen at run time (server or client).
+  template <framer_role R = Role, std::enable_if_t<R == framer_role::either, int> = 0>
+  constexpr explicit basic_rtu_framer(framer_role role, framer_options options = {}) noexcept
+      : options_(options), slave_(options.address), role_(role) {}
 
-  /// Client: records the request just sent (its function selects the response layout).
-  constexpr void sent(std::uint8_t slave, std::uint8_t function) noexcept {
-    options_.address = slave;
-    function_ = function;
+  /// Client: records the request just sent, the RTU ADU written to the line (address,
+  /// function, ...): the response is expected from its slave (any, for 0) and in the layout of
+  /// its function. The configured options.address is kept. Drops any partial frame.
+  constexpr void sent(byte_view request_adu) noexcept {
+    slave_ = request_adu.size() > 0U ? request_adu[0] : std::uint8_t{0};
+    function_ = request_adu.size() > 1U ? request_adu[1] : std::uint8_t{0};
     buf_.want(0);
     buf_.clear();
     waiting_ = 0;
@@ -287,7 +288,7 @@ class basic_rtu_framer {
     if (buf_.empty()) {
       return need_input{1};
     }
-    if constexpr (Roles == framer_roles::listener) {
+    if constexpr (Role == framer_role::listener) {
       phase_ = phase::scanning;
       const decode_result<rtu_frame> r = listen(0, true);
       if (buf_.empty()) {
@@ -423,16 +424,7 @@ class basic_rtu_framer {
   // and decides as often as needed. True when something is settled, into `out` (nothing else
   // writes it); false when all of `in` was taken (wanted() bytes are then to be held).
   constexpr bool decide(decode_result<rtu_frame>& out, byte_view in, std::size_t& used) noexcept {
-    for (;;) {
-      if (buf_.size() >= buf_.wanted() && scan(out, used, false)) {
-        return true;
-      }
-      // here wanted() > size and wanted() <= 256
-      if (used >= in.size()) {
-        return false;
-      }
-      used += buf_.append(in.subspan(used), buf_.wanted() - buf_.size());
-    }
+    return buf_.fill_and_decide(in, used, [&] { return scan(out, used, false); });
   }
 
   // `out` = `r` (or the failure `f`), built in place; true.
@@ -451,7 +443,7 @@ class basic_rtu_framer {
     waiting_ = 0;
   }
 
-  static constexpr bool listening() noexcept { return Roles == framer_roles::listener; }
+  static constexpr bool listening() noexcept { return Role == framer_role::listener; }
 
   // Responses whose length their own bytes give (a count, FC2B's objects): the listener frames
   // them with no request pending (MODBUS Application Protocol V1.1b3 §6).
@@ -461,12 +453,10 @@ class basic_rtu_framer {
   }
 
   constexpr bool server() const noexcept {
-    if constexpr (Roles == framer_roles::server_only) {
-      return true;
-    } else if constexpr (Roles == framer_roles::client_only || Roles == framer_roles::listener) {
-      return false;
+    if constexpr (Role == framer_role::either) {
+      return role_ == framer_role::server;
     } else {
-      return options_.role == framer_role::server;
+      return Role == framer_role::server;
     }
   }
 
@@ -483,7 +473,7 @@ class basic_rtu_framer {
     if (server()) {
       return slave == options_.address || slave == broadcast_address;
     }
-    return options_.address == 0U || slave == options_.address;
+    return slave_ == 0U || slave == slave_;
   }
 
   // FC08 sub-function 00 (Return Query Data) carries any even number of data bytes and no
@@ -560,9 +550,8 @@ class basic_rtu_framer {
   }
 
   // Decides on the bytes held. True: settled, into `out` (built there: no local result). False
-  // (`out` untouched): wanted() (> size) is how many to hold before the next decision. Out of line:
-  // inlined into the chunk loop, it made that loop 8 % slower on x86-64 (bench/RESULTS.md, session
-  // 9).
+  // (`out` untouched): wanted() (> size) is how many to hold before the next decision. Out of
+  // line: the chunk loop that calls it stays small and fast when the scan is not inlined into it.
   MOTIONBUS_NOINLINE constexpr bool scan(decode_result<rtu_frame>& out, std::size_t used,
                                          bool at_end) noexcept {
     // the last decision waited for Return Query Data: its CRC so far, up to wanted() - 2
@@ -573,7 +562,7 @@ class basic_rtu_framer {
       query_crc = take_query_crc();
     }
     phase_ = phase::scanning;
-    if constexpr (Roles == framer_roles::listener) {
+    if constexpr (Role == framer_role::listener) {
       const decode_result<rtu_frame> r = listen(used, at_end);
       return !r.is_incomplete() && settled(out, r);
     }
@@ -655,7 +644,7 @@ class basic_rtu_framer {
     }
   }
 
-  // The listener's decision on the bytes held (framer_roles::listener). The response rule
+  // The listener's decision on the bytes held (framer_role::listener). The response rule
   // (after a request, from its slave; an exception from any slave) is tried before the request
   // rule; the first rule whose length is held and whose CRC matches frames. Incomplete: the
   // bytes the nearest rule still needs are wanted. Neither: the first failure met, one byte
@@ -676,7 +665,7 @@ class basic_rtu_framer {
       // The response rule: the pending request's function from its slave; with no request
       // pending (it was lost, e.g. corrupted), a response that carries its own length, its own
       // function read as the request's (the CRC decides); an exception from any slave.
-      const std::uint8_t asked = function_ != 0U ? (held[0] == options_.address ? function_ : 0U)
+      const std::uint8_t asked = function_ != 0U ? (held[0] == slave_ ? function_ : 0U)
                                  : self_sized_response(held[1]) ? held[1]
                                                                 : 0U;
       const bool response_possible = asked != 0U || (held[1] & exception_flag) != 0U;
@@ -720,7 +709,7 @@ class basic_rtu_framer {
         if (rule == 0U || f.value().slave == broadcast_address) {
           function_ = 0;  // a request comes next
         } else {
-          options_.address = f.value().slave;
+          slave_ = f.value().slave;
           function_ = f.value().pdu[0];
         }
         return hand_over(f.value(), total, used);
@@ -743,6 +732,9 @@ class basic_rtu_framer {
 
   frame_buffer<max_rtu_size> buf_;  // first: put() stores at the object's address
   framer_options options_;
+  // client: the slave of the request sent (options.address until sent(); 0: any); listener:
+  // the slave of the request heard
+  std::uint8_t slave_ = 0;
   std::uint8_t function_ = 0;
   // A bool (the length rule failed on the bytes held: only idle() decides), or the CRC's low
   // byte while a Return Query Data is awaited (keep_query_crc())
@@ -759,18 +751,19 @@ class basic_rtu_framer {
   phase phase_ = phase::scanning;
   // listener: a bool, see heard_response(); else the CRC's high byte (keep_query_crc())
   std::uint8_t heard_response_ = 0;
+  framer_role role_ = framer_role::server;  // the `either` type's (run-time) role
   std::size_t dropped_ = 0;
   std::size_t skipped_ = 0;
   decode_result<rtu_frame> result_;  // put()'s
 };
 
-/// The framer with the default CRC table, either role (framer_options::role).
+/// The framer with the default CRC table, either role (chosen at run time).
 using rtu_framer = basic_rtu_framer<>;
 /// A server's framer (links no client code) and a client's, default CRC table.
-using rtu_server_framer = basic_rtu_framer<default_crc_table, framer_roles::server_only>;
-using rtu_client_framer = basic_rtu_framer<default_crc_table, framer_roles::client_only>;
-/// A bus monitor's framer: both directions of a tapped line (framer_roles::listener).
-using rtu_listener = basic_rtu_framer<default_crc_table, framer_roles::listener>;
+using rtu_server_framer = basic_rtu_framer<default_crc_table, framer_role::server>;
+using rtu_client_framer = basic_rtu_framer<default_crc_table, framer_role::client>;
+/// A bus monitor's framer: both directions of a tapped line (framer_role::listener).
+using rtu_listener = basic_rtu_framer<default_crc_table, framer_role::listener>;
 
 }  // namespace modbus
 }  // namespace motionbus

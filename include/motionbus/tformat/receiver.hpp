@@ -35,7 +35,7 @@
 //     and its index stored, nothing else written). An ID3 response: 26.2 a byte, decode and
 //     check included, 143 at its last byte; an ID0 response (the short layouts' path): 52.5 a
 //     byte, 230 at its last byte; the last byte of a response with a bad CRC (the bytes held
-//     rescanned): 599, the worst measured. 168 bytes of stack at worst (the last byte of an
+//     rescanned): 600, the worst measured. 168 bytes of stack at worst (the last byte of an
 //     ID0 response; measured with the receiver alone in its translation unit, as in a receive
 //     interrupt's file, where the compiler inlines more than beside other code).
 //   Interrupts: put() or feed() may run in the UART receive interrupt, idle() in the
@@ -233,17 +233,14 @@ class receiver {
   // as often as needed. True when something is settled, into `out` (nothing else writes it);
   // false when all of `in` was taken (wanted() bytes are then to be held).
   constexpr bool decide(decode_result<response>& out, byte_view in, std::size_t& used) noexcept {
-    for (;;) {
+    return buf_.fill_and_decide(in, used, [&] {
       // enough held to decide something: a frame's last byte, or scan() found a frame held
-      if (buf_.size() >= buf_.wanted() && (framing_ || scan() == 0U)) {
+      if (framing_ || scan() == 0U) {
         finish(used, out);
         return true;
       }
-      if (used >= in.size()) {
-        return false;
-      }
-      used += buf_.append(in.subspan(used), buf_.wanted() - buf_.size());
-    }
+      return false;
+    });
   }
 
   // Decides on the bytes held (at least wanted()): skips an echo, drops garbage, finds a

@@ -31,7 +31,7 @@ std::size_t modbus_round(const std::uint16_t* values, std::size_t count) {
   total += mo::encode_fifo_response(v, out).value_or(0);
   std::uint8_t adu[mo::max_rtu_size] = {};
   total += mo::encode_rtu(1, mb::byte_view(out, total % 32U + 1U), adu).value_or(0);
-  mo::rtu_framer rx({mo::framer_role::server, 1});
+  mo::rtu_framer rx(mo::framer_role::server, {1});
   const auto r = rx.feed(mb::byte_view(adu, total % 64U));
   total += r.is_complete() ? r->pdu.size() : 0U;
   return total + out[5] + adu[7];
