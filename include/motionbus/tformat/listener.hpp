@@ -102,11 +102,11 @@ class line_listener {
   /// The line went idle: what is held is settled, one result a call (call it again until it
   /// reports incomplete: the bytes held after a failure are rescanned). A frame cut short
   /// fails (truncated, one byte dropped). Once nothing is held, no response is expected any
-  /// more: the encoder answers about 3 us after the request (PROTOCOL_NOTES §1.1), so the next
-  /// frame after a silence is a request. Report a silence longer than the line's turnaround
-  /// (and, on a host, than its delivery delays: the bus monitor's --gap-us).
-  /// Bytes held while rescanning a rejected response (no response found in them yet) are the
-  /// rest of that response: dropped (counted in dropped()), never read as requests.
+  /// more: the encoder answers about 3 us after the request (T-format spec §8.2; docs/tformat.md),
+  /// so the next frame after a silence is a request. Report a silence longer than the line's
+  /// turnaround (and, on a host, than its delivery delays: the bus monitor's --gap-us). Bytes held
+  /// while rescanning a rejected response (no response found in them yet) are the rest of that
+  /// response: dropped (counted in dropped()), never read as requests.
   constexpr decode_result<heard> idle() noexcept {
     if (resync_) {
       resync_ = false;
@@ -196,7 +196,7 @@ class line_listener {
       h.req.cf = b0;
       std::size_t n = 1;
       // A parity error in an EEPROM request's CF (Table 6 No. 4): its Data ID as read still
-      // sizes it (ADF, EDF, CRC follow), so that those bytes are not read as new requests.
+      // sizes it (its address, data and CRC bytes come next), so they are not new requests.
       // Choice: an EEPROM ID read with a parity error is taken as that request (one bit flipped
       // in cc4); any other CF with a parity error is one byte.
       const bool eeprom = id == data_id::eeprom_write || id == data_id::eeprom_read;
