@@ -31,9 +31,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const bool write =
         s.function == 0x05U || s.function == 0x06U || s.function == 0x0FU || s.function == 0x10U;
     if (read || write) {
-      const auto one = read ? mo::decode_read_response(pdu, fc, s.quantity)
-                            : mo::decode_write_response(pdu, fc, s.address,
-                                                        s.function <= 0x06U ? s.value : s.quantity);
+      const auto one = read ? mo::decode_read_response(fc, s.quantity, pdu)
+                            : mo::decode_write_response(
+                                  fc, s.address, s.function <= 0x06U ? s.value : s.quantity, pdu);
       MOTIONBUS_FUZZ_CHECK(one.status() == r.status() && one.error() == r.error() &&
                            one.consumed() == r.consumed() && one.expected() == r.expected() &&
                            one.received() == r.received());

@@ -27,9 +27,9 @@ extern "C" unsigned probe_entry(const unsigned char* in, unsigned n, unsigned ch
     return 1;
   }
   const auto r =
-      read ? md::decode_read_response(f->pdu, md::function_code::read_holding_registers, in[4])
-           : md::decode_write_response(f->pdu, md::function_code::write_multiple_registers, in[3],
-                                       2);
+      read ? md::decode_read_response(md::function_code::read_holding_registers, in[4], f->pdu)
+           : md::decode_write_response(md::function_code::write_multiple_registers, in[3], 2,
+                                       f->pdu);
   return r.is_complete() ? static_cast<unsigned>(r->data.size()) + r->quantity
                          : static_cast<unsigned>(r.error());
 }

@@ -292,8 +292,8 @@ METER_OP void op_modbus_client_fc03(unsigned quantity) {
     pdu = f->pdu;
   }
   keep(client_result, [&] {
-    return md::decode_read_response(pdu, md::function_code::read_holding_registers,
-                                    static_cast<std::uint16_t>(quantity));
+    return md::decode_read_response(md::function_code::read_holding_registers,
+                                    static_cast<std::uint16_t>(quantity), pdu);
   });
 }
 METER_OP void op_report_client() {

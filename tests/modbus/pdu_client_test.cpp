@@ -143,8 +143,8 @@ TEST_CASE("client, one function: read and write decoders agree with decode_respo
       CAPTURE(a.size());
       const auto generic = decode_response_for(view(ex.request), view(a));
       const auto one =
-          read ? decode_read_response(view(a), f, q.quantity)
-               : decode_write_response(view(a), f, q.address, f <= 0x06U ? q.value : q.quantity);
+          read ? decode_read_response(f, q.quantity, view(a))
+               : decode_write_response(f, q.address, f <= 0x06U ? q.value : q.quantity, view(a));
       REQUIRE(one.status() == generic.status());
       CHECK(one.error() == generic.error());
       CHECK(one.consumed() == generic.consumed());
@@ -162,28 +162,28 @@ TEST_CASE("client, one function: read and write decoders agree with decode_respo
   CHECK(compared > 500);
   // The values themselves, and what only these decoders can be asked.
   const bytes fc03 = spec_examples()[2].response;
-  const auto r = decode_read_response(view(fc03), function_code::read_holding_registers, 3);
+  const auto r = decode_read_response(function_code::read_holding_registers, 3, view(fc03));
   REQUIRE(r.is_complete());
   CHECK(register_at(r->data, 1) == 0x0000);
   CHECK(register_at(r->data, 2) == 0x0064);
   // asked for 4 registers, the byte count says 3
-  CHECK(decode_read_response(view(fc03), function_code::read_holding_registers, 4).error() ==
+  CHECK(decode_read_response(function_code::read_holding_registers, 4, view(fc03)).error() ==
         errc::modbus_byte_count);
-  CHECK(decode_read_response(view(fc03), function_code::write_single_register, 3).error() ==
+  CHECK(decode_read_response(function_code::write_single_register, 3, view(fc03)).error() ==
         errc::invalid_argument);
-  const auto other = decode_read_response(view(fc03), function_code::read_input_registers, 3);
+  const auto other = decode_read_response(function_code::read_input_registers, 3, view(fc03));
   CHECK(other.error() == errc::modbus_mismatch);
   CHECK(other.expected() == 0x04);
   CHECK(other.received() == 0x03);
-  CHECK(decode_write_response(view({0x10, 0x00, 0x01, 0x00, 0x02}), function_code::read_coils, 1, 2)
+  CHECK(decode_write_response(function_code::read_coils, 1, 2, view({0x10, 0x00, 0x01, 0x00, 0x02}))
             .error() == errc::invalid_argument);
-  const auto w = decode_write_response(view({0x10, 0x00, 0x01, 0x00, 0x02}),
-                                       function_code::write_multiple_registers, 1, 2);
+  const auto w = decode_write_response(function_code::write_multiple_registers, 1, 2,
+                                       view({0x10, 0x00, 0x01, 0x00, 0x02}));
   REQUIRE(w.is_complete());
   CHECK(w->address == 1);
   CHECK(w->quantity == 2);
-  const auto echo = decode_write_response(view({0x06, 0x00, 0x01, 0x00, 0x03}),
-                                          function_code::write_single_register, 1, 4);
+  const auto echo = decode_write_response(function_code::write_single_register, 1, 4,
+                                          view({0x06, 0x00, 0x01, 0x00, 0x03}));
   CHECK(echo.error() == errc::modbus_mismatch);
   CHECK(echo.expected() == 0);  // an echo mismatch has no function evidence
 }

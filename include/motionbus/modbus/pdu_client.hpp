@@ -252,7 +252,8 @@ constexpr bool response_head(byte_view pdu, std::uint8_t function, response& r, 
 }  // namespace detail
 
 /// Client, one function: decodes the response PDU to a read of `quantity` bits (FC01, FC02)
-/// or registers (FC03, FC04, and the read part of FC17) by `function`. Complete: r.data holds
+/// or registers (FC03, FC04, and the read part of FC17) by `function`: what was asked first,
+/// the bytes that answer it last, as decode_response_for(sent, pdu). Complete: r.data holds
 /// the packed bits or register bytes, r.byte_count and r.quantity are set; an exception
 /// response is complete with r.exception set. Failed (consumed = PDU size): modbus_pdu_length,
 /// invalid_argument (`function` is not a read), modbus_mismatch (another function; expected =
@@ -260,8 +261,9 @@ constexpr bool response_head(byte_view pdu, std::uint8_t function, response& r, 
 /// vs bytes present), reserved_bits (unused high bits of the last bit byte set).
 /// Links only what a client of these functions needs (decode_response_for handles every function
 /// from the request bytes).
-constexpr decode_result<response> decode_read_response(byte_view pdu, std::uint8_t function,
-                                                       std::uint16_t quantity) noexcept {
+constexpr decode_result<response> decode_read_response(std::uint8_t function,
+                                                       std::uint16_t quantity,
+                                                       byte_view pdu) noexcept {
   const std::uint8_t f = function;
   const std::size_t n = pdu.size();
   if (!detail::is_read_bits(f) && !detail::is_read_registers(f) && f != 0x17U) {
@@ -297,13 +299,14 @@ constexpr decode_result<response> decode_read_response(byte_view pdu, std::uint8
 
 /// Client, one function: decodes the response PDU to a write (FC05, FC06, FC0F, FC10) at
 /// `address` of `second` (the value for FC05/06, the quantity for FC0F/10), which the response
-/// must echo. Complete: r.address and r.value or r.quantity; an exception response is complete
-/// with r.exception set. Failed (consumed = PDU size): modbus_pdu_length, invalid_argument
-/// (`function` is not one of these), modbus_mismatch (another function, or an echo that
-/// differs), truncated, modbus_byte_count (not 5 bytes).
-constexpr decode_result<response> decode_write_response(byte_view pdu, std::uint8_t function,
-                                                        std::uint16_t address,
-                                                        std::uint16_t second) noexcept {
+/// must echo; what was asked first, the response PDU last. Complete: r.address and r.value or
+/// r.quantity; an exception response is complete with r.exception set. Failed (consumed = PDU
+/// size): modbus_pdu_length, invalid_argument (`function` is not one of these),
+/// modbus_mismatch (another function, or an echo that differs), truncated, modbus_byte_count
+/// (not 5 bytes).
+constexpr decode_result<response> decode_write_response(std::uint8_t function,
+                                                        std::uint16_t address, std::uint16_t second,
+                                                        byte_view pdu) noexcept {
   const std::uint8_t f = function;
   const std::size_t n = pdu.size();
   if (f != 0x05U && f != 0x06U && f != 0x0FU && f != 0x10U) {
@@ -496,11 +499,11 @@ constexpr decode_result<response> decode_response_for(
   const request& q = dq.value();
   const std::uint8_t f = q.function;
   if (detail::is_read_bits(f) || detail::is_read_registers(f) || f == 0x17U) {
-    return decode_read_response(pdu, f, q.quantity);
+    return decode_read_response(f, q.quantity, pdu);
   }
   if (f == 0x05U || f == 0x06U || f == 0x0FU || f == 0x10U) {
     const bool single = f == 0x05U || f == 0x06U;
-    return decode_write_response(pdu, f, q.address, single ? q.value : q.quantity);
+    return decode_write_response(f, q.address, single ? q.value : q.quantity, pdu);
   }
   response r;
   errc e = errc::ok;
