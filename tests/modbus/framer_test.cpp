@@ -1,4 +1,5 @@
-// Modbus RTU stream framing (both roles), RTU timing, TCP MBAP.
+// Modbus RTU stream framing: the server, client and either roles, the fixed-role forms and the
+// listener (both directions of a tapped line).
 #include "motionbus/modbus/framer.hpp"
 
 #include <doctest/doctest.h>
@@ -8,8 +9,7 @@
 
 #include "../support/modbus.hpp"
 #include "../support/prng.hpp"
-#include "motionbus/modbus/tcp.hpp"
-#include "motionbus/modbus/timing.hpp"
+#include "../support/stream.hpp"
 
 using namespace motionbus;
 using namespace motionbus::modbus;
@@ -33,34 +33,42 @@ event note(const decode_result<rtu_frame>& r) {
 }
 
 std::vector<event> run(rtu_framer& f, const bytes& stream, std::size_t chunk) {
-  std::vector<event> out;
-  for (std::size_t at = 0; at < stream.size(); at += chunk) {
-    feed_all(f, byte_view(stream.data() + at, std::min(chunk, stream.size() - at)),
-             [&](const auto& r) {
-               out.push_back(note(r));
-               return true;
-             });
-  }
-  return out;
+  return fed_notes(f, view(stream), chunk, note);
 }
 
 // The same stream one byte at a time through put(), each true followed by the rescan of the
 // bytes held (put_each: feed() of an empty chunk until incomplete).
 template <class Framer>
 std::vector<event> run_put(Framer& f, const bytes& stream) {
-  std::vector<event> out;
-  for (const std::uint8_t b : stream) {
-    put_each(f, b, [&](const auto& r) {
-      CHECK(!r.is_incomplete());
-      out.push_back(note(r));
-      return true;
-    });
-  }
-  return out;
+  return put_notes(f, view(stream), note);
 }
 
 bool operator==(const event& a, const event& b) {
   return a.ok == b.ok && a.error == b.error && a.slave == b.slave && a.pdu == b.pdu;
+}
+
+// At least 300 bytes of a line: RTU frames of `pdus` for slaves 0..slaves-1 (one in seven
+// with a byte changed, one in seven cut short) and runs of noise.
+bytes random_line(splitmix64& rng, const std::vector<bytes>& pdus, std::uint64_t slaves) {
+  bytes line;
+  while (line.size() < 300U) {
+    const std::uint64_t kind = rng.below(10);
+    if (kind < 7U) {
+      const auto slave = static_cast<std::uint8_t>(rng.below(slaves));
+      bytes f = rtu(slave, pdus[static_cast<std::size_t>(rng.below(pdus.size()))]);
+      if (kind == 6U) {
+        flip_a_byte(rng, f);
+      } else if (kind == 5U) {
+        cut_short(rng, f);
+      }
+      line.insert(line.end(), f.begin(), f.end());
+    } else {
+      for (std::uint64_t i = rng.below(6); i > 0; --i) {
+        line.push_back(rng.byte());
+      }
+    }
+  }
+  return line;
 }
 
 }  // namespace
@@ -82,25 +90,7 @@ TEST_CASE("framer put(): byte by byte, the results of feed() in chunks (random s
                                    {0x2B, 0x0E, 0x01, 0x00}};
   std::size_t frames = 0;
   for (int round = 0; round < 400; ++round) {
-    bytes stream;
-    while (stream.size() < 300U) {
-      const std::uint64_t kind = rng.below(10);
-      if (kind < 7U) {
-        const auto slave = static_cast<std::uint8_t>(rng.below(4));  // (one order everywhere)
-        bytes f = rtu(slave, pdus[static_cast<std::size_t>(rng.below(pdus.size()))]);
-        if (kind == 6U) {
-          f[static_cast<std::size_t>(rng.below(f.size()))] ^=
-              static_cast<std::uint8_t>(1U + rng.below(255));
-        } else if (kind == 5U) {
-          f.resize(static_cast<std::size_t>(rng.below(f.size())));
-        }
-        stream.insert(stream.end(), f.begin(), f.end());
-      } else {
-        for (std::uint64_t i = rng.below(6); i > 0; --i) {
-          stream.push_back(rng.byte());
-        }
-      }
-    }
+    const bytes stream = random_line(rng, pdus, 4);
     const framer_role role = rng.below(2) == 0 ? framer_role::server : framer_role::client;
     framer_options options{static_cast<std::uint8_t>(rng.below(3))};
     options.ends = rng.below(2) == 0 ? frame_end::silence : frame_end::length;
@@ -367,44 +357,6 @@ TEST_CASE("idle(): a frame for another address ends in silence too, and is skipp
   CHECK(f.idle().error() == errc::truncated);
 }
 
-TEST_CASE("RTU timing: t1.5 and t3.5 from baud, parity and stop bits") {
-  CHECK(bits_per_character(parity::even, 1) == 11);
-  CHECK(bits_per_character(parity::none, 2) == 11);
-  CHECK(bits_per_character(parity::none, 1) == 10);
-  // 9600 8E1: one character = 11 bits = 1145.8 us; t3.5 = 4010.4 us, t1.5 = 1718.75 us
-  CHECK(t35_us(9600) == 4011);
-  CHECK(t15_us(9600) == 1719);
-  CHECK(t35_us(19200) == 2006);
-  CHECK(t35_us(38400) == 1750);  // fixed above 19200
-  CHECK(t15_us(115200) == 750);
-  CHECK(character_time_us(9600, parity::none, 1) == 1042);
-  CHECK(character_time_us(0, parity::none, 1) == 0);
-}
-
-TEST_CASE("TCP: MBAP header around the same PDU codec") {
-  const std::uint8_t pdu[] = {0x03, 0x00, 0x6B, 0x00, 0x03};
-  std::uint8_t out[300] = {};
-  const auto n = encode_tcp(0x1234, 0x11, pdu, out);
-  REQUIRE(n.ok());
-  CHECK(bytes(out, out + n.value()) ==
-        bytes{0x12, 0x34, 0x00, 0x00, 0x00, 0x06, 0x11, 0x03, 0x00, 0x6B, 0x00, 0x03});
-  for (std::size_t k = 0; k < n.value(); ++k) {
-    CHECK(decode_tcp(byte_view(out, k)).is_incomplete());
-  }
-  const auto f = decode_tcp(byte_view(out, n.value() + 3));  // extra bytes: the next frame
-  REQUIRE(f.is_complete());
-  CHECK(f.consumed() == 12);
-  CHECK(f->transaction == 0x1234);
-  CHECK(f->unit == 0x11);
-  CHECK(f->pdu.size() == 5);
-  out[5] = 0x01;  // length 1: no room for a function code
-  CHECK(decode_tcp(byte_view(out, 12)).error() == errc::modbus_pdu_length);
-  out[5] = 0x06;
-  out[3] = 0x01;  // protocol id 1
-  CHECK(decode_tcp(byte_view(out, 12)).error() == errc::invalid_argument);
-  CHECK(encode_tcp(1, 1, byte_view{}, out).error() == errc::modbus_pdu_length);
-}
-
 TEST_CASE("fixed-role framers frame as the run-time role does") {
   const bytes request = rtu(0x11, {0x03, 0x00, 0x6B, 0x00, 0x03});
   const bytes response = rtu(0x11, {0x03, 0x06, 0x02, 0x2B, 0x00, 0x00, 0x00, 0x64});
@@ -488,13 +440,6 @@ TEST_CASE("framer framing by silence: a full buffer with no frame end resynchron
   CHECK(f.pending() <= max_rtu_size);
 }
 
-TEST_CASE("MBAP header: a buffer shorter than header and PDU is refused") {
-  std::uint8_t out[8] = {};
-  const bytes pdu = {0x03, 0x00, 0x00, 0x00, 0x01};
-  CHECK(encode_tcp(1, 1, view(pdu), mutable_byte_view(out, sizeof out)).error() ==
-        errc::buffer_too_small);
-}
-
 namespace {
 
 // A listener's results, with the direction of each frame (heard_response()).
@@ -506,35 +451,21 @@ bool operator==(const heard& a, const heard& b) {
   return a.e == b.e && a.response == b.response;
 }
 
-std::vector<heard> listen_chunks(rtu_listener& f, const bytes& stream, std::size_t chunk) {
-  std::vector<heard> out;
-  const auto each = [&](const auto& r) {
-    out.push_back({note(r), r.is_complete() && f.heard_response()});
-    return true;
+// What the listener `f` heard: the result and, for a frame, its direction.
+auto heard_by(const rtu_listener& f) {
+  return [&f](const decode_result<rtu_frame>& r) {
+    return heard{note(r), r.is_complete() && f.heard_response()};
   };
-  for (std::size_t at = 0; at < stream.size(); at += chunk) {
-    feed_all(f, byte_view(stream.data() + at, std::min(chunk, stream.size() - at)), each);
-  }
-  for (auto r = f.idle(); !r.is_incomplete(); r = f.idle()) {
-    each(r);
-  }
-  return out;
 }
 
+// The stream in chunks, then the silence.
+std::vector<heard> listen_chunks(rtu_listener& f, const bytes& stream, std::size_t chunk) {
+  return fed_notes(f, view(stream), chunk, heard_by(f), then::idle);
+}
+
+// The stream one byte at a time through put(), then the silence.
 std::vector<heard> listen_bytes(rtu_listener& f, const bytes& stream) {
-  std::vector<heard> out;
-  const auto each = [&](const auto& r) {
-    CHECK(!r.is_incomplete());
-    out.push_back({note(r), r.is_complete() && f.heard_response()});
-    return true;
-  };
-  for (const std::uint8_t b : stream) {
-    put_each(f, b, each);
-  }
-  for (auto r = f.idle(); !r.is_incomplete(); r = f.idle()) {
-    each(r);
-  }
-  return out;
+  return put_notes(f, view(stream), heard_by(f), then::idle);
 }
 
 std::vector<heard> frames_of(const std::vector<heard>& all) {
@@ -543,14 +474,6 @@ std::vector<heard> frames_of(const std::vector<heard>& all) {
     if (h.e.ok) {
       out.push_back(h);
     }
-  }
-  return out;
-}
-
-bytes cat(std::initializer_list<bytes> parts) {
-  bytes out;
-  for (const bytes& p : parts) {
-    out.insert(out.end(), p.begin(), p.end());
   }
   return out;
 }
@@ -644,25 +567,7 @@ TEST_CASE("listener put(): byte by byte, the results of feed() in chunks (random
                                    {0x41, 0x01}};
   std::size_t frames = 0;
   for (int round = 0; round < 300; ++round) {
-    bytes stream;
-    while (stream.size() < 300U) {
-      const std::uint64_t kind = rng.below(10);
-      if (kind < 7U) {
-        const auto slave = static_cast<std::uint8_t>(rng.below(3));
-        bytes f = rtu(slave, pdus[static_cast<std::size_t>(rng.below(pdus.size()))]);
-        if (kind == 6U) {
-          f[static_cast<std::size_t>(rng.below(f.size()))] ^=
-              static_cast<std::uint8_t>(1U + rng.below(255));
-        } else if (kind == 5U) {
-          f.resize(static_cast<std::size_t>(rng.below(f.size())));
-        }
-        stream.insert(stream.end(), f.begin(), f.end());
-      } else {
-        for (std::uint64_t i = rng.below(6); i > 0; --i) {
-          stream.push_back(rng.byte());
-        }
-      }
-    }
+    const bytes stream = random_line(rng, pdus, 3);
     rtu_listener chunked;
     rtu_listener by_byte;
     const auto expected =
@@ -731,9 +636,7 @@ TEST_CASE("framer: an FC2B response whose objects outgrow 256 bytes fails (no en
       return true;
     };
     if (by_put != 0) {
-      for (const std::uint8_t b : line) {
-        put_each(f, b, each);
-      }
+      put_bytes(f, view(line), each);
     } else {
       std::size_t at = 0;
       for (auto r = f.feed(view(line)); !r.is_incomplete(); r = f.feed(view(line).subspan(at))) {

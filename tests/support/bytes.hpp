@@ -1,5 +1,5 @@
 // Helpers shared by the doctest suites: byte vectors and views of them, an encoder's output as
-// bytes, text as bytes, the T-format CRC (the XOR of the fields) appended.
+// bytes, text as bytes, byte vectors joined, the T-format CRC (the XOR of the fields) appended.
 #ifndef MOTIONBUS_TESTS_BYTES_HPP
 #define MOTIONBUS_TESTS_BYTES_HPP
 
@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
+#include <initializer_list>
 #include <vector>
 
 #include "motionbus/core/result.hpp"
@@ -39,6 +40,15 @@ inline std::uint8_t xor_of(const bytes& v) {
     x = static_cast<std::uint8_t>(x ^ b);
   }
   return x;
+}
+
+/// The parts one after the other.
+inline bytes cat(std::initializer_list<bytes> parts) {
+  bytes out;
+  for (const bytes& p : parts) {
+    out.insert(out.end(), p.begin(), p.end());
+  }
+  return out;
 }
 
 /// `v` with its T-format CRC appended.

@@ -1,8 +1,11 @@
-// Deterministic pseudo-random numbers for reproducible randomized tests (splitmix64).
+// Deterministic pseudo-random numbers for reproducible randomized tests (splitmix64), and the
+// two ways a random stream damages a frame.
 #ifndef MOTIONBUS_TESTS_PRNG_HPP
 #define MOTIONBUS_TESTS_PRNG_HPP
 
+#include <cstddef>
 #include <cstdint>
+#include <vector>
 
 namespace testutil {
 
@@ -22,6 +25,17 @@ class splitmix64 {
  private:
   std::uint64_t state_;
 };
+
+/// One byte of `frame` changed: a random place XOR-ed with a random non-zero value.
+inline void flip_a_byte(splitmix64& rng, std::vector<std::uint8_t>& frame) {
+  frame[static_cast<std::size_t>(rng.below(frame.size()))] ^=
+      static_cast<std::uint8_t>(1U + rng.below(255));
+}
+
+/// `frame` cut short: a random length below its own.
+inline void cut_short(splitmix64& rng, std::vector<std::uint8_t>& frame) {
+  frame.resize(static_cast<std::size_t>(rng.below(frame.size())));
+}
 
 }  // namespace testutil
 

@@ -1,0 +1,45 @@
+// Modbus TCP ADUs (Modbus Messaging on TCP/IP Implementation Guide V1.0b §3.1.3): the MBAP
+// header around the same PDU codec, frames cut short, bad lengths and protocol ids.
+#include "motionbus/modbus/tcp.hpp"
+
+#include <doctest/doctest.h>
+
+#include <cstdint>
+
+#include "../support/bytes.hpp"
+
+using namespace motionbus;
+using namespace motionbus::modbus;
+
+using namespace testutil;
+
+TEST_CASE("TCP: MBAP header around the same PDU codec") {
+  const std::uint8_t pdu[] = {0x03, 0x00, 0x6B, 0x00, 0x03};
+  std::uint8_t out[300] = {};
+  const auto n = encode_tcp(0x1234, 0x11, pdu, out);
+  REQUIRE(n.ok());
+  CHECK(bytes(out, out + n.value()) ==
+        bytes{0x12, 0x34, 0x00, 0x00, 0x00, 0x06, 0x11, 0x03, 0x00, 0x6B, 0x00, 0x03});
+  for (std::size_t k = 0; k < n.value(); ++k) {
+    CHECK(decode_tcp(byte_view(out, k)).is_incomplete());
+  }
+  const auto f = decode_tcp(byte_view(out, n.value() + 3));  // extra bytes: the next frame
+  REQUIRE(f.is_complete());
+  CHECK(f.consumed() == 12);
+  CHECK(f->transaction == 0x1234);
+  CHECK(f->unit == 0x11);
+  CHECK(f->pdu.size() == 5);
+  out[5] = 0x01;  // length 1: no room for a function code
+  CHECK(decode_tcp(byte_view(out, 12)).error() == errc::modbus_pdu_length);
+  out[5] = 0x06;
+  out[3] = 0x01;  // protocol id 1
+  CHECK(decode_tcp(byte_view(out, 12)).error() == errc::invalid_argument);
+  CHECK(encode_tcp(1, 1, byte_view{}, out).error() == errc::modbus_pdu_length);
+}
+
+TEST_CASE("MBAP header: a buffer shorter than header and PDU is refused") {
+  std::uint8_t out[8] = {};
+  const bytes pdu = {0x03, 0x00, 0x00, 0x00, 0x01};
+  CHECK(encode_tcp(1, 1, view(pdu), mutable_byte_view(out, sizeof out)).error() ==
+        errc::buffer_too_small);
+}

@@ -1,0 +1,21 @@
+// Modbus RTU timing (Modbus over Serial Line V1.02 §2.5.1.1): bits per character, t1.5 and
+// t3.5 from the baud rate, the parity and the stop bits.
+#include "motionbus/modbus/timing.hpp"
+
+#include <doctest/doctest.h>
+
+using namespace motionbus::modbus;
+
+TEST_CASE("RTU timing: t1.5 and t3.5 from baud, parity and stop bits") {
+  CHECK(bits_per_character(parity::even, 1) == 11);
+  CHECK(bits_per_character(parity::none, 2) == 11);
+  CHECK(bits_per_character(parity::none, 1) == 10);
+  // 9600 8E1: one character = 11 bits = 1145.8 us; t3.5 = 4010.4 us, t1.5 = 1718.75 us
+  CHECK(t35_us(9600) == 4011);
+  CHECK(t15_us(9600) == 1719);
+  CHECK(t35_us(19200) == 2006);
+  CHECK(t35_us(38400) == 1750);  // fixed above 19200
+  CHECK(t15_us(115200) == 750);
+  CHECK(character_time_us(9600, parity::none, 1) == 1042);
+  CHECK(character_time_us(0, parity::none, 1) == 0);
+}
