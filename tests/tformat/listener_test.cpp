@@ -8,23 +8,16 @@
 #include <cstdint>
 #include <vector>
 
+#include "../support/bytes.hpp"
 #include "../support/prng.hpp"
+#include "../support/stream.hpp"
 
 using namespace motionbus;
 using namespace motionbus::tformat;
 
+using namespace testutil;
+
 namespace {
-
-using bytes = std::vector<std::uint8_t>;
-
-bytes with_crc(bytes v) {
-  std::uint8_t x = 0;
-  for (std::uint8_t b : v) {
-    x = static_cast<std::uint8_t>(x ^ b);
-  }
-  v.push_back(x);
-  return v;
-}
 
 struct event {
   bool ok = false;
@@ -55,42 +48,14 @@ event note(const decode_result<heard>& r) {
   return e;
 }
 
+// The line in chunks, then the silence.
 std::vector<event> chunks(line_listener& l, const bytes& line, std::size_t chunk) {
-  std::vector<event> out;
-  const auto each = [&](const auto& r) {
-    out.push_back(note(r));
-    return true;
-  };
-  for (std::size_t at = 0; at < line.size(); at += chunk) {
-    feed_all(l, byte_view(line.data() + at, std::min(chunk, line.size() - at)), each);
-  }
-  for (auto r = l.idle(); !r.is_incomplete(); r = l.idle()) {
-    each(r);
-  }
-  return out;
+  return fed_notes(l, view(line), chunk, note, then::idle);
 }
 
+// The line one byte at a time through put(), then the silence.
 std::vector<event> one_by_one(line_listener& l, const bytes& line) {
-  std::vector<event> out;
-  const auto each = [&](const auto& r) {
-    out.push_back(note(r));
-    return true;
-  };
-  for (const std::uint8_t b : line) {
-    put_each(l, b, each);
-  }
-  for (auto r = l.idle(); !r.is_incomplete(); r = l.idle()) {
-    each(r);
-  }
-  return out;
-}
-
-bytes cat(std::initializer_list<bytes> parts) {
-  bytes out;
-  for (const bytes& p : parts) {
-    out.insert(out.end(), p.begin(), p.end());
-  }
-  return out;
+  return put_notes(l, view(line), note, then::idle);
 }
 
 // The ID3 data an encoder answers an abnormal request with, `sf` its status field.
@@ -234,8 +199,7 @@ TEST_CASE("listener put(): byte by byte, the results of feed() in chunks (random
       if (kind < 8U) {
         bytes f = frames[static_cast<std::size_t>(rng.below(frames.size()))];
         if (kind == 7U) {
-          f[static_cast<std::size_t>(rng.below(f.size()))] ^=
-              static_cast<std::uint8_t>(1U + rng.below(255));
+          flip_a_byte(rng, f);
         }
         line = cat({line, f});
       } else {
