@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "../support/bytes.hpp"
+#include "../support/modbus.hpp"
 #include "../support/modbus_examples.hpp"
 
 using namespace motionbus;
@@ -58,58 +59,49 @@ TEST_CASE("server: every spec example request decodes, and its response encodes 
 }
 
 TEST_CASE("server encoders: each bad argument has its own error, and a short buffer is refused") {
-  std::uint8_t out[260] = {};
-  std::uint8_t tiny[3] = {};
-  const mutable_byte_view big(out, sizeof out);
-  const mutable_byte_view small(tiny, sizeof tiny);
-  const std::uint16_t regs[3] = {1, 2, 3};
-  const span<const std::uint16_t> three(regs, 3);
-  const std::uint8_t packed[2] = {0xFF, 0x03};
-  const byte_view two_bytes(packed, 2);
+  encoder_args a;
 
   // responses
-  CHECK(encode_exception(0x03, 0x02, out).value() == 2);
-  CHECK(out[0] == 0x83);
-  CHECK(out[1] == 0x02);
-  CHECK(encode_exception(0x03, 0x02, mutable_byte_view(tiny, 1)).error() == errc::buffer_too_small);
-  CHECK(encode_read_bits_response(0x03, 8, two_bytes, big).error() == errc::invalid_argument);
-  CHECK(encode_read_bits_response(0x01, 0, two_bytes, big).error() == errc::modbus_quantity);
-  CHECK(encode_read_bits_response(0x01, 17, two_bytes, big).error() == errc::modbus_byte_count);
-  CHECK(encode_read_bits_response(0x01, 10, two_bytes, mutable_byte_view(tiny, 2)).error() ==
+  CHECK(encode_exception(0x03, 0x02, a.out).value() == 2);
+  CHECK(a.out[0] == 0x83);
+  CHECK(a.out[1] == 0x02);
+  CHECK(encode_exception(0x03, 0x02, mutable_byte_view(a.tiny, 1)).error() ==
         errc::buffer_too_small);
-  CHECK(encode_read_registers_response(0x01, three, big).error() == errc::invalid_argument);
-  CHECK(encode_read_registers_response(0x03, span<const std::uint16_t>(), big).error() ==
+  CHECK(encode_read_bits_response(0x03, 8, a.two_bytes, a.big).error() == errc::invalid_argument);
+  CHECK(encode_read_bits_response(0x01, 0, a.two_bytes, a.big).error() == errc::modbus_quantity);
+  CHECK(encode_read_bits_response(0x01, 17, a.two_bytes, a.big).error() == errc::modbus_byte_count);
+  CHECK(encode_read_bits_response(0x01, 10, a.two_bytes, mutable_byte_view(a.tiny, 2)).error() ==
+        errc::buffer_too_small);
+  CHECK(encode_read_registers_response(0x01, a.three, a.big).error() == errc::invalid_argument);
+  CHECK(encode_read_registers_response(0x03, span<const std::uint16_t>(), a.big).error() ==
         errc::modbus_quantity);
-  CHECK(encode_read_registers_response(0x03, three, small).error() == errc::buffer_too_small);
+  CHECK(encode_read_registers_response(0x03, a.three, a.small).error() == errc::buffer_too_small);
   request q;
   q.function = 0x03;
-  CHECK(encode_write_response(q, big).error() == errc::invalid_argument);
+  CHECK(encode_write_response(q, a.big).error() == errc::invalid_argument);
   q.function = 0x16;
-  CHECK(encode_write_response(q, small).error() == errc::buffer_too_small);
-  CHECK(encode_exception_status_response(0, mutable_byte_view(tiny, 1)).error() ==
+  CHECK(encode_write_response(q, a.small).error() == errc::buffer_too_small);
+  CHECK(encode_exception_status_response(0, mutable_byte_view(a.tiny, 1)).error() ==
         errc::buffer_too_small);
   const std::vector<std::uint8_t> events(65, 0);  // §6.9: at most 64 event bytes
-  CHECK(encode_comm_event_log_response(0, 0, 0, byte_view(events.data(), 65), big).error() ==
+  CHECK(encode_comm_event_log_response(0, 0, 0, byte_view(events.data(), 65), a.big).error() ==
         errc::modbus_byte_count);
-  CHECK(encode_comm_event_log_response(0, 0, 0, two_bytes, small).error() ==
+  CHECK(encode_comm_event_log_response(0, 0, 0, a.two_bytes, a.small).error() ==
         errc::buffer_too_small);
-  CHECK(encode_fifo_response(three, small).error() == errc::buffer_too_small);
+  CHECK(encode_fifo_response(a.three, a.small).error() == errc::buffer_too_small);
   // FC2B/0E: objects must parse to exactly the count, fit a PDU, fit the buffer
   const bytes one_object = {0x00, 0x02, 'A', 'B'};
-  CHECK(
-      encode_device_identification_response(1, 0x81, false, 0, 2, view(one_object), big).error() ==
-      errc::modbus_byte_count);  // count says 2, one object given
-  CHECK(
-      encode_device_identification_response(1, 0x81, false, 0, 0, view(one_object), big).error() ==
-      errc::modbus_byte_count);  // bytes left over
+  CHECK(encode_device_identification_response(1, 0x81, false, 0, 2, view(one_object), a.big)
+            .error() == errc::modbus_byte_count);  // count says 2, one object given
+  CHECK(encode_device_identification_response(1, 0x81, false, 0, 0, view(one_object), a.big)
+            .error() == errc::modbus_byte_count);  // bytes left over
   const bytes huge_object = [] {
     bytes b = {0x00, 250};
     b.resize(252, 'x');
     return b;
   }();
-  CHECK(
-      encode_device_identification_response(1, 0x81, false, 0, 1, view(huge_object), big).error() ==
-      errc::modbus_pdu_length);
-  CHECK(encode_device_identification_response(1, 0x81, false, 0, 1, view(one_object), small)
+  CHECK(encode_device_identification_response(1, 0x81, false, 0, 1, view(huge_object), a.big)
+            .error() == errc::modbus_pdu_length);
+  CHECK(encode_device_identification_response(1, 0x81, false, 0, 1, view(one_object), a.small)
             .error() == errc::buffer_too_small);
 }

@@ -1,5 +1,6 @@
-// Modbus helpers shared by the doctest suites: an RTU frame around a PDU, and a request served
-// by a device through the RTU server dispatch.
+// Modbus helpers shared by the doctest suites: an RTU frame around a PDU, a request served by a
+// device through the RTU server dispatch, the encoders' shared arguments, a client framer told
+// what was sent.
 #ifndef MOTIONBUS_TESTS_MODBUS_HPP
 #define MOTIONBUS_TESTS_MODBUS_HPP
 
@@ -41,6 +42,24 @@ template <class Device>
 bytes serve_pdu(Device& device, std::uint8_t own, const bytes& pdu) {
   return serve_adu(device, own, view(rtu(own, pdu)));
 }
+
+/// The arguments the encoders' refusal cases share: a buffer for any PDU (`big`) and one of
+/// three bytes (`small`), three registers, two packed bytes (up to 16 coils). The views point
+/// into the object itself: not copied.
+struct encoder_args {
+  std::uint8_t out[260] = {};
+  std::uint8_t tiny[3] = {};
+  const motionbus::mutable_byte_view big{out, sizeof out};
+  const motionbus::mutable_byte_view small{tiny, sizeof tiny};
+  const std::uint16_t regs[3] = {1, 2, 3};
+  const motionbus::span<const std::uint16_t> three{regs, 3};
+  const std::uint8_t packed[2] = {0xFF, 0x03};
+  const motionbus::byte_view two_bytes{packed, 2};
+
+  encoder_args() = default;
+  encoder_args(const encoder_args&) = delete;
+  encoder_args& operator=(const encoder_args&) = delete;
+};
 
 /// Tells the client framer `f` that a request for `function` went to `slave`: sent() with the
 /// head of its ADU (the framer reads the address and the function only).
