@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 #include "../support/bytes.hpp"
+#include "../support/stream.hpp"
 
 using namespace motionbus;
 using namespace motionbus::modbus;
@@ -173,19 +174,14 @@ std::vector<bytes> serve_stream(const bytes& stream, std::size_t chunk, framer_o
       sent.emplace_back(out, out + n.value());
     }
   };
-  for (std::size_t at = 0; at < stream.size(); at += chunk) {
-    feed_all(rx, byte_view(stream.data() + at, std::min(chunk, stream.size() - at)),
-             [&](const auto& r) {
-               if (r.is_complete()) {
-                 answer(r.value());
-               }
-               return true;
-             });
-  }
-  const auto last = rx.idle();
-  if (last.is_complete()) {
-    answer(last.value());
-  }
+  const auto each = [&](const decode_result<rtu_frame>& r) {
+    if (r.is_complete()) {
+      answer(r.value());
+    }
+    return true;
+  };
+  feed_chunks(rx, view(stream), chunk, each);
+  idle_all(rx, each);
   return sent;
 }
 }  // namespace
