@@ -118,7 +118,7 @@ TEST_CASE("encode_ascii: ':', uppercase hex of address, PDU and LRC, CR LF") {
   CHECK(encode_ascii(1, byte_view{}, out).error() == errc::modbus_pdu_length);
   const bytes too_big(max_pdu_size + 1U, 0);
   CHECK(encode_ascii(1, view(too_big), out).error() == errc::modbus_pdu_length);
-  std::uint8_t small[16] = {};
+  std::uint8_t small[17] = {};
   CHECK(encode_ascii(1, view(pdu), mutable_byte_view(small, 16)).error() == errc::buffer_too_small);
   CHECK(small[0] == 0);  // nothing written
   CHECK(encode_ascii(1, view(pdu), mutable_byte_view(small, 17)).value() == 17U);
@@ -323,6 +323,11 @@ TEST_CASE("ascii framer roles: server address and broadcast, client's sent(), li
   CHECK(run(client, stream, 7).size() == 3U);
   client.sent(view(chars("x12")));
   CHECK(run(client, stream, 7).size() == 3U);
+  for (const char* unreadable : {":1", ":1z", ":z1"}) {
+    client.sent(view(ascii(0x12, pdu)));
+    client.sent(view(chars(unreadable)));
+    CHECK(run(client, stream, 7).size() == 3U);
+  }
   ascii_framer configured(framer_role::client, {0x00});
   configured = ascii_framer(framer_role::client, {0x11});
   CHECK(run(configured, stream, 7) == std::vector<event>{frame_event(0x11, pdu)});
