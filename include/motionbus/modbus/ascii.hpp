@@ -1,6 +1,6 @@
 // motionbus — Modbus ASCII: the ADU ':' address PDU LRC CR LF in hexadecimal characters, its LRC,
 // and its stream framer (Modbus over Serial Line V1.02 §2.5.2 "The ASCII transmission mode",
-// §2.5.2.1 framing, §2.5.2.2 LRC checking, §6.2.1 LRC generation; docs/modbus.md §3).
+// §2.5.2.1 framing, §2.5.2.2 LRC checking, §6.2.1 LRC generation; docs/modbus.md §7).
 //
 //   | ':' | address (2) | function (2) | data (0..2 x 252) | LRC (2) | CR | LF |
 //
@@ -48,7 +48,9 @@ inline constexpr std::uint32_t ascii_char_timeout_ms = 1000;
 
 /// LRC (Longitudinal Redundancy Check, §2.5.2.2, §6.2.1): the 8-bit sum of the bytes, carries
 /// discarded, two's complemented; over the address and PDU bytes (not the characters). The same
-/// members as crc<Spec> (core/crc.hpp): update(), value(), compute().
+/// members as crc<Spec> (core/crc.hpp): update(), value(), compute(). A sum, not a polynomial
+/// remainder: no crc_spec describes it, so it is its own small class, used by the encoder, the
+/// decoder and the framer alike.
 class lrc {
  public:
   constexpr void update(std::uint8_t byte) noexcept {
