@@ -87,3 +87,21 @@ if(TARGET motionbus_cli)
   endif()
 endif()
 
+
+# --- pymodbus's ASCII and RTU framers against motionbus's ASCII framer and RTU over TCP ------
+# (offline: frames built and parsed both ways, tests/interop/pymodbus_framers.py)
+if(EXISTS /usr/bin/python3)
+  execute_process(COMMAND /usr/bin/python3 -c "import pymodbus.framer.ascii_framer"
+    RESULT_VARIABLE pymodbus_framers_rc OUTPUT_QUIET ERROR_QUIET)
+endif()
+if(pymodbus_framers_rc EQUAL 0)
+  add_executable(motionbus_interop_framers interop/framers_tool.cpp)
+  target_link_libraries(motionbus_interop_framers PRIVATE motionbus::motionbus)
+  motionbus_project_target(motionbus_interop_framers)
+  add_test(NAME interop.pymodbus_framers
+    COMMAND /usr/bin/python3 "${CMAKE_CURRENT_SOURCE_DIR}/interop/pymodbus_framers.py"
+            "$<TARGET_FILE:motionbus_interop_framers>")
+  set_tests_properties(interop.pymodbus_framers PROPERTIES LABELS "interop" TIMEOUT 120)
+elseif(MOTIONBUS_REQUIRE_ALL_CHECKS)
+  message(FATAL_ERROR "the pymodbus framer interop test needs python3-pymodbus")
+endif()

@@ -1,8 +1,9 @@
-// motionbus — Modbus: PDU codec (client and server), RTU and TCP ADUs, RTU timing, stream
+// motionbus — Modbus: PDU codec (client and server), RTU, TCP and ASCII ADUs, RTU timing, stream
 // framing, server dispatch.
 #ifndef MOTIONBUS_MODBUS_HPP
 #define MOTIONBUS_MODBUS_HPP
 
+#include "motionbus/modbus/ascii.hpp"
 #include "motionbus/modbus/framer.hpp"
 #include "motionbus/modbus/pdu.hpp"
 #include "motionbus/modbus/pdu_client.hpp"

@@ -25,7 +25,7 @@ TEST_CASE("every error code has a distinct snake_case name") {
       CHECK((names[u] == nullptr || std::strcmp(name, names[u]) != 0));
     }
   }
-  CHECK(named >= 9 + 10 + 8 + 11);  // generic, T-format, Modbus, BiSS-C
+  CHECK(named >= 9 + 10 + 11 + 11);  // generic, T-format, Modbus, BiSS-C
   CHECK(std::strcmp(to_string(errc::biss_no_ack), "no_ack") == 0);
   CHECK(std::strcmp(to_string(static_cast<errc>(250)), "unknown") == 0);
 }
@@ -48,9 +48,10 @@ TEST_CASE("every named code lies in its protocol's range of errc.hpp") {
   }
   CHECK(generic == 9);
   CHECK(tformat == 10);
-  CHECK(modbus == 8);
+  CHECK(modbus == 11);  // 64..71, and Modbus ASCII's 80..82
   CHECK(biss == 11);
   CHECK(std::strcmp(to_string(errc::tformat_parity), "parity") == 0);  // the prefix is dropped
   CHECK(std::strcmp(to_string(errc::modbus_quantity), "illegal_quantity") == 0);
   CHECK(std::strcmp(to_string(errc::biss_layout), "invalid_layout") == 0);
+  CHECK(std::strcmp(to_string(errc::modbus_ascii_end), "missing_crlf") == 0);
 }

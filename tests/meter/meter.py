@@ -391,6 +391,30 @@ def stream_hostile(m, op, prefix, report, start, seq, failed_at, last_out):
     return total, worst, costliest
 
 
+def ascii_adu(slave, pdu):
+    """The Modbus ASCII ADU (Serial Line §2.5.2.1): ':', the hex digits of the address, PDU and
+    LRC (the two's complement of their 8-bit sum), CR LF."""
+    data = [slave] + pdu
+    data.append(-sum(data) & 0xFF)
+    return list(b":" + "".join(f"{b:02X}" for b in data).encode() + b"\r\n")
+
+
+def measure_ascii_framer(m, record):
+    """The ASCII framer of a server (issue 25) in its steady state (an FC06 request, then the
+    measured FC03 request): instructions per character over the frame
+    (modbus.ascii_framer.per_byte.fc03) and at its costliest character (...worst_byte.fc03)."""
+    first = [0x06, 0x00, 0x01, 0x00, 0x03]
+    pdu = [0x03, 0x00, 0x05, 0x00, 0x0A]
+    frame = ascii_adu(1, pdu)
+    lrc = -sum([1] + pdu) & 0xFF
+    op = "modbus.ascii_framer.per_byte.fc03"
+    n, s, worst, _ = stream_per_byte(m, op, "op_modbus_ascii_framer", "op_report_ascii_framer",
+                                     ascii_adu(1, first), [STATUS_COMPLETE, 0, 1, 5], frame,
+                                     [STATUS_COMPLETE, 0, 1, 5, 3, lrc])
+    record(op, round(n / len(frame), 1), s, per="byte", units=len(frame), total=n)
+    record("modbus.ascii_framer.worst_byte.fc03", worst, s)
+
+
 def measure_receiver(m, record, prefix, report, suffix):
     """The T-format receiver in its steady state (a first ID3 response, then the measured one):
     instructions a byte on average and at the costliest byte (the last: decode and check); an
@@ -575,6 +599,8 @@ def measure(m):
                               [STATUS_COMPLETE, 0, 1, 5, 3, request[-2] | (request[-1] << 8)])
     record("modbus.framer.per_byte.either_role", round(n / len(request), 1), s, per="byte",
            units=len(request), total=n)
+
+    measure_ascii_framer(m, record)
 
     m.write("meter_in", request)
     m.write_u32("meter_in_size", len(request))

@@ -10,6 +10,7 @@
 #include <motionbus/devices/absys_emulator.hpp>
 #include <motionbus/devices/sm_unit_emulator.hpp>
 #include <motionbus/devices/ts5700n8500_emulator.hpp>
+#include <motionbus/modbus/ascii.hpp>
 #include <motionbus/modbus/framer.hpp>
 #include <motionbus/modbus/pdu_client.hpp>
 #include <motionbus/modbus/pdu_server.hpp>
@@ -455,6 +456,33 @@ extern "C" __attribute__((naked, used)) void selfcheck_stack(unsigned) {
       "   ret\n");
 }
 #endif
+
+// --- Modbus ASCII (issue 25): the ASCII framer of a server, per character -------------------
+namespace {
+md::ascii_framer ascii_server(md::framer_role::server, {1});
+mb::decode_result<md::ascii_frame> ascii_result = mb::need_input{};
+}  // namespace
+METER_OP void op_modbus_ascii_framer_start() {
+  ascii_server = md::ascii_framer(md::framer_role::server, {1});
+  ascii_result = mb::need_input{};
+}
+METER_OP bool op_modbus_ascii_framer_byte(unsigned c) {
+  return ascii_server.put(static_cast<std::uint8_t>(c));
+}
+// What the last put() settled (`ready`: what it returned): status, error, slave, PDU size, its
+// first byte, the LRC.
+METER_OP void op_report_ascii_framer(unsigned ready) {
+  ascii_result = ready != 0U ? ascii_server.result() : mb::need_input{};
+  const auto& r = ascii_result;
+  meter_out[0] = static_cast<std::uint32_t>(r.status());
+  meter_out[1] = static_cast<std::uint32_t>(r.error());
+  if (r.is_complete()) {
+    meter_out[2] = r->slave;
+    meter_out[3] = static_cast<std::uint32_t>(r->pdu.size());
+    meter_out[4] = r->pdu[0];
+    meter_out[5] = r->lrc;
+  }
+}
 
 // The image's entry (never run by the meter: it calls functions one at a time).
 extern "C" __attribute__((used)) void meter_entry() {}

@@ -74,6 +74,12 @@ enum class [[nodiscard]] errc : std::uint8_t{
     modbus_slave_address = 70,
     /// A PDU outside 1..253 bytes, or an ADU outside 4..256.
     modbus_pdu_length = 71,
+    /// Modbus ASCII: a character other than a hex digit inside a frame (Serial Line §2.5.2.1).
+    modbus_ascii_character = 80,
+    /// Modbus ASCII: an odd number of hex digits between ':' and CR LF (two a byte).
+    modbus_ascii_odd_digits = 81,
+    /// Modbus ASCII: a frame not ended by CR LF (CR without LF, or a ':' that restarts it).
+    modbus_ascii_end = 82,
     // BiSS-C (128..191)
     /// SL stayed high (idle) over the whole bounded search: no slave acknowledged the clock.
     biss_no_ack = 128,
@@ -130,6 +136,9 @@ constexpr const char* to_string(errc e) noexcept {
     case errc::modbus_mismatch: return "response_mismatch";
     case errc::modbus_slave_address: return "slave_address";
     case errc::modbus_pdu_length: return "pdu_length";
+    case errc::modbus_ascii_character: return "non_hex_character";
+    case errc::modbus_ascii_odd_digits: return "odd_digit_count";
+    case errc::modbus_ascii_end: return "missing_crlf";
     case errc::biss_no_ack: return "no_ack";
     case errc::biss_no_start: return "no_start";
     case errc::biss_not_acknowledged: return "not_acknowledged";

@@ -170,9 +170,11 @@ enum class frame_end : std::uint8_t {
   /// (a request whose counts disagree with its length, an unknown function), so that a server
   /// can answer it with the exception the specification requires.
   silence = 0,
-  /// No t3.5 signal (e.g. a USB adapter that blurs the silences): a frame ends where the
+  /// No t3.5 signal (e.g. a USB adapter that blurs the silences), or no silence at all: RTU
+  /// over TCP, the RTU ADU with its CRC on a byte stream, both roles. A frame ends where the
   /// length rule says, confirmed by the CRC; bytes without a length rule are garbage, dropped
-  /// one at a time while the framer resynchronises. idle() still clears what is held.
+  /// one at a time while the framer resynchronises. idle() still clears what is held (on a
+  /// socket: the user's timer for a quiet connection).
   length = 1,
 };
 

@@ -1,0 +1,191 @@
+// Modbus RTU over TCP: the RTU framer with frame_end::length (no t3.5 silence on a byte
+// stream), server and client. Oracles: a reference written from the length rules alone (at each
+// position: the size the rule gives as bytes arrive; no rule: the byte is garbage; a size, held:
+// decode_rtu decides, a failure drops one byte, a frame is taken whole) reports exactly what the
+// framer reports, fed in chunks of any size, and leaves exactly as many bytes unsettled as the
+// framer holds; put() byte by byte reports the same (stream_oracle.hpp); the role fixed by the
+// type reports the same; never more than 256 bytes held or wanted; after idle(), a clean frame
+// is delivered exactly once.
+#include <motionbus/modbus/framer.hpp>
+
+#include <tuple>
+#include <vector>
+
+#include "../fuzz_check.hpp"
+#include "../stream_oracle.hpp"
+
+namespace mb = motionbus;
+namespace mo = motionbus::modbus;
+
+namespace {
+
+using noted = std::tuple<mb::decode_status, mb::errc, std::uint32_t, std::uint32_t, std::uint8_t,
+                         std::uint16_t, std::vector<std::uint8_t>>;
+
+noted note(const mb::decode_result<mo::rtu_frame>& r) {
+  const mo::rtu_frame& f = r.value();
+  return noted(r.status(), r.error(), r.expected(), r.received(), f.slave, f.crc,
+               std::vector<std::uint8_t>(f.pdu.begin(), f.pdu.end()));
+}
+
+struct setup {
+  bool server;
+  std::uint8_t address;   // the server's, or the slave the client asked
+  std::uint8_t function;  // the client's request
+  mo::report_id_format fc11;
+};
+
+std::size_t predict(const setup& s, mb::byte_view held) {
+  return s.server ? mo::predict_request_size(held)
+                  : mo::predict_response_size(held, s.function, s.fc11);
+}
+
+bool for_us(const setup& s, std::uint8_t slave) {
+  return s.server ? slave == s.address || slave == mo::broadcast_address : slave == s.address;
+}
+
+bool crc_ok(mb::byte_view adu) {
+  return mo::crc16::compute(adu.first(adu.size() - 2U)) == mb::load_le16(adu, adu.size() - 2U);
+}
+
+// The reference framing of `in` by the length rules alone; `left`: the bytes it leaves unsettled
+// at the end (a frame still arriving).
+std::vector<noted> reference(const setup& s, mb::byte_view in, std::size_t& left) {
+  std::vector<noted> out;
+  std::size_t p = 0;
+  for (;;) {
+    const std::size_t rem = in.size() - p;
+    const mb::byte_view at = in.subspan(p);
+    std::size_t total = 0;
+    for (std::size_t k = 2; k <= rem && total == 0; ++k) {  // the size as the bytes arrive
+      total = predict(s, at.first(k));
+      if (total == 0 && k == mo::max_rtu_size) {
+        total = mo::max_rtu_size + 1U;  // never more than 256 bytes wanted
+      }
+    }
+    if (total == 0) {
+      left = rem;
+      return out;
+    }
+    if (total == mo::unknown_length) {  // no rule: garbage
+      ++p;
+      continue;
+    }
+    if (total < 3U || !mo::pdu_size_ok(total - 3U)) {
+      out.push_back(note(mb::decode_failure{mb::errc::modbus_pdu_length, 0}));
+      ++p;
+      continue;
+    }
+    if (rem < total) {
+      left = rem;
+      return out;
+    }
+    // FC08 Return Query Data: 8 + 2k bytes, the first length at which the CRC matches
+    if (total == 8U && at[1] == 0x08U && at[2] == 0U && at[3] == 0U) {
+      const std::size_t held = rem < mo::max_rtu_size ? rem : mo::max_rtu_size;
+      std::size_t length = 8;
+      while (length <= held && !crc_ok(at.first(length))) {
+        length += 2U;
+      }
+      if (length <= held) {
+        total = length;
+      } else if (length <= mo::max_rtu_size) {
+        left = rem;  // the CRC may still match at a length to come
+        return out;
+      }
+    }
+    const auto f = mo::decode_rtu(at.first(total));
+    if (f.is_failed()) {
+      out.push_back(note(mb::decode_failure{f.error(), 0, f.expected(), f.received()}));
+      ++p;
+      continue;
+    }
+    if (for_us(s, f.value().slave)) {
+      out.push_back(note(mb::decode_result<mo::rtu_frame>::complete(f.value(), total)));
+    }
+    p += total;
+  }
+}
+
+template <class Framer>
+std::vector<noted> by_chunks(Framer& f, mb::byte_view in, std::size_t chunk) {
+  std::vector<noted> out;
+  for (std::size_t at = 0; at < in.size(); at += chunk) {
+    mb::byte_view part = in.subspan(at, chunk < in.size() - at ? chunk : in.size() - at);
+    for (int guard = 0;; ++guard) {
+      MOTIONBUS_FUZZ_CHECK(guard < 100000);
+      const auto r = f.feed(part);
+      MOTIONBUS_FUZZ_CHECK(f.pending() <= mo::max_rtu_size);
+      if (r.is_incomplete()) {
+        MOTIONBUS_FUZZ_CHECK(f.pending() + r.needed() <= mo::max_rtu_size);
+        break;
+      }
+      MOTIONBUS_FUZZ_CHECK(r.consumed() <= part.size());
+      part = part.subspan(r.consumed());
+      out.push_back(note(r));
+    }
+  }
+  return out;
+}
+
+template <class Framer>
+void start(Framer& f, const setup& s) {
+  if (!s.server) {
+    const std::uint8_t head[2] = {s.address, s.function};
+    f.sent(mb::byte_view(head, 2));
+  }
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  if (size < 4) {
+    return 0;
+  }
+  setup s{};
+  s.server = (data[0] & 1U) != 0;
+  s.address = static_cast<std::uint8_t>(1U + data[1] % 247U);
+  s.function = data[3];
+  s.fc11 = (data[0] & 2U) != 0 ? mo::report_id_format::two_bytes_no_count
+                               : mo::report_id_format::standard;
+  const std::size_t chunk = 1U + data[2] % 64U;
+  const mb::byte_view stream(data + 4, size - 4);
+  mo::framer_options options{s.address, mo::frame_end::length, s.fc11};
+  const mo::framer_role role = s.server ? mo::framer_role::server : mo::framer_role::client;
+
+  std::size_t left = 0;
+  const std::vector<noted> want = reference(s, stream, left);
+
+  mo::rtu_framer chunked(role, options);
+  start(chunked, s);
+  MOTIONBUS_FUZZ_CHECK(by_chunks(chunked, stream, chunk) == want);
+  MOTIONBUS_FUZZ_CHECK(chunked.pending() == left);
+
+  mo::rtu_framer by_byte(role, options);
+  start(by_byte, s);
+  MOTIONBUS_FUZZ_CHECK(motionbus_fuzz::results_by_put(by_byte, stream, note) == want);
+  MOTIONBUS_FUZZ_CHECK(by_byte.pending() == left);
+
+  if (s.server) {
+    mo::rtu_server_framer fixed(options);
+    MOTIONBUS_FUZZ_CHECK(by_chunks(fixed, stream, chunk) == want);
+  } else {
+    mo::rtu_client_framer fixed(options);
+    start(fixed, s);
+    MOTIONBUS_FUZZ_CHECK(by_chunks(fixed, stream, chunk) == want);
+  }
+
+  // the connection goes quiet (the user's idle timer): what is held ends; then a clean frame
+  (void)chunked.idle();
+  MOTIONBUS_FUZZ_CHECK(chunked.pending() == 0);
+  std::uint8_t frame[16] = {};
+  const std::uint8_t pdu[] = {0x06, 0x00, 0x01, 0x00, 0x03};
+  const std::size_t k = mo::encode_rtu(s.address, pdu, frame).value();
+  setup echo = s;
+  echo.function = 0x06;
+  start(chunked, echo);
+  const auto got = by_chunks(chunked, mb::byte_view(frame, k), chunk);
+  MOTIONBUS_FUZZ_CHECK(got.size() == 1 && std::get<0>(got[0]) == mb::decode_status::complete &&
+                       std::get<6>(got[0]).size() == 5);
+  return 0;
+}
