@@ -74,7 +74,8 @@ const std::map<std::string, option_info>& catalogue() {
         {}}},
       {"data",
        {"DATA",
-        "T-format: the EEPROM byte to write; Modbus: PDU data bytes in hex (other codes)",
+        "T-format: the EEPROM byte to write; Modbus: PDU data bytes in hex (other codes); "
+        "decode biss capture: the channel holding SLO",
         {}}},
       // Serial lines
       {"device", {"PORT", "serial port: /dev/ttyUSB0, COM3, /dev/tty.usbserial-...", {}}},

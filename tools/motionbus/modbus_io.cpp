@@ -9,8 +9,6 @@
 #include <string>
 #include <vector>
 
-#include "options.hpp"
-
 namespace mb = motionbus;
 namespace mo = motionbus::modbus;
 
