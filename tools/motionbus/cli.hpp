@@ -57,6 +57,7 @@ class record {
             std::enable_if_t<is_recorded_integer<T> && !std::is_same_v<T, std::int64_t>, int> = 0>
   record& add(const std::string& key, const std::vector<T>& values) {
     std::vector<std::int64_t> v;
+    v.reserve(values.size());
     for (const T x : values) {
       v.push_back(as_int64(x));
     }
