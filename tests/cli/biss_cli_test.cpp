@@ -124,7 +124,10 @@ TEST_CASE("encode biss csd: the frame of the notes, and a round trip") {
         std::string::npos);
   const std::string out =
       testcli::run("encode biss csd --position 99 --ne 0 --ack 5 --line-delay 2");
-  const std::string bits = out.substr(out.find("bits\":\"") + 7, 2 + 5 + 2 + 40);
+  const auto lines = testcli::json_lines(out);
+  REQUIRE(lines.size() == 1);
+  REQUIRE(lines[0].contains("bits"));
+  const std::string bits = lines[0]["bits"].get<std::string>().substr(0, 2 + 5 + 2 + 40);
   CHECK_FIELDS(testcli::run("decode biss csd " + bits),
                "{\"position\":99,\"ne\":0,\"nw\":1,\"cds\":0,\"line_delay\":2}");
 }

@@ -94,6 +94,30 @@ TEST_CASE("usage errors exit with status 2 and print nothing on stdout") {
   CHECK(status == 0);
 }
 
+TEST_CASE("monitor and capture check their options before they open a port or a recording") {
+  // An option out of its range is a usage error (status 2, nothing on stdout) that names the
+  // option, even where the port or the file could not be opened: nothing is opened first.
+  for (const char* args : {"monitor tformat --device /nonexistent/port --gap-us 0",
+                           "monitor modbus --device /nonexistent/port --gap-us 60000001",
+                           "decode tformat capture /nonexistent.vcd --line line --gap-us 0",
+                           "decode modbus capture /nonexistent.vcd --line line --baud 4000001"}) {
+    CAPTURE(args);
+    int status = -1;
+    const std::string err = testcli::run_stderr(args, &status);
+    CHECK(status == 2);
+    CHECK(err.find(std::string(args).find("gap-us") != std::string::npos ? "--gap-us" : "--baud") !=
+          std::string::npos);
+    CHECK(run(args).out.empty());
+  }
+  // the listing names each capture's recording
+  const std::string top = testcli::run_as_is("--help");
+  for (const char* line : {"decode modbus capture <file>", "decode tformat capture <file>",
+                           "decode biss capture <file>", "monitor tformat"}) {
+    CAPTURE(line);
+    CHECK(top.find(line) != std::string::npos);
+  }
+}
+
 TEST_CASE("text output: hex where engineers think in hex, failures with their evidence") {
   int status = -1;
   CHECK(testcli::run_as_is("decode tformat response 1a2045230111341200c0aa", &status) ==

@@ -90,21 +90,6 @@ bs::slave_layout layout_options::layout() const {
   return l;
 }
 
-bs::slave_layout layout_from(const cli::options& opts) {
-  layout_options o;
-  const auto number = [&](const char* name, std::uint64_t fallback, std::uint64_t min,
-                          std::uint64_t max) {
-    const auto v = opts.get(name);
-    return v ? cli::number_in_range(name, *v, min, max) : fallback;
-  };
-  o.data_bits = static_cast<unsigned>(number("data-bits", o.data_bits, 1, 64));
-  o.crc_bits = static_cast<unsigned>(number("crc-bits", o.crc_bits, 0, bs::max_crc_bits));
-  o.crc_poly = opts.get("crc-poly");
-  o.crc_start = number("crc-start", o.crc_start, 0, 0xFFFFFFFFU);
-  o.no_crc_invert = opts.has("no-crc-invert");
-  return o.layout();
-}
-
 cli::outcome describe_samples(const std::vector<std::uint8_t>& samples,
                               const bs::slave_layout& layout) {
   const std::vector<std::uint8_t>* bits = &samples;

@@ -27,8 +27,6 @@ struct layout_options {
   motionbus::biss::slave_layout layout() const;
 };
 
-/// The slave layout from the layout options given by name (decode biss capture).
-motionbus::biss::slave_layout layout_from(const cli::options& opts);
 /// A sensor data frame from the SL samples taken on MA's rising edges (0/1 each).
 cli::outcome describe_samples(const std::vector<std::uint8_t>& samples,
                               const motionbus::biss::slave_layout& layout);

@@ -53,38 +53,25 @@ struct tally {
   cli::record summary(const char* key_name) const {
     cli::record r;
     r.add_bool("summary", true)
-        .add("frames", static_cast<std::int64_t>(frames))
-        .add("requests", static_cast<std::int64_t>(requests))
-        .add("responses", static_cast<std::int64_t>(responses))
-        .add("missing_responses", static_cast<std::int64_t>(missing))
-        .add("exceptions", static_cast<std::int64_t>(exceptions))
-        .add("crc_errors", static_cast<std::int64_t>(crc_errors))
-        .add("other_errors", static_cast<std::int64_t>(other_errors))
-        .add("garbage_bytes", static_cast<std::int64_t>(garbage_bytes));
+        .add("frames", frames)
+        .add("requests", requests)
+        .add("responses", responses)
+        .add("missing_responses", missing)
+        .add("exceptions", exceptions)
+        .add("crc_errors", crc_errors)
+        .add("other_errors", other_errors)
+        .add("garbage_bytes", garbage_bytes);
     for (const auto& k : by_key) {
       r.add(std::string(key_name) + "_" + std::to_string(k.first),
-            std::vector<std::int64_t>{static_cast<std::int64_t>(k.second.requests),
-                                      static_cast<std::int64_t>(k.second.responses),
-                                      static_cast<std::int64_t>(k.second.errors)});
+            std::vector<std::uint64_t>{k.second.requests, k.second.responses, k.second.errors});
     }
     return r;
   }
 };
 
-// The silence that settles what the listener holds: --gap-us, or `fallback` (microseconds,
-// 1 to 60 s); the monitor and the capture decoders share the option.
-inline std::uint32_t gap_of(const cli::options& opts, std::uint32_t fallback) {
-  const auto gap =
-      static_cast<std::uint32_t>(cli::option_number(opts, "gap-us", fallback, 60000000));
-  if (gap == 0) {
-    throw cli::usage_error{"--gap-us must be above 0"};
-  }
-  return gap;
-}
-
 inline cli::record at(std::uint32_t time_us, const char* direction) {
   cli::record p;
-  p.add("time_us", static_cast<std::int64_t>(time_us)).add("dir", direction);
+  p.add("time_us", time_us).add("dir", direction);
   return p;
 }
 
@@ -191,8 +178,7 @@ class line_monitor {
     if (uart_error != nullptr) {  // a byte the UART flagged: the frame fails, with the evidence
       ++t_.other_errors;
       cli::record e;
-      e.add("byte_index", static_cast<std::int64_t>(error_at))
-          .bytes("bytes", frame.data(), frame.size());
+      e.add("byte_index", error_at).bytes("bytes", frame.data(), frame.size());
       cli::print(cli::outcome::failure(uart_error, e), at(time, "?"));
       self().rejected(r.value(), frame, time);
       return;
@@ -318,7 +304,7 @@ class modbus_monitor : public line_monitor<modbus_monitor, mo::rtu_listener> {
       }
       cli::record p = at(time, "response");
       if (paired) {
-        p.add("latency_us", static_cast<std::int64_t>(time - pending_time_));
+        p.add("latency_us", time - pending_time_);
       }
       cli::print(o, p);
       pending_ = false;
@@ -339,7 +325,7 @@ class modbus_monitor : public line_monitor<modbus_monitor, mo::rtu_listener> {
     ++t_.by_key[request_[0]].errors;
     cli::record e;
     e.add("slave", request_[0]).hex("function", request_[1]);
-    e.add("request_time_us", static_cast<std::int64_t>(pending_time_));
+    e.add("request_time_us", pending_time_);
     cli::print(cli::outcome::failure("no_response", e), at(time, "response"));
     pending_ = false;
   }
@@ -418,7 +404,7 @@ class tformat_monitor : public line_monitor<tformat_monitor, tf::line_listener> 
     const unsigned id = pending_ ? tf::data_id_code(request_[0]) : tf::data_id_code(bytes[0]);
     cli::record p = at(time, "response");
     if (pending_) {
-      p.add("latency_us", static_cast<std::int64_t>(time - pending_time_));
+      p.add("latency_us", time - pending_time_);
     }
     pending_ = false;
     ++t_.responses;
@@ -440,8 +426,8 @@ class tformat_monitor : public line_monitor<tformat_monitor, tf::line_listener> 
     const unsigned id = tf::data_id_code(request_[0]);
     ++t_.by_key[id].errors;
     cli::record e;
-    e.add("data_id", static_cast<std::int64_t>(id)).hex("cf", request_[0]);
-    e.add("request_time_us", static_cast<std::int64_t>(pending_time_));
+    e.add("data_id", id).hex("cf", request_[0]);
+    e.add("request_time_us", pending_time_);
     cli::print(cli::outcome::failure("no_response", e), at(time, "response"));
     pending_ = false;
   }

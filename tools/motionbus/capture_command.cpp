@@ -1,7 +1,7 @@
 // Every frame in a logic-analyzer or simulation recording (sigrok .sr, VCD, CSV):
 //   decode modbus capture FILE --line CH [--baud N] [--parity E|O|N] [--stop-bits N] [--fc11 sm]
 //                              [--gap-us N]
-//   decode tformat capture FILE --line CH [--baud 2500000] [--gap-us N]
+//   decode tformat capture FILE --line CH [--baud N] [--gap-us N]
 //   decode biss capture FILE --clock CH --data CH [layout options]
 // Channels by the names the file gives them. The UART protocols go through the bus monitors'
 // framing and pairing (bus_monitor.hpp, on the library's listeners): a T-format line holds
@@ -27,6 +27,7 @@
 #include "capture.hpp"
 #include "cli.hpp"
 #include "modbus_io.hpp"
+#include "options.hpp"
 
 namespace mb = motionbus;
 namespace mo = motionbus::modbus;
@@ -35,15 +36,6 @@ namespace {
 
 std::uint32_t us(double seconds) {
   return static_cast<std::uint32_t>(std::llround(seconds * 1e6));
-}
-
-const capture::channel& channel_of(const capture::recording& r, const cli::options& opts,
-                                   const char* option) {
-  const auto name = opts.get(option);
-  if (!name) {
-    throw cli::usage_error{std::string("--") + option + " CHANNEL is required"};
-  }
-  return r.find(*name);
 }
 
 // Feeds the bytes a UART decoder found to a bus monitor (a silence of `gap_us` between two
@@ -73,39 +65,47 @@ int decode_line(Monitor& m, const std::vector<capture::uart_byte>& bytes, std::u
   return t.crc_errors + t.other_errors + t.missing + t.garbage_bytes == 0 ? 0 : 1;
 }
 
-int modbus_capture(const cli::options& opts) {
-  const capture::recording r = capture::load(opts.positional.at(0));
-  const capture::channel& line = channel_of(r, opts, "line");
-  const serial::settings s = modbus_io::line_settings(opts);
-  const mo::report_id_format fc11 = modbus_io::fc11_of(opts, mo::report_id_format::standard);
+int modbus_capture(const cli::uart_capture_options& opts) {
+  const capture::recording r = capture::load(opts.file);
+  const capture::channel& line = r.find(opts.line_channel);
+  const serial::settings s = opts.watched.line.settings();
   const mo::parity p = modbus_io::parity_of(s);
-  const std::uint32_t t35 = mo::t35_us(s.baud, p, s.stop_bits);
   // a response is expected before the next request: the recording's end settles the last one
-  const std::uint32_t gap = bus_monitor::gap_of(opts, t35);
-  bus_monitor::modbus_monitor m(fc11, gap, mo::character_time_us(s.baud, p, s.stop_bits),
-                                ~std::uint32_t{0});
+  const std::uint32_t gap = opts.watched.gap_or(mo::t35_us(s.baud, p, s.stop_bits));
+  bus_monitor::modbus_monitor m(modbus_io::fc11_of(opts.watched.fc11), gap,
+                                mo::character_time_us(s.baud, p, s.stop_bits), ~std::uint32_t{0});
   return decode_line(m, capture::decode_uart(line, s.baud, s.parity, s.stop_bits), gap, "slave");
 }
 
-int tformat_capture(const cli::options& opts) {
-  const capture::recording r = capture::load(opts.positional.at(0));
-  const capture::channel& line = channel_of(r, opts, "line");
-  const double baud = static_cast<double>(cli::option_number(opts, "baud", 2500000, 100000000));
-  if (baud <= 0) {
-    throw cli::usage_error{"--baud must be above 0"};
-  }
+int tformat_capture(const cli::uart_capture_options& opts) {
+  const capture::recording r = capture::load(opts.file);
+  const capture::channel& line = r.find(opts.line_channel);
+  const auto baud = static_cast<double>(opts.watched.line.baud);
   const auto byte_us = static_cast<std::uint32_t>(std::ceil(10e6 / baud));
-  const std::uint32_t gap =
-      bus_monitor::gap_of(opts, 10 * byte_us);  // well past the encoder's turnaround
+  const std::uint32_t gap = opts.watched.gap_or(10 * byte_us);  // well past the turnaround
   bus_monitor::tformat_monitor m(gap, byte_us, ~std::uint32_t{0});
   return decode_line(m, capture::decode_uart(line, baud, 'N', 1), gap, "data_id");
 }
 
-int biss_capture(const cli::options& opts) {
-  const capture::recording r = capture::load(opts.positional.at(0));
-  const capture::channel& ma = channel_of(r, opts, "clock");
-  const capture::channel& slo = channel_of(r, opts, "data");
-  const mb::biss::slave_layout layout = biss_io::layout_from(opts);
+// decode biss capture: the recording, its MA (--clock) and SLO (--data) channels, the layout.
+struct biss_capture_options {
+  std::string file;
+  std::string clock;
+  std::string data;
+  biss_io::layout_options layout;
+  void bind(CLI::App& app) {
+    cli::recording(app, file);
+    cli::channel(app, "clock", clock);
+    cli::channel(app, "data", data);
+    layout.bind(app);
+  }
+};
+
+int biss_capture(const biss_capture_options& opts) {
+  const capture::recording r = capture::load(opts.file);
+  const capture::channel& ma = r.find(opts.clock);
+  const capture::channel& slo = r.find(opts.data);
+  const mb::biss::slave_layout layout = opts.layout.layout();
   std::vector<double> rises;
   std::vector<double> falls;
   for (std::size_t i = 1; i < ma.times.size(); ++i) {
@@ -132,8 +132,7 @@ int biss_capture(const cli::options& opts) {
     const auto fall = std::upper_bound(falls.begin(), falls.end(), rises[i]);
     const double start = fall == falls.begin() ? rises[i] : *(fall - 1);
     cli::record at;
-    at.add("time_us", static_cast<std::int64_t>(us(start)))
-        .add("clocks", static_cast<std::int64_t>(j - i));
+    at.add("time_us", us(start)).add("clocks", j - i);
     const cli::outcome o = biss_io::describe_samples(samples, layout);
     cli::print(o, at);
     ++frames;
@@ -141,11 +140,9 @@ int biss_capture(const cli::options& opts) {
     i = j;
   }
   cli::record summary;
-  summary.add_bool("summary", true)
-      .add("frames", static_cast<std::int64_t>(frames))
-      .add("errors", static_cast<std::int64_t>(failed));
+  summary.add_bool("summary", true).add("frames", frames).add("errors", failed);
   if (period > 0) {
-    summary.add("clock_hz", static_cast<std::int64_t>(std::llround(1.0 / period)));
+    summary.add("clock_hz", std::llround(1.0 / period));
   }
   cli::print_record(summary);
   return failed == 0 ? 0 : 1;
@@ -156,41 +153,19 @@ int biss_capture(const cli::options& opts) {
 namespace cli {
 
 protocol_entries capture_entries() {
-  const std::vector<option_use> biss = {"clock",           "data",     {"data-bits", "32"},
-                                        {"crc-bits", "6"}, "crc-poly", {"crc-start", "0"}};
   protocol_entries e;
-  e.commands.push_back({"decode",
-                        "modbus",
-                        "capture",
-                        "every Modbus RTU frame on a UART line in a recording (.sr, .vcd, .csv), "
-                        "requests paired with responses",
-                        &modbus_capture,
-                        {"line",
-                         {"baud", "9600"},
-                         {"parity", "E"},
-                         {"stop-bits", "1"},
-                         {"fc11", "standard"},
-                         "gap-us"},
-                        {},
-                        {"file"}});
-  e.commands.push_back({"decode",
-                        "tformat",
-                        "capture",
-                        "every T-format request and response on a line in a recording (.sr, "
-                        ".vcd, .csv): both directions, labelled",
-                        &tformat_capture,
-                        {"line", {"baud", "2500000"}, "gap-us"},
-                        {},
-                        {"file"}});
-  e.commands.push_back({"decode",
-                        "biss",
-                        "capture",
-                        "every BiSS-C sensor data frame in a recording of MA and SLO (.sr, .vcd, "
-                        ".csv)",
-                        &biss_capture,
-                        biss,
-                        {"no-crc-invert"},
-                        {"file"}});
+  e.typed.push_back(typed("decode", "modbus", "capture",
+                          "every Modbus RTU frame on a UART line in a recording (.sr, .vcd, .csv), "
+                          "requests paired with responses",
+                          &modbus_capture, uart_capture_options::modbus(), "<file>"));
+  e.typed.push_back(typed("decode", "tformat", "capture",
+                          "every T-format request and response on a line in a recording (.sr, "
+                          ".vcd, .csv): both directions, labelled",
+                          &tformat_capture, uart_capture_options{}, "<file>"));
+  e.typed.push_back(typed("decode", "biss", "capture",
+                          "every BiSS-C sensor data frame in a recording of MA and SLO (.sr, .vcd, "
+                          ".csv)",
+                          &biss_capture, biss_capture_options{}, "<file>"));
   return e;
 }
 

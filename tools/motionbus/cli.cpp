@@ -1,8 +1,6 @@
 // Shared pieces of the motionbus CLI.
 #include "cli.hpp"
 
-#include "options.hpp"
-
 #include <cctype>
 #include <cstdio>
 #include <iostream>
@@ -279,23 +277,6 @@ std::optional<std::uint64_t> parse_uint(const std::string& text) {
   return v;
 }
 
-bool options::has(const std::string& name) const {
-  for (const auto& f : flags) {
-    if (f == name) {
-      return true;
-    }
-  }
-  return values.count(name) != 0;
-}
-
-std::optional<std::string> options::get(const std::string& name) const {
-  const auto it = values.find(name);
-  if (it == values.end()) {
-    return std::nullopt;
-  }
-  return it->second;
-}
-
 std::string to_hex(const std::uint8_t* data, std::size_t size) {
   static const char digits[] = "0123456789abcdef";
   std::string out;
@@ -329,12 +310,6 @@ int run_inputs(const std::string& input, const std::function<outcome(const std::
   }
   std::cout.flush();
   return all_ok ? 0 : 1;
-}
-
-std::uint64_t option_number(const options& opts, const std::string& name, std::uint64_t fallback,
-                            std::uint64_t max) {
-  const auto v = opts.get(name);
-  return v ? number_in_range(name, *v, 0, max) : fallback;
 }
 
 }  // namespace cli

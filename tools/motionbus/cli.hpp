@@ -1,13 +1,12 @@
 // Shared pieces of the motionbus CLI: output records (text for people, JSON lines for programs,
-// through nlohmann-json), input parsing, the parsed options, the command registry (the command
-// line itself is parsed by CLI11: commands.cpp). Host code: uses the standard library freely
-// (unlike include/).
+// through nlohmann-json), input parsing, the command registry (the command line itself is parsed
+// by CLI11: commands.cpp; each command's options are a struct bound to it: options.hpp). Host code:
+// uses the standard library freely (unlike include/).
 #ifndef MOTIONBUS_TOOLS_CLI_HPP
 #define MOTIONBUS_TOOLS_CLI_HPP
 
 #include <cstdint>
 #include <functional>
-#include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -53,6 +52,17 @@ class record {
   record& add(const std::string& key, const char* value);
   record& add_bool(const std::string& key, bool value);
   record& add(const std::string& key, const std::vector<std::int64_t>& values);
+  /// A list of integers of another type (counts: std::uint64_t).
+  template <class T,
+            std::enable_if_t<is_recorded_integer<T> && !std::is_same_v<T, std::int64_t>, int> = 0>
+  record& add(const std::string& key, const std::vector<T>& values) {
+    std::vector<std::int64_t> v;
+    v.reserve(values.size());
+    for (const T x : values) {
+      v.push_back(as_int64(x));
+    }
+    return add(key, v);
+  }
   record& add(const std::string& key, const std::vector<std::string>& values);
   /// Raw bytes: lower-case contiguous hex in JSON (as the CLI always wrote them), spaced upper-case
   /// hex in text.
@@ -128,20 +138,6 @@ std::optional<std::vector<std::uint8_t>> parse_bits(const std::string& text, std
 /// Decimal or 0x-prefixed hex integer.
 std::optional<std::uint64_t> parse_uint(const std::string& text);
 
-/// The options given to a command that takes them by name (capture, monitor: the other commands
-/// bind theirs to a struct, options.hpp), as CLI11 parsed them: values by name (defaults filled
-/// in), switches by name, and the command's positional arguments.
-struct options {
-  std::vector<std::string> positional;
-  std::map<std::string, std::string> values;
-  std::vector<std::string> flags;
-  bool has(const std::string& name) const;
-  std::optional<std::string> get(const std::string& name) const;
-};
-/// The number given with `--name` (number_in_range, options.hpp), `fallback` when absent.
-std::uint64_t option_number(const options& opts, const std::string& name, std::uint64_t fallback,
-                            std::uint64_t max);
-
 /// Thrown (inside the tool only) for a usage error: exit status 2.
 struct usage_error {
   std::string message;
@@ -157,18 +153,6 @@ T built(const motionbus::result<T>& r, const std::string& what) {
   }
   return r.value();
 }
-
-/// A whole-command handler taking its options by name (capture, monitor): the exit status.
-using command_handler = int (*)(const options& opts);
-
-/// An option of a command: its name (one name for one idea, across the tool: see the catalogue
-/// in commands.cpp for its help text and allowed values) and this command's default, if any.
-struct option_use {
-  std::string name;
-  std::string default_value;  ///< shown in --help and filled in when absent; "" for none
-  option_use(const char* n) : name(n) {}  // NOLINT(google-explicit-constructor): lists of names
-  option_use(const char* n, std::string d) : name(n), default_value(std::move(d)) {}
-};
 
 /// One input's outcome (a decoder's handler, its options bound).
 using line_function = std::function<outcome(const std::string& input)>;
@@ -187,34 +171,22 @@ struct decoder {
   const char* input_help = "hex bytes (\"02 20 b4\", \"0220B4\", \"0x02 0x20\")";
 };
 
-/// A command that takes no per-line input: `encode <protocol> <kind>`, `decode <protocol>
-/// capture FILE`, `serve <name>`, `read <name>`, `monitor <name>`. `positional` names its
-/// positional arguments (in order, all required).
-struct command {
-  const char* group;  ///< "encode", "decode", "serve", "read", "monitor"
-  const char* protocol;
-  const char* kind;  ///< "" for serve/read/monitor
-  const char* help;
-  command_handler run;
-  std::vector<option_use> value_options;
-  std::vector<std::string> switch_options;
-  std::vector<std::string> positional;
-};
-
-/// A command whose options are a struct: `bind` adds the options to the command's CLI11 app
-/// and returns what runs once they are parsed.
+/// A command that takes no per-line input (`encode <protocol> <kind>`, `decode <protocol>
+/// capture FILE`, `serve <name>`, `read <name>`, `monitor <name>`), its options a struct:
+/// `bind` adds the options to the command's CLI11 app and returns what runs once they are
+/// parsed.
 struct typed_command {
   const char* group;  ///< "encode", "decode", "serve", "read", "monitor"
   const char* protocol;
   const char* kind;  ///< "" for serve/read/monitor
   const char* help;
   std::function<std::function<int()>(CLI::App&)> bind;
+  const char* arguments = "";  ///< its positional arguments, for the listing ("<file>")
 };
 
 /// Each protocol's file provides its entries; the registry gathers them.
 struct protocol_entries {
   std::vector<decoder> decoders;
-  std::vector<command> commands;  ///< options by name (capture, monitor)
   std::vector<typed_command> typed;
 };
 protocol_entries tformat_entries();
@@ -226,7 +198,6 @@ protocol_entries monitor_entries();
 protocol_entries capture_entries();
 
 const std::vector<decoder>& decoders();
-const std::vector<command>& commands();
 const std::vector<typed_command>& typed_commands();
 
 /// Lower-case contiguous hex of bytes.

@@ -19,6 +19,7 @@
 #include <deque>
 #include <iostream>
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -73,7 +74,8 @@ const std::map<std::string, option_info>& catalogue() {
         {}}},
       {"data",
        {"DATA",
-        "T-format: the EEPROM byte to write; Modbus: PDU data bytes in hex (other codes)",
+        "T-format: the EEPROM byte to write; Modbus: PDU data bytes in hex (other codes); "
+        "decode biss capture: the channel holding SLO",
         {}}},
       // Serial lines
       {"device", {"PORT", "serial port: /dev/ttyUSB0, COM3, /dev/tty.usbserial-...", {}}},
@@ -134,35 +136,12 @@ const option_info& option_help(const std::string& name) {
 
 namespace {
 
-// A leaf command as CLI11 parses it: the values bound to its options, and what to run.
+// A leaf command as CLI11 parses it: its app, --json, and what runs once its options (a
+// struct: options.hpp) are parsed.
 struct leaf {
   CLI::App* app = nullptr;
-  std::vector<option_use> uses;
-  std::map<std::string, std::string> values;
-  std::map<std::string, CLI::Option*> given;
-  std::vector<std::string> switch_names;
-  std::vector<std::string> positional_names;
-  std::vector<std::string> positional;
   bool json = false;
-  std::function<int(const options&)> run;
-
-  options parsed() const {
-    options o;
-    for (const option_use& u : uses) {
-      if (given.at(u.name)->count() > 0) {
-        o.values[u.name] = values.at(u.name);
-      } else if (!u.default_value.empty()) {
-        o.values[u.name] = u.default_value;
-      }
-    }
-    for (const std::string& s : switch_names) {
-      if (given.at(s)->count() > 0) {
-        o.flags.push_back(s);
-      }
-    }
-    o.positional = positional;
-    return o;
-  }
+  std::function<int()> run;
 };
 
 CLI::App* child(CLI::App* parent, const std::string& name, const std::string& help) {
@@ -176,22 +155,7 @@ CLI::App* child(CLI::App* parent, const std::string& name, const std::string& he
   return sub;
 }
 
-void add_options(leaf& l) {
-  for (const option_use& u : l.uses) {
-    const option_info& i = option_help(u.name);
-    CLI::Option* o = l.app->add_option("--" + u.name, l.values[u.name], i.help);
-    o->type_name(i.type);
-    if (!u.default_value.empty()) {
-      o->default_str(u.default_value);
-    }
-    if (!i.allowed.empty()) {
-      o->check(CLI::IsMember(i.allowed));
-    }
-    l.given[u.name] = o;
-  }
-  for (const std::string& s : l.switch_names) {
-    l.given[s] = l.app->add_flag("--" + s, option_help(s).help);
-  }
+void add_json(leaf& l) {
   l.app->add_flag("--json", l.json, "print one JSON object per line instead of text");
 }
 
@@ -211,15 +175,9 @@ std::string listing() {
     out += std::string("  ") + d.group + " " + d.protocol + (*d.kind ? " " : "") + d.kind +
            (d.input ? " <input|->" : "") + "\n";
   }
-  for (const command& c : commands()) {
-    out += std::string("  ") + c.group + " " + c.protocol + (*c.kind ? " " : "") + c.kind;
-    for (const std::string& p : c.positional) {
-      out += " <" + p + ">";
-    }
-    out += "\n";
-  }
   for (const typed_command& c : typed_commands()) {
-    out += std::string("  ") + c.group + " " + c.protocol + (*c.kind ? " " : "") + c.kind + "\n";
+    out += std::string("  ") + c.group + " " + c.protocol + (*c.kind ? " " : "") + c.kind +
+           (*c.arguments ? " " : "") + c.arguments + "\n";
   }
   return out + "Run `motionbus <command> ... --help` for a command's options.";
 }
@@ -241,11 +199,6 @@ std::vector<T> gather(std::vector<T> protocol_entries::*member) {
 
 const std::vector<decoder>& decoders() {
   static const std::vector<decoder> list = gather(&protocol_entries::decoders);
-  return list;
-}
-
-const std::vector<command>& commands() {
-  static const std::vector<command> list = gather(&protocol_entries::commands);
   return list;
 }
 
@@ -280,50 +233,37 @@ int main_of(int argc, char** argv) {
 
   std::deque<leaf> leaves;  // stable addresses: CLI11 binds to their members
   // a leaf at group / protocol [/ kind]
-  auto add_leaf = [&](const char* group, const char* protocol, const char* kind, const char* help,
-                      const std::vector<option_use>& uses,
-                      const std::vector<std::string>& switches) -> leaf& {
+  auto add_leaf = [&](const char* group, const char* protocol, const char* kind,
+                      const char* help) -> leaf& {
     CLI::App* parent = child(&app, group, "");
     CLI::App* at = *kind ? child(parent, protocol, protocol_help(protocol)) : parent;
     leaf& l = leaves.emplace_back();
     l.app = at->add_subcommand(*kind ? kind : protocol, help);
-    l.uses = uses;
-    l.switch_names = switches;
     return l;
   };
   for (const decoder& d : decoders()) {
-    leaf& l = add_leaf(d.group, d.protocol, d.kind, d.help, {}, {});
-    l.positional.resize(1);
+    leaf& l = add_leaf(d.group, d.protocol, d.kind, d.help);
+    auto input = std::make_shared<std::string>();
     CLI::Option* in = l.app->add_option(
-        "input", l.positional[0],
+        "input", *input,
         std::string("the input: ") + d.input_help + "; - reads one per line from standard input");
     if (d.input) {
       in->required();
     }
     const line_function handle = d.bind(*l.app);
-    add_options(l);  // --json
+    add_json(l);
     const bool needs_input = d.input;
-    l.run = [handle, needs_input](const options& o) {
-      if (!needs_input && o.positional[0].empty()) {
+    l.run = [handle, needs_input, input] {
+      if (!needs_input && input->empty()) {
         return finish(handle(""));
       }
-      return run_inputs(o.positional[0], handle);
+      return run_inputs(*input, handle);
     };
   }
-  for (const command& c : commands()) {
-    leaf& l = add_leaf(c.group, c.protocol, c.kind, c.help, c.value_options, c.switch_options);
-    l.positional.resize(c.positional.size());
-    for (std::size_t i = 0; i < c.positional.size(); ++i) {
-      l.app->add_option(c.positional[i], l.positional[i], c.positional[i])->required();
-    }
-    add_options(l);
-    l.run = c.run;
-  }
   for (const typed_command& c : typed_commands()) {
-    leaf& l = add_leaf(c.group, c.protocol, c.kind, c.help, {}, {});
-    const std::function<int()> run = c.bind(*l.app);
-    add_options(l);  // --json
-    l.run = [run](const options&) { return run(); };
+    leaf& l = add_leaf(c.group, c.protocol, c.kind, c.help);
+    l.run = c.bind(*l.app);
+    add_json(l);
   }
 
   app.footer(listing());  // after the subcommands: only the top level lists every command
@@ -356,7 +296,7 @@ int main_of(int argc, char** argv) {
     }
     set_output_format(l.json ? format::json : format::text);
     try {
-      return l.run(l.parsed());
+      return l.run();
     } catch (const usage_error& e) {
       std::cerr << "motionbus: " << e.message << "\nRun with --help for more information.\n";
       return 2;

@@ -9,8 +9,6 @@
 #include <string>
 #include <vector>
 
-#include "options.hpp"
-
 namespace mb = motionbus;
 namespace mo = motionbus::modbus;
 
@@ -83,11 +81,6 @@ exchange transact(serial::port& port, std::uint8_t slave, const std::uint8_t* ad
   return {{}, failure.empty() ? "timeout" : failure};
 }
 
-mo::report_id_format fc11_of(const cli::options& opts, mo::report_id_format fallback) {
-  const auto v = opts.get("fc11");
-  return v ? fc11_of(*v) : fallback;
-}
-
 mo::report_id_format fc11_of(const std::string& name) {
   const std::string* v = &name;
   if (*v == "standard") {
@@ -138,17 +131,9 @@ std::string sm_version_text(std::uint8_t upper, std::uint8_t lower) {
          std::to_string(lower & 0x0FU);
 }
 
-serial::settings line_settings(const cli::options& opts) {
-  return cli::serial_line::of(opts, cli::serial_line::kind::modbus).settings();
-}
-
 mo::parity parity_of(const serial::settings& s) {
   return s.parity == 'N' ? mo::parity::none
                          : (s.parity == 'O' ? mo::parity::odd : mo::parity::even);
-}
-
-bool open_port(serial::port& port, const cli::options& opts) {
-  return cli::serial_line::of(opts, cli::serial_line::kind::modbus).open(port);
 }
 
 cli::outcome describe_request(const mo::rtu_frame& frame) {

@@ -26,9 +26,6 @@ struct exchange {
 exchange transact(serial::port& port, std::uint8_t slave, const std::uint8_t* adu, std::size_t size,
                   motionbus::modbus::report_id_format fc11, int timeout_ms);
 
-/// The FC11 response layout from --fc11 (standard | sm), `fallback` when absent.
-motionbus::modbus::report_id_format fc11_of(const cli::options& opts,
-                                            motionbus::modbus::report_id_format fallback);
 /// The FC11 response layout named "standard" or "sm" (a usage error otherwise).
 motionbus::modbus::report_id_format fc11_of(const std::string& name);
 const char* fc11_name(motionbus::modbus::report_id_format f);
@@ -52,16 +49,8 @@ cli::outcome describe_response(const motionbus::modbus::rtu_frame& frame,
 void print_served(const motionbus::modbus::rtu_frame& request, const std::uint8_t* reply,
                   std::size_t size, std::uint32_t time_us);
 
-/// Line settings from --baud, --parity (E, N, O) and --stop-bits; defaults 9600 8E1
-/// (cli::serial_line, for the commands that take their options by name: capture, monitor).
-serial::settings line_settings(const cli::options& opts);
-
 /// The library's parity for the line settings (character and silence times: modbus/timing.hpp).
 motionbus::modbus::parity parity_of(const serial::settings& s);
-
-/// Opens --device with those settings (cli::serial_line::open); false (message on stderr) when
-/// it cannot.
-bool open_port(serial::port& port, const cli::options& opts);
 
 }  // namespace modbus_io
 

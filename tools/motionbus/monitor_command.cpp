@@ -19,7 +19,6 @@
 
 #include <cstdint>
 #include <iostream>
-#include <map>
 #include <string>
 #include <vector>
 
@@ -38,34 +37,18 @@ constexpr std::uint32_t min_gap_us = 20000;
 using bus_monitor::modbus_monitor;
 using bus_monitor::tformat_monitor;
 
-// The stop conditions shared by both monitors.
-struct limits {
-  std::uint64_t count = 0;     // frames (0: no limit)
-  std::uint32_t duration = 0;  // seconds (0: no limit)
-  std::uint32_t response_us = 0;
-
-  static limits of(const cli::options& opts) {
-    limits l;
-    l.count = cli::option_number(opts, "count", 0, ~std::uint64_t{0});
-    l.duration = static_cast<std::uint32_t>(cli::option_number(opts, "duration", 0, 4000000));
-    l.response_us =
-        static_cast<std::uint32_t>(cli::option_number(opts, "response-ms", 1000, 60000)) * 1000U;
-    return l;
-  }
-};
-
 // Watches the port until Ctrl-C, --count frames or --duration: every read's bytes go to the
 // monitor with their arrival time, and the time since the last byte after every read; then the
 // monitor settles what it holds and the summary is printed.
 template <class Monitor>
-int watch(serial::port& port, const limits& l, Monitor& m, const char* summary_key) {
+int watch(serial::port& port, const cli::monitor_options& l, Monitor& m, const char* summary_key) {
   serial::install_stop_handler();
   const std::uint32_t start = serial::now_us();
   std::uint8_t buffer[256];
   std::uint32_t last_byte = start;
   int status = 0;
   while (!serial::stop_requested() && (l.count == 0 || m.counts().frames < l.count)) {
-    if (l.duration != 0 && serial::now_us() - start >= l.duration * 1000000U) {
+    if (l.duration_s != 0 && serial::now_us() - start >= l.duration_s * 1000000U) {
       break;
     }
     const long n = port.read_some(buffer, sizeof buffer, 2);
@@ -86,31 +69,28 @@ int watch(serial::port& port, const limits& l, Monitor& m, const char* summary_k
   return status;
 }
 
-int monitor_modbus(const cli::options& opts) {
-  const limits l = limits::of(opts);
-  const serial::settings s = modbus_io::line_settings(opts);
-  const mo::report_id_format fc11 = modbus_io::fc11_of(opts, mo::report_id_format::standard);
+int monitor_modbus(const cli::monitor_options& opts) {
+  const mo::report_id_format fc11 = modbus_io::fc11_of(opts.watched.fc11);
   serial::port port;
-  if (!modbus_io::open_port(port, opts)) {
+  if (!opts.watched.line.open(port)) {
     return 1;
   }
+  const serial::settings s = opts.watched.line.settings();
   const mo::parity p = modbus_io::parity_of(s);
   const std::uint32_t t35 = mo::t35_us(s.baud, p, s.stop_bits);
-  modbus_monitor m(fc11, bus_monitor::gap_of(opts, t35 > min_gap_us ? t35 : min_gap_us),
-                   mo::character_time_us(s.baud, p, s.stop_bits), l.response_us);
-  return watch(port, l, m, "slave");
+  modbus_monitor m(fc11, opts.watched.gap_or(t35 > min_gap_us ? t35 : min_gap_us),
+                   mo::character_time_us(s.baud, p, s.stop_bits), opts.response_ms * 1000U);
+  return watch(port, opts, m, "slave");
 }
 
-int monitor_tformat(const cli::options& opts) {
-  const limits l = limits::of(opts);
-  const cli::serial_line line = cli::serial_line::of(opts, cli::serial_line::kind::tformat);
-  const serial::settings s = line.settings();
+int monitor_tformat(const cli::monitor_options& opts) {
   serial::port port;
-  if (!line.open(port)) {
+  if (!opts.watched.line.open(port)) {
     return 1;
   }
-  tformat_monitor m(bus_monitor::gap_of(opts, min_gap_us), 10U * 1000000U / s.baud, l.response_us);
-  return watch(port, l, m, "data_id");
+  tformat_monitor m(opts.watched.gap_or(min_gap_us),
+                    10U * 1000000U / opts.watched.line.settings().baud, opts.response_ms * 1000U);
+  return watch(port, opts, m, "data_id");
 }
 
 }  // namespace
@@ -118,33 +98,16 @@ int monitor_tformat(const cli::options& opts) {
 namespace cli {
 
 protocol_entries monitor_entries() {
-  const std::vector<option_use> common = {
-      "gap-us", {"count", "0"}, {"duration", "0"}, {"response-ms", "1000"}};
-  std::vector<option_use> modbus = {
-      "device", {"baud", "9600"}, {"parity", "E"}, {"stop-bits", "1"}, {"fc11", "standard"}};
-  modbus.insert(modbus.end(), common.begin(), common.end());
-  std::vector<option_use> tformat = {"device", {"baud", std::to_string(cli::tformat_baud)}};
-  tformat.insert(tformat.end(), common.begin(), common.end());
   protocol_entries e;
-  e.commands.push_back({"monitor",
-                        "modbus",
-                        "",
-                        "watch a tapped Modbus RTU line: every frame timed, requests paired with "
-                        "their responses, missing responses, exceptions, CRC errors and garbage "
-                        "flagged, a summary at the end",
-                        &monitor_modbus,
-                        modbus,
-                        {},
-                        {}});
-  e.commands.push_back({"monitor",
-                        "tformat",
-                        "",
-                        "watch a tapped T-format line: every request and response timed and "
-                        "paired, CRC errors, missing responses and garbage flagged, a summary",
-                        &monitor_tformat,
-                        tformat,
-                        {},
-                        {}});
+  e.typed.push_back(typed("monitor", "modbus", "",
+                          "watch a tapped Modbus RTU line: every frame timed, requests paired with "
+                          "their responses, missing responses, exceptions, CRC errors and garbage "
+                          "flagged, a summary at the end",
+                          &monitor_modbus, monitor_options::modbus()));
+  e.typed.push_back(typed("monitor", "tformat", "",
+                          "watch a tapped T-format line: every request and response timed and "
+                          "paired, CRC errors, missing responses and garbage flagged, a summary",
+                          &monitor_tformat, monitor_options{}));
   return e;
 }
 

@@ -74,21 +74,6 @@ std::uint64_t max_baud(serial_line::kind k) {
 
 }  // namespace
 
-serial_line serial_line::of(const options& opts, kind k) {
-  serial_line l = k == kind::modbus ? modbus() : tformat();
-  l.device = opts.get("device").value_or("");
-  if (const auto b = opts.get("baud")) {
-    l.baud = number_in_range("baud", *b, 1, max_baud(k));
-  }
-  if (k == kind::modbus) {
-    l.parity = opts.get("parity").value_or(l.parity);
-    if (const auto s = opts.get("stop-bits")) {
-      l.stop_bits = static_cast<unsigned>(number_in_range("stop-bits", *s, 1, 2));
-    }
-  }
-  return l;
-}
-
 void serial_line::bind(CLI::App& app) {
   text(app, "device", device)->required();
   bind_settings(app);
@@ -124,6 +109,62 @@ bool serial_line::open(serial::port& port) const {
     std::cerr << "motionbus: " << device << ": " << warning << '\n';
   }
   return true;
+}
+
+monitored_line monitored_line::tformat() {
+  return monitored_line{};
+}
+
+monitored_line monitored_line::modbus() {
+  monitored_line m;
+  m.line = serial_line::modbus();
+  return m;
+}
+
+void monitored_line::bind(CLI::App& app, bool device) {
+  if (device) {
+    line.bind(app);
+  } else {
+    line.bind_settings(app);
+  }
+  if (line.line_kind == serial_line::kind::modbus) {
+    text(app, "fc11", fc11);
+  }
+  number(app, "gap-us", gap_us, 1, 60000000);
+}
+
+monitor_options monitor_options::modbus() {
+  monitor_options o;
+  o.watched = monitored_line::modbus();
+  return o;
+}
+
+void monitor_options::bind(CLI::App& app) {
+  watched.bind(app, true);
+  number(app, "count", count, 0, ~std::uint64_t{0});
+  number(app, "duration", duration_s, 0, 4000000);
+  number(app, "response-ms", response_ms, 0, 60000);
+}
+
+uart_capture_options uart_capture_options::modbus() {
+  uart_capture_options o;
+  o.watched = monitored_line::modbus();
+  return o;
+}
+
+void uart_capture_options::bind(CLI::App& app) {
+  recording(app, file);
+  channel(app, "line", line_channel);
+  watched.bind(app, false);
+}
+
+CLI::Option* recording(CLI::App& app, std::string& file) {
+  return app.add_option("file", file, "the recording: a sigrok session (.sr), VCD or CSV")
+      ->required();
+}
+
+CLI::Option* channel(CLI::App& app, const std::string& name, std::string& field) {
+  return text(app, name, field)->required();
 }
 
 }  // namespace cli

@@ -1,7 +1,8 @@
 // Typed options for the CLI's commands: a command's options are a struct whose fields CLI11
 // fills, each bound once with its range (the field's initial value is the default, the help
-// text is the catalogue's, commands.cpp), and the serial-line group that read, serve and
-// monitor share, with the one way the CLI opens a port.
+// text is the catalogue's, commands.cpp); the serial-line group that read, serve and monitor
+// share, with the one way the CLI opens a port; the bus monitors' options (monitor, decode
+// modbus|tformat capture).
 #ifndef MOTIONBUS_TOOLS_OPTIONS_HPP
 #define MOTIONBUS_TOOLS_OPTIONS_HPP
 
@@ -88,9 +89,6 @@ struct serial_line {
   static serial_line tformat();
   /// Modbus: 9600 8E1, --device, --baud, --parity, --stop-bits.
   static serial_line modbus();
-  /// The same group read from a command that still takes its options by name (monitor).
-  static serial_line of(const options& opts, kind k);
-
   void bind(CLI::App& app);
   /// --baud, --parity and --stop-bits alone (encode --vcd draws the line without opening it).
   void bind_settings(CLI::App& app);
@@ -99,15 +97,64 @@ struct serial_line {
   bool open(serial::port& port) const;
 };
 
-/// A typed_command for `run`, whose options are `Options` (with `void bind(CLI::App&)`).
+/// A bus monitor's line (monitor, decode modbus|tformat capture): the serial-line settings,
+/// for Modbus --fc11, and --gap-us, the silence that settles what the monitor holds.
+struct monitored_line {
+  serial_line line;
+  std::string fc11 = "standard";
+  std::optional<std::uint32_t> gap_us;  ///< 1 us to 60 s; empty: the command's default
+
+  static monitored_line tformat();
+  static monitored_line modbus();
+  /// The settings, --device as well when `device` (monitor; a recording has none).
+  void bind(CLI::App& app, bool device);
+  std::uint32_t gap_or(std::uint32_t fallback) const { return gap_us.value_or(fallback); }
+};
+
+/// monitor modbus|tformat: the line, and when to stop or flag: --count frames and --duration
+/// seconds (0: no limit; Ctrl-C stops too), --response-ms.
+struct monitor_options {
+  monitored_line watched = monitored_line::tformat();
+  std::uint64_t count = 0;
+  std::uint32_t duration_s = 0;
+  std::uint32_t response_ms = 1000;
+
+  static monitor_options modbus();
+  void bind(CLI::App& app);
+};
+
+/// decode modbus|tformat capture FILE --line CHANNEL: the recording, the channel holding the
+/// UART line (as the recording names it), the line's settings.
+struct uart_capture_options {
+  std::string file;
+  std::string line_channel;
+  monitored_line watched = monitored_line::tformat();
+
+  static uart_capture_options modbus();
+  void bind(CLI::App& app);
+};
+
+/// Binds the positional FILE, a recording (.sr, .vcd, .csv): required.
+CLI::Option* recording(CLI::App& app, std::string& file);
+/// Binds `--name CHANNEL`, a channel of a recording: required.
+CLI::Option* channel(CLI::App& app, const std::string& name, std::string& field);
+
+/// A typed_command for `run`, whose options are `Options` (with `void bind(CLI::App&)`),
+/// `initial` before parsing (the defaults); `arguments` its positional arguments, for the
+/// listing ("<file>").
 template <class Options>
 typed_command typed(const char* group, const char* protocol, const char* kind, const char* help,
-                    int (*run)(const Options&)) {
-  return {group, protocol, kind, help, [run](CLI::App& app) {
-            auto o = std::make_shared<Options>();
+                    int (*run)(const Options&), Options initial = {}, const char* arguments = "") {
+  return {group,
+          protocol,
+          kind,
+          help,
+          [run, initial](CLI::App& app) {
+            auto o = std::make_shared<Options>(initial);
             o->bind(app);
             return std::function<int()>([o, run] { return run(*o); });
-          }};
+          },
+          arguments};
 }
 
 /// Options of a decoder that takes none.
