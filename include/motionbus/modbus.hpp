@@ -1,5 +1,5 @@
 // motionbus — Modbus: PDU codec (client and server), RTU and TCP ADUs, RTU timing, stream
-// framing, server dispatch.
+// framing, server dispatch, typed values over registers.
 #ifndef MOTIONBUS_MODBUS_HPP
 #define MOTIONBUS_MODBUS_HPP
 
@@ -11,5 +11,6 @@
 #include "motionbus/modbus/server.hpp"
 #include "motionbus/modbus/tcp.hpp"
 #include "motionbus/modbus/timing.hpp"
+#include "motionbus/modbus/values.hpp"
 
 #endif  // MOTIONBUS_MODBUS_HPP
