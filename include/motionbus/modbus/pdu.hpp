@@ -177,7 +177,10 @@ constexpr bool bit_at(byte_view packed, std::size_t i) noexcept {
 constexpr exception_code exception_for(errc e) noexcept {
   switch (e) {
     case errc::modbus_illegal_function: return exception_code::illegal_function;
-    case errc::modbus_address_overflow: return exception_code::illegal_data_address;
+    case errc::modbus_address_overflow:
+    case errc::modbus_reference_type:  // FC14/15 sub-requests (§6.14, §6.15)
+    case errc::modbus_file_number:
+    case errc::modbus_record_number: return exception_code::illegal_data_address;
     default: return exception_code::illegal_data_value;
   }
 }
