@@ -3,6 +3,8 @@
 // exception, the responses checked against their requests, and the server dispatch.
 #include "motionbus/modbus/file_record.hpp"
 
+#include "motionbus/modbus/framer.hpp"
+
 #include <doctest/doctest.h>
 
 #include <cstdint>
@@ -349,4 +351,36 @@ TEST_CASE("file records: check_file_record keeps a failing FC15 from writing any
   CHECK(testutil::serve_pdu(unchecked, 1, write) == bytes{0x95, 0x02});
   CHECK(unchecked.writes == 1);
   CHECK(unchecked.files[0][0] == 0x1234);
+}
+
+TEST_CASE("file records: the RTU framer sizes FC14/15 requests and responses by their counts") {
+  // two requests back to back, no silence between them: each ends at its byte count
+  const bytes stream = [] {
+    bytes s = testutil::rtu(1, read_request);
+    const bytes w = testutil::rtu(1, write_request);
+    s.insert(s.end(), w.begin(), w.end());
+    return s;
+  }();
+  rtu_server_framer server(framer_options{1, frame_end::length});
+  std::vector<bytes> frames;
+  feed_all(server, view(stream), [&](const auto& r) {
+    CHECK(r.is_complete());
+    frames.push_back(bytes(r->pdu.begin(), r->pdu.end()));
+    return true;
+  });
+  CHECK(frames == std::vector<bytes>{read_request, write_request});
+  CHECK(predict_request_size(view({0x01, 0x14})) == 0U);  // the count not yet there
+  CHECK(predict_response_size(view({0x01, 0x14, 0x0C}), 0x14) == 17U);
+  CHECK(predict_response_size(view({0x01, 0x15, 0x0D}), 0x15) == 18U);
+
+  rtu_client_framer client(framer_options{1, frame_end::length});
+  const bytes adu = testutil::rtu(1, read_request);
+  client.sent(view(adu));
+  frames.clear();
+  feed_all(client, view(testutil::rtu(1, read_response)), [&](const auto& r) {
+    CHECK(r.is_complete());
+    frames.push_back(bytes(r->pdu.begin(), r->pdu.end()));
+    return true;
+  });
+  CHECK(frames == std::vector<bytes>{read_response});
 }
