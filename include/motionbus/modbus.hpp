@@ -1,8 +1,9 @@
 // motionbus — Modbus: PDU codec (client and server), RTU and TCP ADUs, RTU timing, stream
-// framing, server dispatch, typed values over registers.
+// framing, server dispatch, file records, typed values over registers.
 #ifndef MOTIONBUS_MODBUS_HPP
 #define MOTIONBUS_MODBUS_HPP
 
+#include "motionbus/modbus/file_record.hpp"
 #include "motionbus/modbus/framer.hpp"
 #include "motionbus/modbus/pdu.hpp"
 #include "motionbus/modbus/pdu_client.hpp"

@@ -13,7 +13,8 @@
 // views into the caller's input: valid while that buffer is.
 // Implemented: 01, 02, 03, 04, 05, 06, 07, 08 (all defined sub-functions), 0B, 0C, 0F, 10, 11,
 // 16, 17, 18, 2B/0E (read device identification), exception responses with any code, and a raw
-// path for any other function code.
+// path for any other function code. FC14/15 (file records, decoded raw here) in
+// modbus/file_record.hpp.
 #ifndef MOTIONBUS_MODBUS_PDU_HPP
 #define MOTIONBUS_MODBUS_PDU_HPP
 
