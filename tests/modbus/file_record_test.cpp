@@ -106,6 +106,7 @@ TEST_CASE("file records: each kind of bad request is its own error, answered 03 
       {{0x14, 0x07, 0x06, 0x00, 0x01, 0x27, 0x0F, 0x00, 0x02}, errc::modbus_record_number},
       // FC15
       {{0x15, 0x08, 0x06, 0x00, 0x01, 0x00, 0x00, 0x00, 0x01, 0x00}, errc::modbus_byte_count},
+      {{0x15, 0xFC, 0x06, 0x00, 0x01, 0x00, 0x00, 0x00, 0x01, 0x00}, errc::modbus_byte_count},
       {{0x15, 0x09, 0x06, 0x00, 0x01, 0x00, 0x00, 0x00, 0x02, 0x12, 0x34}, errc::modbus_byte_count},
       {{0x15, 0x0A, 0x06, 0x00, 0x01, 0x00, 0x00, 0x00, 0x01, 0x12, 0x34, 0x06},
        errc::modbus_byte_count},  // a second sub-request's header cut by the data length
@@ -189,6 +190,8 @@ TEST_CASE("file records: the encoders refuse what the decoder refuses") {
         errc::buffer_too_small);
   const auto r = decode_file_record_request(view(read_request));
   CHECK(encode_write_file_record_response(r.value(), out).error() == errc::invalid_argument);
+  const auto echoed = decode_write_file_record_response(view(write_request), view(write_request));
+  CHECK(encode_write_file_record_response(echoed.value(), out).error() == errc::invalid_argument);
 }
 
 TEST_CASE("file records: responses are checked against their request") {
@@ -208,6 +211,9 @@ TEST_CASE("file records: responses are checked against their request") {
   CHECK(read_error(b) == errc::modbus_byte_count);
   b = read_response;
   b[2] = 0x04;  // even sub-response length
+  CHECK(read_error(b) == errc::modbus_byte_count);
+  b = read_response;
+  b[2] = 0x01;  // shorter than a length and a reference type
   CHECK(read_error(b) == errc::modbus_byte_count);
   b = read_response;
   b[8] = 0x07;  // the second runs past the data
@@ -232,6 +238,8 @@ TEST_CASE("file records: responses are checked against their request") {
   CHECK(read_error({0x94, 0x02, 0x00}) == errc::modbus_byte_count);
   // the request itself must be a valid FC14 one
   CHECK(decode_read_file_record_response(view(write_request), view(read_response)).error() ==
+        errc::invalid_argument);
+  CHECK(decode_read_file_record_response(view(bytes{0x14, 0x07}), view(read_response)).error() ==
         errc::invalid_argument);
   CHECK(decode_write_file_record_response(view(read_request), view(write_request)).error() ==
         errc::invalid_argument);
@@ -346,6 +354,14 @@ TEST_CASE("file records: check_file_record keeps a failing FC15 from writing any
   CHECK(testutil::serve_pdu(checked, 1, write) == bytes{0x95, 0x02});
   CHECK(checked.writes == 0);
   CHECK(checked.files[0][0] == 0);
+  CHECK(testutil::serve_pdu(checked, 1, {0x15, 0x09, 0x06}) == bytes{0x95, 0x03});
+  const bytes fits = {0x15, 0x09, 0x06, 0x00, 0x02, 0x00, 0x0F, 0x00, 0x01, 0x56, 0x78};
+  CHECK(testutil::serve_pdu(checked, 1, fits) == fits);
+  CHECK(checked.files[1][15] == 0x5678);
+  // reads are not checked first (they change nothing): the device's own answer
+  checked.files[1][3] = 0xCAFE;
+  CHECK(testutil::serve_pdu(checked, 1, {0x14, 0x07, 0x06, 0x00, 0x02, 0x00, 0x03, 0x00, 0x01}) ==
+        bytes{0x14, 0x04, 0x03, 0x06, 0xCA, 0xFE});
   // without it (documented): the sub-requests before the failing one are written
   file_device unchecked;
   CHECK(testutil::serve_pdu(unchecked, 1, write) == bytes{0x95, 0x02});
