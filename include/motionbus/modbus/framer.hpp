@@ -110,10 +110,9 @@ constexpr std::size_t predict_request_size(byte_view in) noexcept {
     case 0x0F:
     case 0x10: return in.size() < 7U ? 0 : 9U + in[6];
     case 0x17: return in.size() < 11U ? 0 : 13U + in[10];
-    case 0x14:
-    case 0x15: return in.size() < 3U ? 0 : 5U + in[2];  // file records: byte count / data length
-    case 0x2B: return 7;                                // MEI type, read device ID code, object ID
-    default: return unknown_length;
+    case 0x2B: return 7;  // MEI type, read device ID code, object ID
+    default:              // FC14/15 (file records): their byte count / data length
+      return (f | 1U) != 0x15U ? unknown_length : in.size() < 3U ? 0 : 5U + in[2];
   }
 }
 
