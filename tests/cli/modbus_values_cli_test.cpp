@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "run_cli.hpp"
@@ -62,23 +63,30 @@ TEST_CASE("read modbus --type: a write sends the values' registers in the word o
                                      0xFF, 0xFF, 0xFF, 0xFF}));
 }
 
-TEST_CASE("read modbus --type: refused arguments send nothing") {
+TEST_CASE("read modbus --type: refused arguments send nothing, each with its reason") {
   testcli::canned_device device({0x01, 0x06, 0x00, 0x00, 0x00, 0x00, 0x89, 0xCA});
   const std::string dev = " --timeout-ms 300 --device '" + device.path() + "'";
-  for (const char* args :
-       {"--function 3 --slave 1 --type f16", "--function 3 --slave 1 --word-order cdab",
-        "--function 3 --slave 1 --type f32 --word-order abdc",
-        "--function 6 --slave 1 --type u32 --values 1", "--function 16 --slave 1 --type u32",
-        "--function 16 --slave 1 --type u32 --values 4294967296",
-        "--function 16 --slave 1 --type u32 --values -1",
-        "--function 16 --slave 1 --type i32 --values 2147483648",
-        "--function 16 --slave 1 --type f32 --values 1e39",
-        "--function 16 --slave 1 --type f64 --values 1.5x",
-        "--function 16 --slave 1 --type i64 --values 1,,2",
-        "--function 3 --slave 1 --type f64 --quantity 32"}) {
-    CAPTURE(args);
+  const std::pair<const char*, const char*> cases[] = {
+      {"--function 3 --slave 1 --type f16", "--type takes u32"},
+      {"--function 3 --slave 1 --word-order cdab", "--word-order is for --type"},
+      {"--function 3 --slave 1 --type f32 --word-order abdc", "--word-order takes abcd"},
+      {"--function 6 --slave 1 --type u32 --values 1", "--type is for FC 03, 04"},
+      {"--function 16 --slave 1 --type u32", "needs --values"},
+      {"--function 16 --slave 1 --type u32 --values 4294967296", "is no u32"},
+      {"--function 16 --slave 1 --type u32 --values -1", "is no u32"},
+      {"--function 16 --slave 1 --type i32 --values 2147483648", "is no i32"},
+      {"--function 16 --slave 1 --type f32 --values 1e39", "is no f32"},
+      {"--function 16 --slave 1 --type f64 --values 1.5x", "is no f64"},
+      {"--function 16 --slave 1 --type i64 --values 1,,2", "is no i64"},
+      {"--function 3 --slave 1 --type f64 --quantity 32", "the library refuses it"},
+  };
+  for (const auto& c : cases) {
+    CAPTURE(c.first);
     int status = 0;
-    CHECK(testcli::run(std::string("read modbus ") + args + dev, &status).empty());
+    const std::string out = testcli::output_of(
+        std::string("'") + MOTIONBUS_CLI_PATH + "' read modbus " + c.first + dev + " 2>&1",
+        &status);
+    CHECK_MESSAGE(out.find(c.second) != std::string::npos, out);
     CHECK(status == 2);
   }
   CHECK(device.received().empty());
