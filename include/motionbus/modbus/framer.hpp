@@ -483,7 +483,8 @@ class basic_rtu_framer {
       return true;  // coverage: the listener frames in listen(), which never asks
     }
     if (server()) {
-      return options_.serves(slave) || slave == broadcast_address;
+      // the one address first: a single-address server pays nothing for the range
+      return slave == options_.address || slave == broadcast_address || options_.serves(slave);
     }
     return slave_ == 0U || slave == slave_;
   }

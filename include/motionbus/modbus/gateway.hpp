@@ -212,7 +212,7 @@ class basic_gateway {
     std::size_t kept = 0;
     for (std::size_t i = 0; i < count_; ++i) {
       const entry& e = queue_[(head_ + i) % Queue];
-      if (e.connection == c) {
+      if (e.who.connection == c) {
         ++dropped_;
       } else {
         queue_[(head_ + kept) % Queue] = e;  // in order: kept <= i
@@ -256,7 +256,9 @@ class basic_gateway {
     gateway_step s;
     if (broadcast_answer_ != 0U) {
       broadcast_answer_ = 0;
-      return to_client_step(on_line_, reply_size_, 0);
+      if (current(on_line_)) {  // its connection may have gone since
+        return to_client_step(on_line_, reply_size_, 0);
+      }
     }
     if (state_ == line_state::awaiting && framer_.pending() != 0U &&
         reached(now_us, last_byte_us_ + options_.line.t35_us)) {
@@ -315,12 +317,16 @@ class basic_gateway {
     std::uint16_t size = 0;  // the ADU's size once its header told, else 0
     std::uint32_t generation = 0;
   };
-  struct entry {
+  // Whose request it is (and what the gateway answers with itself).
+  struct ticket {
     std::uint32_t generation = 0;
     std::uint16_t transaction = 0;
     std::uint8_t connection = 0;
     std::uint8_t unit = 0;
     std::uint8_t function = 0;
+  };
+  struct entry {
+    ticket who{};
     std::uint8_t size = 0;  // of the PDU, 1..253
     std::uint8_t pdu[max_pdu_size] = {};
   };
@@ -357,7 +363,7 @@ class basic_gateway {
     return f < 64U && ((options_.functions >> f) & 1U) != 0U;
   }
 
-  constexpr bool current(const entry& e) const noexcept {
+  constexpr bool current(const ticket& e) const noexcept {
     return clients_[e.connection].generation == e.generation;
   }
 
@@ -371,7 +377,7 @@ class basic_gateway {
     return s;
   }
 
-  constexpr gateway_step to_client_step(const entry& e, std::size_t size,
+  constexpr gateway_step to_client_step(const ticket& e, std::size_t size,
                                         std::uint8_t exception) const noexcept {
     gateway_step s;
     s.action = gateway_action::to_client;
@@ -383,7 +389,7 @@ class basic_gateway {
   }
 
   // The gateway's own exception `code` to request `e`.
-  constexpr gateway_step own_answer(const entry& e, std::uint8_t code) noexcept {
+  constexpr gateway_step own_answer(const ticket& e, std::uint8_t code) noexcept {
     std::uint8_t pdu[2] = {};
     (void)encode_exception(e.function, code, pdu);
     reply_size_ = encode_tcp(e.transaction, e.unit, pdu, reply_).value_or(0);
@@ -404,7 +410,7 @@ class basic_gateway {
         rule != pdu.size() + 3U) {
       return closed(c, errc::modbus_pdu_length, 0);
     }
-    entry e;
+    ticket e;
     e.generation = clients_[c].generation;
     e.transaction = t.transaction;
     e.connection = static_cast<std::uint8_t>(c);
@@ -426,11 +432,12 @@ class basic_gateway {
     if (code != 0U) {
       return own_answer(e, code);
     }
-    e.size = static_cast<std::uint8_t>(pdu.size());
+    entry& slot = queue_[(head_ + count_) % Queue];  // built in place: no copy of the PDU
+    slot.who = e;
+    slot.size = static_cast<std::uint8_t>(pdu.size());
     for (std::size_t i = 0; i < pdu.size(); ++i) {
-      e.pdu[i] = pdu[i];
+      slot.pdu[i] = pdu[i];
     }
-    queue_[(head_ + count_) % Queue] = e;
     ++count_;
     gateway_step s;
     s.action = gateway_action::queued;
@@ -441,11 +448,12 @@ class basic_gateway {
 
   // The next queued request onto the line.
   constexpr gateway_step send(std::uint32_t now_us) noexcept {
-    on_line_ = queue_[head_];
+    const entry& e = queue_[head_];  // read before anything is queued again
+    const byte_view pdu(e.pdu, e.size);
+    on_line_ = e.who;
     head_ = (head_ + 1U) % Queue;
     --count_;
-    const std::size_t n =
-        encode_rtu<Table>(on_line_.unit, byte_view(on_line_.pdu, on_line_.size), line_).value_or(0);
+    const std::size_t n = encode_rtu<Table>(on_line_.unit, pdu, line_).value_or(0);
     framer_.sent(byte_view(line_, n));
     const std::uint32_t end = now_us + static_cast<std::uint32_t>(n) * options_.line.char_us;
     last_byte_us_ = end;
@@ -453,10 +461,11 @@ class basic_gateway {
       free_us_ = end + options_.turnaround_us;
       gap_ = true;
       if (options_.answer_broadcasts && current(on_line_)) {
-        const decode_result<request> q = decode_request(byte_view(on_line_.pdu, on_line_.size));
-        std::uint8_t pdu[max_pdu_size] = {};
-        const std::size_t size = encode_write_response(q.value(), pdu).value_or(0);
-        reply_size_ = encode_tcp(on_line_.transaction, 0, byte_view(pdu, size), reply_).value_or(0);
+        const decode_result<request> q = decode_request(pdu);
+        std::uint8_t answer[8] = {};  // a write's normal response: 5 or 7 bytes
+        const std::size_t size = encode_write_response(q.value(), answer).value_or(0);
+        reply_size_ =
+            encode_tcp(on_line_.transaction, 0, byte_view(answer, size), reply_).value_or(0);
         broadcast_answer_ = reply_size_ != 0U ? 1U : 0U;  // FC15's: none the codec builds
       }
     } else {
@@ -500,7 +509,7 @@ class basic_gateway {
   entry queue_[Queue] = {};
   std::size_t head_ = 0;
   std::size_t count_ = 0;
-  entry on_line_{};  // the request on the line (or the last one)
+  ticket on_line_{};  // the request on the line (or the last one)
   basic_rtu_framer<Table, framer_role::client> framer_{};
   std::uint8_t line_[max_rtu_size] = {};
   std::uint8_t reply_[max_tcp_size] = {};
