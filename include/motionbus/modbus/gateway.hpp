@@ -6,7 +6,7 @@
 // Line V1.02 §2.1, §2.4.1: one request on the line at a time, broadcasts are writes, never
 // answered, and followed by a turnaround delay; MODBUS Application Protocol V1.1b3 §7:
 // exceptions 0A and 0B). A state machine: no I/O, no heap, no clock of its own; the I/O hands
-// it bytes and the time, and does what each call's gateway_step says (docs/modbus.md §7).
+// it bytes and the time, and does what each call's gateway_step says (docs/modbus.md §8).
 //
 //   modbus::gateway gw(options);                  // 8 connections, 16 queued requests
 //   on_client_bytes(c, in):                       // connection slot c, a chunk of its stream
