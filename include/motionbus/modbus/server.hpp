@@ -1,6 +1,9 @@
 // motionbus — Modbus RTU server dispatch: the library decodes, checks, calls the user's data
 // accessors and builds the response or the right exception; nothing for broadcasts (address
 // 0: executed, never answered) or for other addresses (Modbus over Serial Line §2.2).
+// serve_frame serves one device at one address; serve_units several units on one port, each
+// by the device a lookup gives for it (docs/modbus.md §7); serve_pdu a request PDU with no
+// address and CRC (Modbus TCP).
 //
 // The device is any type with some of these members (detected at compile time; no virtual
 // calls, no heap). Each returns 0 on success or a Modbus exception code (02 illegal address,
