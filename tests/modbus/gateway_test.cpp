@@ -538,3 +538,101 @@ TEST_CASE("gateway: the clock may wrap") {
   CHECK(h.replies[0][1].pdu == fc03_answer(1, 0, 1));
   CHECK(h.now < 0x1000000U);
 }
+
+TEST_CASE("gateway: a broadcast's answer or a 0B for a connection closed meanwhile goes nowhere") {
+  gateway_options o;
+  o.answer_broadcasts = true;
+  o.response_timeout_us = 20000;
+  harness<2, 4> h(o);
+  h.client(0, mbap(1, 0, {0x06, 0, 1, 0, 2}), false);
+  REQUIRE(h.gw.poll(h.now).action == gateway_action::to_line);
+  CHECK(h.gw.wait_us(h.now) == 0);             // its answer is due
+  h.gw.close(0);                               // before the I/O polls for it
+  h.client(1, mbap(2, 9, fc03(0, 1)), false);  // no device: will time out
+  h.drain();
+  CHECK(h.replies[0].empty());
+  REQUIRE(h.replies[1].size() == 1);
+  CHECK(h.replies[1][0].exception == 0x0B);
+  // a request on the line whose connection goes: no 0B for it, the next request goes on
+  h.client(1, mbap(3, 9, fc03(0, 1)), false);
+  h.client(0, mbap(4, 1, fc03(0, 1)), false);
+  h.now += h.gw.wait_us(h.now);
+  REQUIRE(h.gw.poll(h.now).action == gateway_action::to_line);
+  h.gw.close(1);
+  CHECK(h.gw.awaiting());  // the line's timing is kept
+  h.drain();
+  CHECK(h.replies[1].size() == 1);
+  REQUIRE(h.replies[0].size() == 1);
+  CHECK(h.replies[0][0].pdu == fc03_answer(1, 0, 1));
+  CHECK(h.gw.timeouts() == 2);
+  // FC15 (write file record) broadcast: no normal response the codec builds, so none
+  h.client(0, mbap(5, 0, {0x15, 0x09, 0x06, 0, 1, 0, 0, 0, 1, 0x12, 0x34}));
+  h.drain();
+  CHECK(h.replies[0].size() == 1);
+  CHECK(h.line.back()[1] == 0x15);
+}
+
+TEST_CASE("gateway: read_only lets Read Device Identification and Return Query Data through") {
+  gateway_options o;
+  o.read_only = true;
+  harness<1, 2> h(o);
+  h.client(0, mbap(1, 1, {0x2B, 0x0E, 0x01, 0x00}));
+  h.client(0, mbap(2, 1, {0x2B, 0x0D, 0x01, 0x00}));  // CANopen: may write
+  h.client(0, mbap(3, 1, {0x08, 0x00}));              // too short to tell: refused
+  h.drain();
+  REQUIRE(h.replies[0].size() == 3);
+  CHECK(h.replies[0][0].transaction == 1);  // forwarded: the device has no FC2B, its 01
+  CHECK(h.replies[0][0].exception == 0);
+  CHECK(h.replies[0][0].pdu == bytes{0xAB, 0x01});
+  CHECK(h.replies[0][1].transaction == 2);
+  CHECK(h.replies[0][1].exception == 0x01);  // refused by the gateway: CANopen
+  CHECK(h.replies[0][2].transaction == 3);
+  CHECK(h.replies[0][2].exception == 0x01);
+  CHECK(h.replies[0][2].pdu == bytes{0x88, 0x01});
+  CHECK(h.line.size() == 1);
+  // a function above 63 is refused when the function set is not all of them
+  gateway_options f;
+  f.functions = functions_of(0x03);
+  harness<1, 2> g(f);
+  g.client(0, mbap(1, 1, {0x41, 0x00}));
+  REQUIRE(g.replies[0].size() == 1);
+  CHECK(g.replies[0][0].pdu == bytes{0xC1, 0x01});
+  // a count missing from an FC10: not a lying length (the rule cannot tell), an exception 03
+  g.options.functions = all_functions;
+  harness<1, 2> k;
+  k.client(0, mbap(1, 1, {0x10, 0x00, 0x01, 0x00}));
+  REQUIRE(k.replies[0].size() == 1);
+  CHECK(k.replies[0][0].pdu == bytes{0x90, 0x03});
+  CHECK(k.closes[0].empty());
+}
+
+TEST_CASE("gateway: line bytes nobody asked for, and garbage while a response is awaited") {
+  harness<1, 2> h;
+  const bytes stray = rtu(1, fc03_answer(1, 0, 1));
+  CHECK(h.gw.from_line(view(stray), 0).consumed == stray.size());
+  CHECK(h.gw.from_line(byte_view{}, 0).consumed == 0);
+  CHECK(h.gw.discarded() == 1);
+  CHECK(h.gw.wait_us(0) == ~std::uint32_t{0});  // nothing due, ever
+  h.client(0, mbap(1, 1, fc03(0, 1)), false);
+  CHECK(h.gw.wait_us(0) == 0);  // the line is free: now
+  REQUIRE(h.gw.poll(0).action == gateway_action::to_line);
+  // from the slave asked, an FC03 whose byte count wants more than an RTU frame can hold, and
+  // more: held to a full buffer, resynchronised, and no response
+  bytes garbage(300, 0x00);
+  garbage[0] = 0x01;
+  garbage[1] = 0x03;
+  garbage[2] = 0xFF;
+  std::size_t at = 0;
+  while (at < garbage.size()) {
+    const gateway_step s = h.gw.from_line(byte_view(garbage.data() + at, garbage.size() - at), 9);
+    CHECK(s.action == gateway_action::none);
+    at += s.consumed;
+  }
+  CHECK(h.gw.awaiting());
+  h.now = 9;
+  h.drain();  // the silence fails what is held (discarded), then the timeout answers
+  REQUIRE(h.replies[0].size() == 1);
+  CHECK(h.replies[0][0].exception == 0x0B);
+  CHECK(h.gw.discarded() == 2);
+  CHECK(h.gw.wait_us(h.now) == ~std::uint32_t{0});
+}

@@ -234,16 +234,14 @@ class basic_gateway {
     }
     last_byte_us_ = now_us;
     const decode_result<rtu_frame> r = framer_.feed(in);
-    if (r.is_incomplete()) {
-      return s;
-    }
-    s.consumed = r.consumed();
-    if (r.is_failed()) {
-      ++discarded_;
+    if (!r.is_complete()) {
+      // all taken: the framer (frame_end::silence) holds what it cannot frame until the t3.5
+      // silence, which poll() sees: its failures come from idle() there
+      s.consumed = r.is_failed() ? r.consumed() : in.size();
       return s;
     }
     gateway_step answer = response(r.value(), now_us);
-    answer.consumed = s.consumed;
+    answer.consumed = r.consumed();
     return answer;
   }
 
@@ -460,7 +458,7 @@ class basic_gateway {
     if (on_line_.unit == broadcast_address) {
       free_us_ = end + options_.turnaround_us;
       gap_ = true;
-      if (options_.answer_broadcasts && current(on_line_)) {
+      if (options_.answer_broadcasts) {  // (its connection is checked when it is due)
         const decode_result<request> q = decode_request(pdu);
         std::uint8_t answer[8] = {};  // a write's normal response: 5 or 7 bytes
         const std::size_t size = encode_write_response(q.value(), answer).value_or(0);
@@ -483,8 +481,8 @@ class basic_gateway {
   // A frame from the line while a response is awaited: the response (its function, or its
   // exception) ends the wait; anything else is discarded.
   constexpr gateway_step response(const rtu_frame& frame, std::uint32_t now_us) noexcept {
-    if (frame.pdu.empty() ||
-        (frame.pdu[0] & static_cast<std::uint8_t>(~exception_flag)) != on_line_.function) {
+    // (a frame's PDU is never empty: decode_rtu wants one byte at least)
+    if ((frame.pdu[0] & static_cast<std::uint8_t>(~exception_flag)) != on_line_.function) {
       ++discarded_;
       return gateway_step{};
     }

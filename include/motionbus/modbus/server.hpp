@@ -521,9 +521,10 @@ constexpr std::size_t serve_rtu_frame(Device* dev, std::uint8_t unit, const rtu_
   if (dev == nullptr || frame.pdu.empty()) {
     return 0;
   }
+  // a PDU of one byte at least, room for max_pdu_size: an answer of 2 bytes at least
   const std::size_t n =
       modbus::serve_pdu(*dev, frame.pdu, out.subspan(1, max_pdu_size)).value_or(0);
-  if (frame.broadcast() || n == 0U) {
+  if (frame.broadcast()) {
     return 0;
   }
   out[0] = unit;
