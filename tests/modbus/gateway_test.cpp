@@ -21,24 +21,7 @@ using namespace testutil;
 
 namespace {
 
-// Registers 0..19 of unit u hold u * 0x100 + address; writes are counted.
-struct line_device {
-  std::uint8_t unit = 0;
-  int writes = 0;
-  std::uint8_t read_registers(std::uint8_t, std::uint16_t address, span<std::uint16_t> out) {
-    if (address + out.size() > 20U) {
-      return 0x02;
-    }
-    for (std::size_t i = 0; i < out.size(); ++i) {
-      out[i] = static_cast<std::uint16_t>(unit * 0x100U + address + i);
-    }
-    return 0;
-  }
-  std::uint8_t write_registers(std::uint16_t, span<const std::uint16_t>) {
-    ++writes;
-    return 0;
-  }
-};
+using line_device = unit_device;  // tests/support/modbus.hpp
 
 bytes mbap(std::uint16_t transaction, std::uint8_t unit, const bytes& pdu) {
   std::uint8_t out[max_tcp_size] = {};

@@ -653,27 +653,6 @@ TEST_CASE("server: admit and check_registers are called const, whatever the devi
   CHECK(dev.non_const_calls == 0);
 }
 
-namespace {
-// A device that knows which unit it is (the lookup's answer): registers hold its unit number.
-struct unit_device {
-  std::uint8_t unit = 0;
-  int writes = 0;
-  std::uint8_t read_registers(std::uint8_t, std::uint16_t address, span<std::uint16_t> out) {
-    if (address + out.size() > 10U) {
-      return 0x02;
-    }
-    for (std::size_t i = 0; i < out.size(); ++i) {
-      out[i] = static_cast<std::uint16_t>(unit * 0x100U + address + i);
-    }
-    return 0;
-  }
-  std::uint8_t write_registers(std::uint16_t, span<const std::uint16_t>) {
-    ++writes;
-    return 0;
-  }
-};
-}  // namespace
-
 TEST_CASE("server: units 1-4 on one port as four devices (serve_units)") {
   unit_device dev[4] = {{1}, {2}, {3}, {4}};
   int asked_broadcast = 0;
@@ -717,7 +696,7 @@ TEST_CASE("server: units 1-4 on one port as four devices (serve_units)") {
   CHECK(serve_units(lookup, f.value(), mutable_byte_view(out, 255)).error() ==
         errc::buffer_too_small);
   // an exception answers as the unit too
-  const bytes bad = rtu(3, {0x03, 0, 9, 0, 2});
+  const bytes bad = rtu(3, {0x03, 0, 19, 0, 2});
   const auto g = decode_rtu(view(bad));
   REQUIRE(g.is_complete());
   const std::size_t n = serve_units(lookup, g.value(), out).value();
