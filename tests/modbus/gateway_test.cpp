@@ -619,3 +619,29 @@ TEST_CASE("gateway: line bytes nobody asked for, and garbage while a response is
   CHECK(h.gw.discarded() == 2);
   CHECK(h.gw.wait_us(h.now) == ~std::uint32_t{0});
 }
+
+TEST_CASE("gateway: a line that never falls silent does not hold the gateway") {
+  gateway_options o;
+  o.response_timeout_us = 10000;
+  harness<1, 2> h(o);
+  h.client(0, mbap(1, 9, fc03(0, 1)), false);
+  REQUIRE(h.gw.poll(0).action == gateway_action::to_line);
+  const std::uint32_t deadline = 8U * o.line.char_us + o.response_timeout_us;
+  const std::uint32_t last_call = deadline + 256U * o.line.char_us;
+  const std::uint8_t babble[1] = {0x55};
+  std::uint32_t t = 0;
+  for (; t < last_call + 10U * o.line.char_us; t += o.line.char_us) {
+    const gateway_step b = h.gw.from_line(byte_view(babble, 1), t);
+    CHECK(b.action == gateway_action::none);
+    CHECK(h.gw.wait_us(t) <= o.line.t35_us);
+    const gateway_step s = h.gw.poll(t);
+    if (s.action != gateway_action::none) {
+      CHECK(s.exception == 0x0B);
+      break;
+    }
+  }
+  CHECK(t >= last_call);  // not before the longest frame's time past the deadline
+  CHECK(t < last_call + o.line.char_us);
+  CHECK(h.gw.timeouts() == 1);
+  CHECK(!h.gw.awaiting());
+}

@@ -101,7 +101,8 @@ constexpr line_timing serial_line_timing(std::uint32_t baud, parity p = parity::
 /// What the gateway is given: its policy and its timing (microseconds).
 struct gateway_options {
   /// From the end of a request on the line (its last byte written, at line.char_us a byte)
-  /// to its response; a response still arriving then (a byte within t3.5) is waited for.
+  /// to its response; a response still arriving then (a byte within t3.5) is waited for, up
+  /// to the time of the longest RTU frame more.
   std::uint32_t response_timeout_us = 1000000;
   /// After a broadcast is on the line, before the next request (Serial Line §2.4.1).
   std::uint32_t turnaround_us = 100000;
@@ -143,7 +144,9 @@ struct gateway_step {
 
 /// The gateway core for `Connections` client connections (slots 0..Connections-1, the I/O's
 /// choice) and one serial line with a queue of `Queue` requests in front of it.
-/// Size: about 268 bytes a connection, 262 a queued request, 1.1 KiB besides.
+/// Size: each connection a buffer of max_tcp_size and its state, each queued request its PDU
+/// (max_pdu_size) and ids; an RTU framer, a line buffer and a reply buffer besides
+/// (basic_gateway<1, 1> on a 32-bit core: about 1.5 KiB).
 template <std::size_t Connections, std::size_t Queue, crc_table_size Table = default_crc_table>
 class basic_gateway {
   static_assert(Connections >= 1U && Connections <= 255U, "1..255 connections");
@@ -269,8 +272,15 @@ class basic_gateway {
       }
     }
     if (state_ == line_state::awaiting) {
-      if (framer_.pending() != 0U || !reached(now_us, deadline_us_)) {
+      // a response still arriving at the timeout is waited for, as long as the longest frame
+      // takes: a line that never falls silent does not hold the gateway
+      if (!reached(now_us, deadline_us_) ||
+          (framer_.pending() != 0U && !reached(now_us, last_call_us()))) {
         return s;
+      }
+      if (framer_.pending() != 0U) {
+        (void)framer_.idle();  // too late: what it holds goes
+        ++discarded_;
       }
       ++timeouts_;
       free_line(now_us);
@@ -293,8 +303,12 @@ class basic_gateway {
       return 0;
     }
     if (state_ == line_state::awaiting) {
-      return until(now_us,
-                   framer_.pending() != 0U ? last_byte_us_ + options_.line.t35_us : deadline_us_);
+      if (framer_.pending() == 0U) {
+        return until(now_us, deadline_us_);
+      }
+      const std::uint32_t silence = until(now_us, last_byte_us_ + options_.line.t35_us);
+      const std::uint32_t last = until(now_us, last_call_us());
+      return silence < last ? silence : last;
     }
     return count_ == 0U ? ~std::uint32_t{0} : gap_ ? until(now_us, free_us_) : 0U;
   }
@@ -492,6 +506,11 @@ class basic_gateway {
     }
     reply_size_ = encode_tcp(on_line_.transaction, on_line_.unit, frame.pdu, reply_).value_or(0);
     return to_client_step(on_line_, reply_size_, 0);
+  }
+
+  // The response timeout's end, extended by the time of the longest frame.
+  constexpr std::uint32_t last_call_us() const noexcept {
+    return deadline_us_ + static_cast<std::uint32_t>(max_rtu_size) * options_.line.char_us;
   }
 
   // The wait is over: the next request t3.5 after the last byte heard (or now).
