@@ -261,26 +261,22 @@ class basic_gateway {
         return to_client_step(on_line_, reply_size_, 0);
       }
     }
+    // A response still arriving at the timeout is waited for, as long as the longest frame
+    // takes (last_call_us): a line that never falls silent does not hold the gateway.
+    const bool late = reached(now_us, last_call_us());
     if (state_ == line_state::awaiting && framer_.pending() != 0U &&
-        reached(now_us, last_byte_us_ + options_.line.t35_us)) {
+        (late || reached(now_us, last_byte_us_ + options_.line.t35_us))) {
       const decode_result<rtu_frame> r = framer_.idle();  // the silence ends what is held
-      if (!r.is_complete()) {
-        ++discarded_;  // a failure: the timeout answers if nothing better comes
+      if (late || !r.is_complete()) {
+        ++discarded_;  // a failure, or too late: the timeout answers if nothing better comes
       } else if (const gateway_step a = response(r.value(), now_us);
                  a.action != gateway_action::none) {
         return a;
       }
     }
     if (state_ == line_state::awaiting) {
-      // a response still arriving at the timeout is waited for, as long as the longest frame
-      // takes: a line that never falls silent does not hold the gateway
-      if (!reached(now_us, deadline_us_) ||
-          (framer_.pending() != 0U && !reached(now_us, last_call_us()))) {
+      if (!reached(now_us, deadline_us_) || framer_.pending() != 0U) {
         return s;
-      }
-      if (framer_.pending() != 0U) {
-        (void)framer_.idle();  // too late: what it holds goes
-        ++discarded_;
       }
       ++timeouts_;
       free_line(now_us);
