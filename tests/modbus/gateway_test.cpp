@@ -91,18 +91,7 @@ struct harness {
 
   // Connection c sends `in`, as one chunk; the line runs after it when `run` says so.
   void client(std::size_t c, const bytes& in, bool run = true) {
-    byte_view rest = view(in);
-    while (!rest.empty()) {
-      const gateway_step s = gw.from_client(c, rest);
-      REQUIRE(s.consumed > 0);
-      REQUIRE(s.consumed <= rest.size());
-      rest = rest.subspan(s.consumed);
-      record(s);
-      if (s.action == gateway_action::close) {
-        CHECK(rest.empty());
-        break;
-      }
-    }
+    feed_client(gw, c, view(in), [&](const gateway_step& s) { record(s); });
     if (run) {
       settle();
     }
@@ -111,11 +100,9 @@ struct harness {
   // What is due now: requests onto the line (served by the devices, their responses back to
   // the gateway after latency_us), replies to clients.
   void settle() {
-    for (int guard = 0; guard < 1000; ++guard) {
-      const gateway_step s = gw.poll(now);
-      if (s.action == gateway_action::none) {
-        return;
-      }
+    int steps = 0;
+    poll_all(gw, now, [&](const gateway_step& s) {
+      REQUIRE(++steps < 1000);
       record(s);
       if (s.action == gateway_action::to_line) {
         // the line is free: t3.5 after the last response, the turnaround after a broadcast
@@ -123,8 +110,7 @@ struct harness {
         line.push_back(bytes(s.bytes.begin(), s.bytes.end()));
         answer(line.back());
       }
-    }
-    FAIL("poll() never settled");
+    });
   }
 
   void answer(const bytes& adu) {
@@ -143,13 +129,9 @@ struct harness {
     now += latency_us;
     const std::size_t step = chunk == 0U ? n : chunk;
     for (std::size_t at = 0; at < n; at += step) {
-      byte_view in(out + at, std::min(step, n - at));
+      const byte_view in(out + at, std::min(step, n - at));
       now += static_cast<std::uint32_t>(in.size()) * options.line.char_us;  // received by now
-      while (!in.empty()) {
-        const gateway_step s = gw.from_line(in, now);
-        in = in.subspan(s.consumed);
-        record(s);
-      }
+      feed_line(gw, in, now, [&](const gateway_step& s) { record(s); });
     }
     earliest = now + options.line.t35_us;
   }

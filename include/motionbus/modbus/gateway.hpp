@@ -8,22 +8,17 @@
 // exceptions 0A and 0B). A state machine: no I/O, no heap, no clock of its own; the I/O hands
 // it bytes and the time, and does what each call's gateway_step says (docs/modbus.md §8).
 //
-//   modbus::gateway gw(options);                  // 8 connections, 16 queued requests
-//   on_client_bytes(c, in):                       // connection slot c, a chunk of its stream
-//     while (!in.empty()) {
-//       const auto s = gw.from_client(c, in);     // one MBAP ADU at most
-//       in = in.subspan(s.consumed);
-//       if (s.action == gateway_action::to_client) send(c, s.bytes);      // its own exception
-//       if (s.action == gateway_action::close) { close_socket(c); break; }
-//     }
-//   on_client_closed(c) / idle timeout:  gw.close(c);   // its bytes and its queued requests go
-//   on_line_bytes(in):                     // from the UART, with the time they arrived
-//     while (!in.empty()) { s = gw.from_line(in, now_us()); in = in.subspan(s.consumed);
-//                           if (s.action == gateway_action::to_client) send(s.connection, s.bytes);
-//                           }
+//   modbus::gateway gw(options);                 // 8 connections, 16 queued requests
+//   auto act = [&](const gateway_step& s) {       // what the I/O does for each step
+//     if (s.action == gateway_action::to_client) send(s.connection, s.bytes);
+//     if (s.action == gateway_action::to_line) write_line(s.bytes);
+//     if (s.action == gateway_action::close) close_socket(s.connection);
+//   };
+//   on_client_bytes(c, in):   feed_client(gw, c, in, act);   // slot c, a chunk of its stream
+//   on_client_closed(c), or its idle timeout:   gw.close(c); // its bytes, its queued requests
+//   on_line_bytes(in):        feed_line(gw, in, now_us(), act);  // with the time they came
 //   after any of these, and when gw.wait_us(now) has passed (the poll()/select() timeout):
-//     for (auto s = gw.poll(now_us()); s.action != gateway_action::none; s = gw.poll(now_us()))
-//       s.action == gateway_action::to_line ? write_line(s.bytes) : send(s.connection, s.bytes);
+//                             poll_all(gw, now_us(), act);
 //
 // Timing is data and events in one style: every call that depends on time is given the time
 // (microseconds of a free-running clock, wrapping: differences only), and the core keeps its
@@ -540,6 +535,41 @@ class basic_gateway {
 
 /// The gateway for a host: 8 client connections, 16 requests queued.
 using gateway = basic_gateway<8, 16>;
+
+// The loops of the I/O, written once (as feed_all for the stream objects, core/stream.hpp):
+// each calls `each(step)` for every step that is not none, in order.
+
+/// Connection `c`'s bytes `in`: from_client until every byte is taken (or `c` is closed).
+template <class Gateway, class Each>
+constexpr void feed_client(Gateway& gw, std::size_t c, byte_view in, Each&& each) {
+  while (!in.empty()) {
+    const gateway_step s = gw.from_client(c, in);
+    in = in.subspan(s.consumed);
+    if (s.action != gateway_action::none) {
+      each(s);
+    }
+  }
+}
+
+/// The line's bytes `in`, received at `now_us`: from_line until every byte is taken.
+template <class Gateway, class Each>
+constexpr void feed_line(Gateway& gw, byte_view in, std::uint32_t now_us, Each&& each) {
+  while (!in.empty()) {
+    const gateway_step s = gw.from_line(in, now_us);
+    in = in.subspan(s.consumed);
+    if (s.action != gateway_action::none) {
+      each(s);
+    }
+  }
+}
+
+/// What is due at `now_us`: poll until none.
+template <class Gateway, class Each>
+constexpr void poll_all(Gateway& gw, std::uint32_t now_us, Each&& each) {
+  for (gateway_step s = gw.poll(now_us); s.action != gateway_action::none; s = gw.poll(now_us)) {
+    each(s);
+  }
+}
 
 }  // namespace modbus
 }  // namespace motionbus
