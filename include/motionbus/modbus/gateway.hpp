@@ -539,28 +539,32 @@ using gateway = basic_gateway<8, 16>;
 // The loops of the I/O, written once (as feed_all for the stream objects, core/stream.hpp):
 // each calls `each(step)` for every step that is not none, in order.
 
-/// Connection `c`'s bytes `in`: from_client until every byte is taken (or `c` is closed).
-template <class Gateway, class Each>
-constexpr void feed_client(Gateway& gw, std::size_t c, byte_view in, Each&& each) {
+namespace detail {
+// `take(rest)` (from_client or from_line) until every byte of `in` is taken.
+template <class Take, class Each>
+constexpr void each_step(byte_view in, Take&& take, Each&& each) {
   while (!in.empty()) {
-    const gateway_step s = gw.from_client(c, in);
+    const gateway_step s = take(in);
     in = in.subspan(s.consumed);
     if (s.action != gateway_action::none) {
       each(s);
     }
   }
 }
+}  // namespace detail
+
+/// Connection `c`'s bytes `in`: from_client until every byte is taken (or `c` is closed).
+template <class Gateway, class Each>
+constexpr void feed_client(Gateway& gw, std::size_t c, byte_view in, Each&& each) {
+  detail::each_step(
+      in, [&](byte_view rest) { return gw.from_client(c, rest); }, each);
+}
 
 /// The line's bytes `in`, received at `now_us`: from_line until every byte is taken.
 template <class Gateway, class Each>
 constexpr void feed_line(Gateway& gw, byte_view in, std::uint32_t now_us, Each&& each) {
-  while (!in.empty()) {
-    const gateway_step s = gw.from_line(in, now_us);
-    in = in.subspan(s.consumed);
-    if (s.action != gateway_action::none) {
-      each(s);
-    }
-  }
+  detail::each_step(
+      in, [&](byte_view rest) { return gw.from_line(rest, now_us); }, each);
 }
 
 /// What is due at `now_us`: poll until none.
