@@ -1,11 +1,12 @@
 // motionbus — Modbus: PDU codec (client and server), RTU, TCP and ASCII ADUs, RTU timing, stream
-// framing, server dispatch, file records, typed values over registers.
+// framing, server dispatch, file records, typed values over registers, the TCP-to-RTU gateway core.
 #ifndef MOTIONBUS_MODBUS_HPP
 #define MOTIONBUS_MODBUS_HPP
 
 #include "motionbus/modbus/ascii.hpp"
 #include "motionbus/modbus/file_record.hpp"
 #include "motionbus/modbus/framer.hpp"
+#include "motionbus/modbus/gateway.hpp"
 #include "motionbus/modbus/pdu.hpp"
 #include "motionbus/modbus/pdu_client.hpp"
 #include "motionbus/modbus/pdu_server.hpp"

@@ -1,6 +1,7 @@
 // The image of the stream objects alone (tests/meter/meter.py, measure_alone()): each is in its
-// own translation unit (alone_receiver.cpp, alone_framer.cpp), as in a firmware whose receive
-// interrupt's file holds nothing else; this one holds only what the meter reads and the entry.
+// own translation unit (alone_receiver.cpp, alone_framer.cpp, alone_gateway.cpp), as in a firmware
+// whose receive interrupt's file holds nothing else; this one holds only what the meter reads and
+// the entry.
 
 #include <cstdint>
 

@@ -50,7 +50,8 @@ class MeterError(Exception):
 # The images: the one where every operation is (ops.cpp), and the one where each stream object
 # is alone in its translation unit (measure_alone()).
 IMAGES = {"": ["ops.cpp"],
-          "-alone": ["alone_main.cpp", "alone_receiver.cpp", "alone_framer.cpp"]}
+          "-alone": ["alone_main.cpp", "alone_receiver.cpp", "alone_framer.cpp",
+                     "alone_gateway.cpp"]}
 
 
 def build(core, opt, out, include, tools, image=""):
@@ -509,7 +510,42 @@ def measure_alone(m):
 
     measure_receiver(m, record, "op_alone_receiver", "op_alone_report_receiver", ".alone")
     measure_server_framer(m, record, "op_alone_framer", "op_alone_report_framer", ".alone")
+    measure_gateway(m, record, ".alone")
     return results
+
+
+def measure_gateway(m, record, suffix):
+    """The gateway core (alone_gateway.cpp): one transaction, FC03 of 10 registers of unit 1,
+    each step alone: the MBAP request taken, the RTU request written to the line, the RTU
+    response taken into the MBAP response."""
+    def once(fn, *args):
+        m.clear_out()
+        _, n, s = m.call(fn, *args)
+        return n, s
+
+    mbap = [0x12, 0x34, 0, 0, 0, 6, 1, 0x03, 0x00, 0x05, 0x00, 0x0A]
+    m.write("meter_gateway_in", mbap)
+    m.write_u32("meter_gateway_in_size", len(mbap))
+    op = "modbus.gateway.from_client.fc03_10" + suffix
+    n, s = once("op_alone_gateway_from_client")
+    expect(op, m.out(4)[2:], [1, len(mbap)])  # queued, every byte taken
+    record(op, n, s)
+    op = "modbus.gateway.poll.fc03_10" + suffix
+    n, s = once("op_alone_gateway_poll", 0)
+    expect(op, list(m.out_bytes()), rtu(1, mbap[7:]))
+    expect(op + " action", m.out(4)[2], 3)  # to_line
+    record(op, n, s)
+    data = []
+    for i in range(10):
+        data += [0x40 + i, i]
+    response = rtu(1, [0x03, 20] + data)
+    m.write("meter_gateway_in", response)
+    m.write_u32("meter_gateway_in_size", len(response))
+    op = "modbus.gateway.from_line.fc03_10" + suffix
+    n, s = once("op_alone_gateway_from_line", 20000)
+    expect(op, list(m.out_bytes()), [0x12, 0x34, 0, 0, 0, 23, 1, 0x03, 20] + data)
+    expect(op + " action", m.out(4)[2:], [2, len(response)])  # to_client, every byte taken
+    record(op, n, s)
 
 
 def measure(m):
@@ -730,6 +766,7 @@ def measure(m):
     expect("devices.sm_unit.serve_fc03_3", list(m.out_bytes()),
            rtu(1, [0x03, 6, 800 >> 8, 800 & 0xFF, 5000 >> 8, 5000 & 0xFF, 0, 10]))
     record("devices.sm_unit.serve_fc03_3", n, s)
+
     return results
 
 

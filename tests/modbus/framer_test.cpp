@@ -723,3 +723,59 @@ TEST_CASE("framer and listener: FC08 Return Query Data of every even length (8 +
     CHECK(served[1].pdu == pdu);
   }
 }
+
+TEST_CASE("server framer: several addresses on one port (framer_options::last_address)") {
+  bytes stream;
+  for (const std::uint8_t slave : bytes{0x00, 0x01, 0x02, 0x04, 0x05, 0x03, 0xF7}) {
+    const bytes f = rtu(slave, {0x03, 0x00, slave, 0x00, 0x01});
+    stream.insert(stream.end(), f.begin(), f.end());
+  }
+  const auto slaves = [](const std::vector<event>& ev) {
+    bytes out;
+    for (const auto& e : ev) {
+      CHECK(e.ok);
+      out.push_back(e.slave);
+    }
+    return out;
+  };
+  for (std::size_t chunk = 1; chunk <= stream.size(); chunk += 5) {
+    CAPTURE(chunk);
+    rtu_framer range(framer_role::server, {1, frame_end::silence, report_id_format::standard, 4});
+    CHECK(slaves(run(range, stream, chunk)) == bytes{0x00, 0x01, 0x02, 0x04, 0x03});
+    CHECK(range.skipped() == 2);  // 5 and 247
+    rtu_framer every(framer_role::server, {1, frame_end::silence, report_id_format::standard, 247});
+    CHECK(slaves(run(every, stream, chunk)) == bytes{0x00, 0x01, 0x02, 0x04, 0x05, 0x03, 0xF7});
+    // last_address not above address: the one address, as before
+    rtu_framer one(framer_role::server, {4, frame_end::silence, report_id_format::standard, 2});
+    CHECK(slaves(run(one, stream, chunk)) == bytes{0x00, 0x04});
+  }
+  rtu_server_framer fixed({2, frame_end::length, report_id_format::standard, 3});
+  CHECK(slaves(run_put(fixed, stream)) == bytes{0x00, 0x02, 0x03});
+  constexpr framer_options o{10, frame_end::silence, report_id_format::standard, 12};
+  static_assert(!o.serves(9) && o.serves(10) && o.serves(12) && !o.serves(13) && !o.serves(0),
+                "a range of addresses, broadcasts aside");
+}
+
+TEST_CASE("tcp_adu_size: a stream's MBAP header checked as its bytes arrive") {
+  std::uint8_t out[max_tcp_size] = {};
+  const std::uint8_t pdu[] = {0x03, 0x00, 0x01, 0x00, 0x02};
+  REQUIRE(encode_tcp(0x0102, 7, pdu, out).value() == 12);
+  for (std::size_t k = 0; k < 6; ++k) {
+    CHECK(tcp_adu_size(byte_view(out, k)).is_incomplete());
+  }
+  const auto r = tcp_adu_size(byte_view(out, 6));
+  REQUIRE(r.is_complete());
+  CHECK(r.value() == 12);
+  out[3] = 1;  // protocol id 1: failed from its 4th byte, before the length
+  CHECK(tcp_adu_size(byte_view(out, 4)).error() == errc::invalid_argument);
+  CHECK(tcp_adu_size(byte_view(out, 3)).is_incomplete());
+  out[3] = 0;
+  for (const std::uint16_t length :
+       {std::uint16_t{0}, std::uint16_t{1}, std::uint16_t{255},
+        std::uint16_t{0xFFFF}}) {  // no PDU; more than 260 bytes in all
+    store_be16(mutable_byte_view(out, 6), 4, length);
+    CHECK(tcp_adu_size(byte_view(out, 6)).error() == errc::modbus_pdu_length);
+  }
+  store_be16(mutable_byte_view(out, 6), 4, 254);  // 260 bytes: the largest
+  CHECK(tcp_adu_size(byte_view(out, 6)).value() == max_tcp_size);
+}

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 #include "../support/bytes.hpp"
+#include "../support/modbus.hpp"
 #include "../support/stream.hpp"
 
 using namespace motionbus;
@@ -646,4 +647,82 @@ TEST_CASE("server: admit and check_registers are called const, whatever the devi
         bytes{0x97, 0x02});  // the const check's own answer
   CHECK(dev.regs[3] == 0x1250);
   CHECK(dev.non_const_calls == 0);
+}
+
+TEST_CASE("server: units 1-4 on one port as four devices (serve_units)") {
+  unit_device dev[4] = {{1}, {2}, {3}, {4}};
+  int asked_broadcast = 0;
+  auto lookup = [&](std::uint8_t unit) -> unit_device* {
+    if (unit == 0) {
+      ++asked_broadcast;
+      return &dev[1];  // the broadcast: executed by unit 2 alone, here
+    }
+    return unit - 1U < 4U ? &dev[unit - 1U] : nullptr;
+  };
+  rtu_server_framer rx({1, frame_end::silence, report_id_format::standard, 4});
+  bytes stream;
+  for (const std::uint8_t slave : bytes{1, 2, 3, 4, 5, 0}) {
+    const bytes f = rtu(slave, slave == 0 ? bytes{0x06, 0, 1, 0, 9} : bytes{0x03, 0, 2, 0, 1});
+    stream.insert(stream.end(), f.begin(), f.end());
+  }
+  std::vector<bytes> answers;
+  feed_all(rx, view(stream), [&](const decode_result<rtu_frame>& r) {
+    REQUIRE(r.is_complete());
+    std::uint8_t out[256] = {};
+    const auto n = serve_units(lookup, r.value(), out);
+    REQUIRE(n.ok());
+    if (n.value() != 0U) {
+      answers.push_back(bytes(out, out + n.value()));
+    }
+    return true;
+  });
+  REQUIRE(answers.size() == 4);  // unit 5 is not taken, the broadcast not answered
+  for (std::uint8_t u = 1; u <= 4; ++u) {
+    CHECK(answers[u - 1U] == rtu(u, {0x03, 0x02, u, 0x02}));  // each answers as itself
+  }
+  CHECK(asked_broadcast == 1);
+  CHECK(dev[1].writes == 1);
+  CHECK(dev[0].writes + dev[2].writes + dev[3].writes == 0);
+  // a unit the framer takes but the lookup has no device for: no response
+  std::uint8_t out[256] = {};
+  const bytes five = rtu(5, {0x03, 0, 2, 0, 1});
+  const auto f = decode_rtu(view(five));
+  REQUIRE(f.is_complete());
+  CHECK(serve_units(lookup, f.value(), out).value() == 0);
+  CHECK(serve_units(lookup, f.value(), mutable_byte_view(out, 255)).error() ==
+        errc::buffer_too_small);
+  // an exception answers as the unit too
+  const bytes bad = rtu(3, {0x03, 0, 19, 0, 2});
+  const auto g = decode_rtu(view(bad));
+  REQUIRE(g.is_complete());
+  const std::size_t n = serve_units(lookup, g.value(), out).value();
+  CHECK(bytes(out, out + n) == rtu(3, {0x83, 0x02}));
+}
+
+TEST_CASE("server: serve_pdu serves a PDU with no address and CRC (Modbus TCP)") {
+  array_device dev;
+  dev.holding[5] = 0xBEEF;
+  std::uint8_t out[max_pdu_size] = {};
+  const auto respond = [&](const bytes& pdu) {
+    const auto n = serve_pdu(dev, view(pdu), out);
+    REQUIRE(n.ok());
+    return bytes(out, out + n.value());
+  };
+  CHECK(respond({0x03, 0, 5, 0, 1}) == bytes{0x03, 0x02, 0xBE, 0xEF});
+  CHECK(respond({0x06, 0, 6, 0x12, 0x34}) == bytes{0x06, 0, 6, 0x12, 0x34});
+  CHECK(dev.holding[6] == 0x1234);
+  CHECK(respond({0x2B, 0x0E, 1, 0}) == bytes{0xAB, 0x01});  // not served: 01
+  CHECK(respond({0x03, 0, 5, 0, 0}) == bytes{0x83, 0x03});  // quantity 0: 03
+  CHECK(respond({0x03, 0, 99, 0, 2}) == bytes{0x83, 0x02});
+  CHECK(respond({0x03, 0, 5}) == bytes{0x83, 0x03});  // truncated
+  CHECK(respond({}).empty());
+  // the same answers as serve_frame's, address and CRC aside
+  for (const bytes& pdu : {bytes{0x01, 0, 0, 0, 9}, bytes{0x10, 0, 1, 0, 1, 2, 0, 7},
+                           bytes{0x17, 0, 1, 0, 1, 0, 2, 0, 1, 2, 0, 3}, bytes{0x11}}) {
+    array_device a;
+    array_device b;
+    CHECK(call(a, 0x11, pdu) == bytes(out, out + serve_pdu(b, view(pdu), out).value()));
+  }
+  CHECK(serve_pdu(dev, view(bytes{0x03, 0, 5, 0, 1}), mutable_byte_view(out, 252)).error() ==
+        errc::buffer_too_small);
 }

@@ -69,6 +69,27 @@ void sent_to(Framer& f, std::uint8_t slave, std::uint8_t function) {
   f.sent(motionbus::byte_view(head, 2));
 }
 
+/// A device that knows which unit it is (several slaves on one port, a gateway's line):
+/// holding registers 0..19 of unit u hold u * 0x100 + address; writes are counted.
+struct unit_device {
+  std::uint8_t unit = 0;
+  int writes = 0;
+  std::uint8_t read_registers(std::uint8_t, std::uint16_t address,
+                              motionbus::span<std::uint16_t> out) {
+    if (address + out.size() > 20U) {
+      return 0x02;
+    }
+    for (std::size_t i = 0; i < out.size(); ++i) {
+      out[i] = static_cast<std::uint16_t>(unit * 0x100U + address + i);
+    }
+    return 0;
+  }
+  std::uint8_t write_registers(std::uint16_t, motionbus::span<const std::uint16_t>) {
+    ++writes;
+    return 0;
+  }
+};
+
 }  // namespace testutil
 
 #endif  // MOTIONBUS_TESTS_MODBUS_HPP

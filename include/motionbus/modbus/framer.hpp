@@ -188,6 +188,18 @@ struct framer_options {
   std::uint8_t address = 0;
   frame_end ends = frame_end::silence;
   report_id_format fc11 = report_id_format::standard;  ///< client: FC11 response layout
+  /// A server on several addresses (one port, several slaves): it takes every address from
+  /// `address` to `last_address` (1..247 for every address: a gateway, a sniffer-server).
+  /// A range, not a table: the framer stays the size it was, and the test is one subtraction
+  /// and one compare. 0 (or anything not above `address`): `address` alone. Other sets: the
+  /// range that covers them, and serve_units() answers only the units it has a device for.
+  std::uint8_t last_address = 0;
+
+  /// Whether a server with these options takes a frame for `slave` (a broadcast aside).
+  constexpr bool serves(std::uint8_t slave) const noexcept {
+    const unsigned width = last_address > address ? unsigned{last_address} - address : 0U;
+    return static_cast<std::uint8_t>(slave - address) <= width;
+  }
 };
 
 /// A framer's role, the template parameter of basic_rtu_framer: fixed by the type, so that a
@@ -476,7 +488,8 @@ class basic_rtu_framer {
       return true;  // coverage: the listener frames in listen(), which never asks
     }
     if (server()) {
-      return slave == options_.address || slave == broadcast_address;
+      // the one address first: a single-address server pays nothing for the range
+      return slave == options_.address || slave == broadcast_address || options_.serves(slave);
     }
     return slave_ == 0U || slave == slave_;
   }

@@ -1,6 +1,9 @@
 // motionbus — Modbus RTU server dispatch: the library decodes, checks, calls the user's data
 // accessors and builds the response or the right exception; nothing for broadcasts (address
 // 0: executed, never answered) or for other addresses (Modbus over Serial Line §2.2).
+// serve_frame serves one device at one address; serve_units several units on one port, each
+// by the device a lookup gives for it (docs/modbus.md §11); serve_pdu a request PDU with no
+// address and CRC (Modbus TCP).
 //
 // The device is any type with some of these members (detected at compile time; no virtual
 // calls, no heap). Each returns 0 on success or a Modbus exception code (02 illegal address,
@@ -584,6 +587,66 @@ constexpr std::size_t serve_pdu(Device& dev, const request& q, mutable_byte_view
 
 }  // namespace detail
 
+/// Serves one request PDU (function code and data: no address, no CRC), for transports that
+/// carry none (Modbus TCP: the pdu of decode_tcp; a gateway's own device). Writes the response
+/// PDU to `response_pdu` (which must hold 253 bytes and must not overlap the request) and
+/// returns its size: the normal response or an exception (2 bytes), as serve_frame checks and
+/// dispatches. 0 for an empty request (no function code to answer).
+/// errc::buffer_too_small when `response_pdu` is shorter than 253.
+template <class Device>
+constexpr result<std::size_t> serve_pdu(Device& dev, byte_view request_pdu,
+                                        mutable_byte_view response_pdu) noexcept {
+  if (response_pdu.size() < max_pdu_size) {
+    return errc::buffer_too_small;
+  }
+  if (request_pdu.empty()) {
+    return std::size_t{0};
+  }
+  static_assert(detail::device_checks<Device>::value, "modbus server device");
+  const std::uint8_t f = request_pdu[0];
+  std::uint8_t code = 0;
+  if constexpr (detail::has_admit<Device>::value) {
+    code = std::as_const(dev).admit(request_pdu);  // the const check, whatever D overloads
+  }
+  constexpr function_set served = served_functions<Device>();
+  if (code == 0U && !in_function_set<served>(f)) {
+    code = detail::illegal_function_code;
+  }
+  if (code == 0U) {
+    const decode_result<request> q = decode_request<served>(request_pdu);
+    if (q.is_complete()) {
+      return detail::serve_pdu(dev, q.value(), response_pdu);
+    }
+    code = static_cast<std::uint8_t>(exception_for(q.error()));
+  }
+  return encode_exception(f, code, response_pdu);
+}
+
+namespace detail {
+
+// The RTU response to `frame` from `unit` by `dev` (nullptr: none), written to `out` (>= 256
+// bytes): serve_pdu, then the address and the CRC. 0: nothing to send (a broadcast, executed).
+template <crc_table_size Table, class Device>
+constexpr std::size_t serve_rtu_frame(Device* dev, std::uint8_t unit, const rtu_frame& frame,
+                                      mutable_byte_view out) noexcept {
+  if (dev == nullptr || frame.pdu.empty()) {
+    return 0;
+  }
+  // n is 2 at least (a PDU of one byte, room for max_pdu_size); its test of 0 stays, as
+  // without it the compiler gives serve_frame a larger stack frame (the meter's serve.fc03_10)
+  const std::size_t n =
+      modbus::serve_pdu(*dev, frame.pdu, out.subspan(1, max_pdu_size)).value_or(0);
+  if (frame.broadcast() || n == 0U) {
+    return 0;
+  }
+  out[0] = unit;
+  const std::uint16_t c = crc16_modbus<Table>::compute(byte_view(out.data(), n + 1U));
+  store_le16(out, n + 1U, c);
+  return n + 3U;
+}
+
+}  // namespace detail
+
 /// Serves one RTU request frame already checked by the framer or decode_rtu (no second CRC
 /// pass) for a server at `own_address` (1..247). Returns the size of the response ADU written
 /// to `out` (which must hold 256 bytes and must not overlap the request), or 0 when nothing is
@@ -595,40 +658,24 @@ constexpr result<std::size_t> serve_frame(Device& dev, std::uint8_t own_address,
   if (out.size() < max_rtu_size) {
     return errc::buffer_too_small;
   }
-  if (frame.slave != own_address && !frame.broadcast()) {
-    return std::size_t{0};
+  const bool ours = frame.slave == own_address || frame.broadcast();
+  return detail::serve_rtu_frame<Table>(ours ? &dev : nullptr, own_address, frame, out);
+}
+
+/// Several slaves on one port: serves `frame` (checked by the framer, e.g. one built with
+/// framer_options::last_address) by the device `unit_device(frame.slave)` returns, a pointer
+/// (nullptr: no device for that unit, no response, as for another address). The device
+/// answers as that unit (the response carries its address); a server image answers units 1-4
+/// as four devices with `[&](std::uint8_t u) { return u - 1U < 4U ? &dev[u - 1U] : nullptr; }`,
+/// or as one device that keeps the unit the lookup was asked for. A broadcast asks for unit 0:
+/// the device returned executes it (nullptr: none), and nothing is sent. Returns as serve_frame.
+template <crc_table_size Table = default_crc_table, class UnitDevice>
+constexpr result<std::size_t> serve_units(UnitDevice&& unit_device, const rtu_frame& frame,
+                                          mutable_byte_view out) noexcept {
+  if (out.size() < max_rtu_size) {
+    return errc::buffer_too_small;
   }
-  if (frame.pdu.empty()) {
-    return std::size_t{0};
-  }
-  static_assert(detail::device_checks<Device>::value, "modbus server device");
-  const mutable_byte_view pdu = out.subspan(1, max_pdu_size);
-  std::size_t n = 0;
-  std::uint8_t admitted = 0;
-  if constexpr (detail::has_admit<Device>::value) {
-    admitted = std::as_const(dev).admit(frame.pdu);  // the const check, whatever D overloads
-  }
-  constexpr function_set served = served_functions<Device>();
-  if (admitted != 0U) {
-    n = encode_exception(frame.pdu[0], admitted, pdu).value_or(0);
-  } else if (!in_function_set<served>(frame.pdu[0])) {
-    n = encode_exception(frame.pdu[0], detail::illegal_function_code, pdu).value_or(0);
-  } else {
-    const decode_result<request> q = decode_request<served>(frame.pdu);
-    if (q.is_complete()) {
-      n = detail::serve_pdu(dev, q.value(), pdu);
-    } else {
-      n = encode_exception(frame.pdu[0], static_cast<std::uint8_t>(exception_for(q.error())), pdu)
-              .value_or(0);
-    }
-  }
-  if (frame.broadcast() || n == 0U) {
-    return std::size_t{0};
-  }
-  out[0] = own_address;
-  const std::uint16_t c = crc16_modbus<Table>::compute(byte_view(out.data(), n + 1U));
-  store_le16(out, n + 1U, c);
-  return n + 3U;
+  return detail::serve_rtu_frame<Table>(unit_device(frame.slave), frame.slave, frame, out);
 }
 
 /// Serves one RTU request ADU (the bytes of one frame): decode_rtu, then serve_frame. Returns

@@ -46,6 +46,27 @@ constexpr result<std::size_t> encode_tcp(std::uint16_t transaction, std::uint8_t
   return n;
 }
 
+/// The size of the TCP ADU at the start of a byte stream (6 + the length field), told from its
+/// first bytes, for a reader that holds a stream's bytes as they arrive (a gateway's client
+/// connection): each field is checked as soon as it is held, so a bad header fails before its
+/// body is awaited. Complete (consumed 0): the ADU's size, 8..260. Incomplete: fewer than 6
+/// bytes (4 with a protocol id not 0) held. Failed (consumed = the input: the stream cannot
+/// be resynchronised): invalid_argument (protocol id not 0), modbus_pdu_length (length field
+/// below 2 or above 254: no PDU, or an ADU over 260 bytes).
+constexpr decode_result<std::size_t> tcp_adu_size(byte_view in) noexcept {
+  if (in.size() >= 4U && load_be16(in, 2) != 0U) {
+    return decode_failure{errc::invalid_argument, in.size()};
+  }
+  if (in.size() < 6U) {
+    return need_input{6U - in.size()};
+  }
+  const std::size_t length = load_be16(in, 4);
+  if (length < 2U || !pdu_size_ok(length - 1U)) {  // the unit identifier, then the PDU
+    return decode_failure{errc::modbus_pdu_length, in.size()};
+  }
+  return decode_result<std::size_t>::complete(6U + length, 0);
+}
+
 /// Decodes one TCP ADU from the start of a byte stream. Complete: consumed = 6 + length.
 /// Incomplete: the header or the announced bytes are not all there yet. Failed: modbus_pdu_length
 /// (length field below 2 or above 254; consumed = the whole input, the stream cannot be
