@@ -755,27 +755,3 @@ TEST_CASE("server framer: several addresses on one port (framer_options::last_ad
   static_assert(!o.serves(9) && o.serves(10) && o.serves(12) && !o.serves(13) && !o.serves(0),
                 "a range of addresses, broadcasts aside");
 }
-
-TEST_CASE("tcp_adu_size: a stream's MBAP header checked as its bytes arrive") {
-  std::uint8_t out[max_tcp_size] = {};
-  const std::uint8_t pdu[] = {0x03, 0x00, 0x01, 0x00, 0x02};
-  REQUIRE(encode_tcp(0x0102, 7, pdu, out).value() == 12);
-  for (std::size_t k = 0; k < 6; ++k) {
-    CHECK(tcp_adu_size(byte_view(out, k)).is_incomplete());
-  }
-  const auto r = tcp_adu_size(byte_view(out, 6));
-  REQUIRE(r.is_complete());
-  CHECK(r.value() == 12);
-  out[3] = 1;  // protocol id 1: failed from its 4th byte, before the length
-  CHECK(tcp_adu_size(byte_view(out, 4)).error() == errc::invalid_argument);
-  CHECK(tcp_adu_size(byte_view(out, 3)).is_incomplete());
-  out[3] = 0;
-  for (const std::uint16_t length :
-       {std::uint16_t{0}, std::uint16_t{1}, std::uint16_t{255},
-        std::uint16_t{0xFFFF}}) {  // no PDU; more than 260 bytes in all
-    store_be16(mutable_byte_view(out, 6), 4, length);
-    CHECK(tcp_adu_size(byte_view(out, 6)).error() == errc::modbus_pdu_length);
-  }
-  store_be16(mutable_byte_view(out, 6), 4, 254);  // 260 bytes: the largest
-  CHECK(tcp_adu_size(byte_view(out, 6)).value() == max_tcp_size);
-}
