@@ -1,0 +1,8 @@
+"""motionbus.devices.absys (see the stub absys.pyi and docs/python.md)."""
+
+from __future__ import annotations
+
+from .. import _motionbus
+from .._export import export
+
+__all__ = export(_motionbus.absys, globals())

@@ -1,0 +1,8 @@
+"""motionbus.devices.sm_unit (see the stub sm_unit.pyi and docs/python.md)."""
+
+from __future__ import annotations
+
+from .. import _motionbus
+from .._export import export
+
+__all__ = export(_motionbus.sm_unit, globals())

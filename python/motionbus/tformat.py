@@ -1,0 +1,8 @@
+"""motionbus.tformat (see the stub tformat.pyi and docs/python.md)."""
+
+from __future__ import annotations
+
+from . import _motionbus
+from ._export import export
+
+__all__ = export(_motionbus.tformat, globals())

@@ -1,0 +1,4 @@
+#include "common.hpp"
+namespace mbpy {
+void bind_modbus(py::module_&) {}
+}  // namespace mbpy
