@@ -111,3 +111,12 @@ def _show(v: Any) -> str:
     return repr(v)
 
 
+
+
+class ModbusException(Exception):
+    """Raised by a modbus server device's method to answer with a Modbus exception code
+    (ExceptionCode: 2 illegal address, 3 illegal value, 4 device failure...)."""
+
+    def __init__(self, exception_code: int, message: str = "") -> None:
+        self.exception_code = int(exception_code)
+        super().__init__(message or f"Modbus exception {self.exception_code:#04x}")
