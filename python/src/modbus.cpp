@@ -660,7 +660,7 @@ void bind_modbus(py::module_& root) {
      "Serves one RTU request ADU for a server at `address` over `device`, a Python object with "
      "any of read_coils, read_discrete_inputs, read_holding_registers, read_input_registers "
      "(address, count) -> values; write_coils, write_registers (address, values); "
-     "report_server_id() -> bytes. A missing method answers exception 01; a method raising "
+     "report_server_id() -> bytes (the FC11 data part after the function code: byte count, then the device bytes). A missing method answers exception 01; a method raising "
      "ModbusException(code) answers that code; any other exception answers 04 and is then "
      "raised here. Returns the response ADU, b'' when none is due (another address, a "
      "broadcast, a corrupted frame).");
