@@ -245,3 +245,32 @@ def test_eds_round_trip_and_absys() -> None:
     assert absys.write_time_us(absys.REGISTERS["command"], absys.Command.set_offset_to_position) == 17000
     assert absys.linear_position(5, 10) == -5 and absys.rotary_position(5, 10, 100) == 95
     assert absys.PresetMode.actual == 1
+
+
+def test_eds_every_field_round_trips() -> None:
+    c = biss.EdsCommon()
+    for i, f in enumerate(["version", "length", "user_bank_start", "user_bank_end", "channels", "validity",
+                           "location", "profile_bank", "data_format"]):
+        setattr(c, f, 0x10 + i)
+    c.data_length, c.crc_poly = 0x18, 0x21
+    back = biss.decode_eds_common(biss.encode_eds_common(c))
+    assert (back.version, back.length, back.user_bank_start, back.user_bank_end, back.channels, back.validity,
+            back.location, back.profile_bank, back.data_length, back.data_format, back.crc_poly) == (
+        0x10, 0x11, 0x12, 0x13, 0x14, 0x15, 0x16, 0x17, 0x18, 0x18, 0x21)
+    p = biss.Bp3Profile()
+    p.version, p.length, p.profile_id, p.feedback1, p.feedback2 = 2, 1, 0x6320, 1, 2
+    p.power_on_delay_ms, p.type, p.positions = 9, biss.EncoderType.linear, 1
+    p.mt_length, p.mt_format, p.coarse_length, p.coarse_format, p.fine_length, p.fine_format = 8, 0, 4, 0, 20, 0
+    p.mt_count, p.sip_count, p.sip_resolution, p.crc_poly, p.crc_start = 256, 40, 3, 0x21, 0
+    q = biss.decode_bp3(biss.encode_bp3(p))
+    assert q == p and q.type == biss.EncoderType.linear and q.lsb_nm == 40 / 8
+    assert (q.version, q.profile_id, q.feedback1, q.feedback2, q.power_on_delay_ms, q.positions) == (2, 0x6320, 1, 2, 9, 1)
+    assert (q.mt_length, q.mt_format, q.coarse_length, q.coarse_format, q.fine_length, q.fine_format) == (8, 0, 4, 0, 20, 0)
+    assert (q.mt_count, q.sip_count, q.sip_resolution, q.crc_poly, q.crc_start) == (256, 40, 3, 0x21, 0)
+    assert q.layout().data_bits == 32
+
+
+def test_slave_data_fields() -> None:
+    bits = biss.encode_frame(biss.ABSYS_LAYOUT, biss.SlaveValues(single_turn=9))
+    s = biss.decode_frame(bits, biss.ABSYS_LAYOUT).slaves[0]
+    assert s.crc == s.crc_computed == reference.crc6_biss(bits[3:37])  # Ack, Start, CDS, then 32 data bits, nE, nW

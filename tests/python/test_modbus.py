@@ -17,6 +17,7 @@ from pymodbus.register_write_message import WriteMultipleRegistersRequest, Write
 import motionbus
 import reference
 from motionbus import DecodeError, EncodeError, modbus as mb
+from motionbus import tformat
 from motionbus.devices import sm_unit as sm
 
 slaves = st.integers(1, 247)
@@ -298,3 +299,27 @@ def test_sm_unit_profile_and_emulator() -> None:
     assert (sm.BAUD, sm.MIN_SLAVE, sm.MAX_SLAVE, sm.SETTING_COUNT) == (9600, 1, 16, 40)
     assert mb.MAX_PDU_SIZE == 253 and mb.MAX_RTU_SIZE == 256
     assert (mb.MAX_READ_BITS, mb.MAX_READ_REGISTERS, mb.MAX_WRITE_COILS, mb.MAX_WRITE_REGISTERS) == (2000, 125, 1968, 123)
+
+
+def test_register_bank_and_fc11_layouts() -> None:
+    bank = mb.RegisterBank(coils=4, discrete_inputs=4, holding_registers=4, input_registers=4)
+    bank.write_coils(1, [True, True])
+    bank.write_registers(2, [7, 8])
+    bank.discrete_inputs[0] = True
+    bank.input_registers[3] = 5
+    assert bank.read_coils(0, 4) == [False, True, True, False]
+    assert bank.read_discrete_inputs(0, 1) == [True]
+    assert bank.read_holding_registers(2, 2) == [7, 8] and bank.read_input_registers(3, 1) == [5]
+    with pytest.raises(mb.ModbusException):
+        bank.read_input_registers(3, 2)
+    two = bytes.fromhex("11 01 00")  # the SM unit's FC11: two bytes, no byte count
+    r = mb.decode_response_for(mb.encode_raw(0x11), two, mb.ReportIdFormat.two_bytes_no_count)
+    assert r.data == b"\x01\x00"
+    with pytest.raises(DecodeError):
+        mb.decode_response(bytes.fromhex("11 05 00"), mb.ReportIdFormat.standard)
+    assert mb.decode_response(bytes.fromhex("11 02 01 ff")).data[-2:] == b"\x01\xff"
+
+
+def test_response_status_field() -> None:
+    r = tformat.decode_response(tformat.encode_response(tformat.Response(tformat.DataId.read_abs, sf=0x30)))
+    assert r.sf == 0x30 and r.ea0 and r.ea1
