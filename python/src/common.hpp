@@ -32,7 +32,8 @@ class bytes_arg {
  public:
   explicit bytes_arg(const py::handle& obj, const char* what = "data") {
     if (PyUnicode_Check(obj.ptr()) != 0 || PyObject_CheckBuffer(obj.ptr()) == 0) {
-      throw py::type_error(std::string(what) + " must be bytes-like (bytes, bytearray, memoryview), not " +
+      throw py::type_error(std::string(what) +
+                           " must be bytes-like (bytes, bytearray, memoryview), not " +
                            std::string(py::str(py::type::handle_of(obj).attr("__name__"))));
     }
     if (PyObject_GetBuffer(obj.ptr(), &buf_, PyBUF_C_CONTIGUOUS) != 0) {
@@ -47,7 +48,8 @@ class bytes_arg {
   bytes_arg& operator=(const bytes_arg&) = delete;
   ~bytes_arg() { PyBuffer_Release(&buf_); }
   byte_view view() const noexcept {
-    return byte_view(static_cast<const std::uint8_t*>(buf_.buf), static_cast<std::size_t>(buf_.len));
+    return byte_view(static_cast<const std::uint8_t*>(buf_.buf),
+                     static_cast<std::size_t>(buf_.len));
   }
 
  private:
@@ -57,7 +59,9 @@ class bytes_arg {
 inline py::bytes to_bytes(const std::uint8_t* p, std::size_t n) {
   return py::bytes(reinterpret_cast<const char*>(p), n);
 }
-inline py::bytes to_bytes(byte_view v) { return to_bytes(v.data(), v.size()); }
+inline py::bytes to_bytes(byte_view v) {
+  return to_bytes(v.data(), v.size());
+}
 
 /// A Python object the binding looks up once and keeps for the interpreter's life (never
 /// released: no destructor runs at exit).
@@ -71,8 +75,9 @@ void add_enum(const char* name, std::vector<std::pair<const char*, int>> members
 
 /// A motionbus.DecodeError (or IncompleteError when `needed` != 0) for a failed or incomplete
 /// decode, not raised: stream objects hand these back in their event lists.
-py::object decode_error(errc e, std::size_t consumed, std::uint32_t expected, std::uint32_t received,
-                        std::size_t needed, const char* context, const char* unit = "bytes");
+py::object decode_error(errc e, std::size_t consumed, std::uint32_t expected,
+                        std::uint32_t received, std::size_t needed, const char* context,
+                        const char* unit = "bytes");
 
 [[noreturn]] void raise_object(const py::object& err);
 [[noreturn]] void raise_encode(errc e, const char* context);

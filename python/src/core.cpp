@@ -40,7 +40,8 @@ py::object enum_value(const char* cls_name, int value) {
   if (it == cache->end()) {
     it = cache->emplace(cls_name, lookup("motionbus._enums", cls_name)).first;
   }
-  py::object member = py::reinterpret_borrow<py::object>(it->second).attr("_value2member_map_").attr("get")(value);
+  py::object member =
+      py::reinterpret_borrow<py::object>(it->second).attr("_value2member_map_").attr("get")(value);
   if (member.is_none()) {
     return py::int_(value);  // a wire value outside the enum (e.g. an unknown exception code)
   }
@@ -51,8 +52,9 @@ void add_enum(const char* name, std::vector<std::pair<const char*, int>> members
   enums()[name] = std::move(members);
 }
 
-py::object decode_error(errc e, std::size_t consumed, std::uint32_t expected, std::uint32_t received,
-                        std::size_t needed, const char* context, const char* unit) {
+py::object decode_error(errc e, std::size_t consumed, std::uint32_t expected,
+                        std::uint32_t received, std::size_t needed, const char* context,
+                        const char* unit) {
   static const py::handle decode = lookup("motionbus._errors", "DecodeError");
   static const py::handle incomplete = lookup("motionbus._errors", "IncompleteError");
   const py::handle cls = needed != 0U ? incomplete : decode;
@@ -166,18 +168,27 @@ typename Crc::value_type crc_bytes(const py::handle& data) {
   return Crc::compute(in.view());
 }
 
+template <class Crc>
+typename Crc::value_type crc_of_bits(std::uint64_t bits, unsigned count) {
+  if (count > 64U) {
+    throw py::value_error("count must be 0..64");
+  }
+  return Crc::compute_bits(bits, count);
+}
+
 }  // namespace
 
 void bind_core(py::module_& m) {
   py::list table;
   // NOLINTNEXTLINE(cppcoreguidelines-macro-usage)
-#define MOTIONBUS_PY_ERRC_ROW(name)                                                        \
+#define MOTIONBUS_PY_ERRC_ROW(name) \
   table.append(py::make_tuple(#name, static_cast<int>(errc::name), to_string(errc::name)));
   MOTIONBUS_PY_ERRC(MOTIONBUS_PY_ERRC_ROW)
 #undef MOTIONBUS_PY_ERRC_ROW
   m.attr("_errc_table") = table;
-  m.def("_errc_name", [](int v) { return motionbus::to_string(static_cast<errc>(v)); },
-        "The tools' name of an error code value (\"unknown\" outside the enumeration).");
+  m.def(
+      "_errc_name", [](int v) { return motionbus::to_string(static_cast<errc>(v)); },
+      "The tools' name of an error code value (\"unknown\" outside the enumeration).");
   m.def("_enum_table", []() {
     py::dict d;
     for (const auto& e : enums()) {
@@ -196,24 +207,10 @@ void bind_core(py::module_& m) {
   crc.def("crc16_modbus", &crc_bytes<motionbus::crc16_modbus<>>, py::arg("data"),
           "Modbus RTU CRC-16 (poly 0x8005 reflected, init 0xFFFF) of bytes-like `data`; sent "
           "low byte first.");
-  crc.def("crc6_biss",
-          [](std::uint64_t bits, unsigned count) {
-            if (count > 64U) {
-              throw py::value_error("count must be 0..64");
-            }
-            return motionbus::crc6_biss<>::compute_bits(bits, count);
-          },
-          py::arg("bits"), py::arg("count"),
+  crc.def("crc6_biss", &crc_of_bits<motionbus::crc6_biss<>>, py::arg("bits"), py::arg("count"),
           "BiSS CRC6 (x^6 + x + 1, start 0, inverted) of the low `count` bits of `bits`, MSB "
           "first.");
-  crc.def("crc4_biss",
-          [](std::uint64_t bits, unsigned count) {
-            if (count > 64U) {
-              throw py::value_error("count must be 0..64");
-            }
-            return motionbus::crc4_biss<>::compute_bits(bits, count);
-          },
-          py::arg("bits"), py::arg("count"),
+  crc.def("crc4_biss", &crc_of_bits<motionbus::crc4_biss<>>, py::arg("bits"), py::arg("count"),
           "BiSS control CRC4 (x^4 + x + 1, start 0, inverted) of the low `count` bits, MSB first.");
 
   py::class_<motionbus::dynamic_crc>(crc, "Crc",
@@ -239,7 +236,8 @@ void bind_core(py::module_& m) {
           "Feeds bytes-like `data`; returns self.")
       .def(
           "update_bits",
-          [](motionbus::dynamic_crc& c, std::uint64_t bits, unsigned count) -> motionbus::dynamic_crc& {
+          [](motionbus::dynamic_crc& c, std::uint64_t bits,
+             unsigned count) -> motionbus::dynamic_crc& {
             if (count > 64U) {
               throw py::value_error("count must be 0..64");
             }
@@ -248,13 +246,15 @@ void bind_core(py::module_& m) {
           py::arg("bits"), py::arg("count"), py::return_value_policy::reference_internal,
           "Feeds the low `count` bits of `bits` in the CRC's bit order; returns self.")
       .def_property_readonly("value", &motionbus::dynamic_crc::value, "The CRC so far.")
-      .def_property_readonly("width", [](const motionbus::dynamic_crc& c) { return c.parameters().width; })
+      .def_property_readonly("width",
+                             [](const motionbus::dynamic_crc& c) { return c.parameters().width; })
       .def("__repr__", [](const motionbus::dynamic_crc& c) {
         const auto& p = c.parameters();
         return "Crc(width=" + std::to_string(p.width) + ", poly=" + std::to_string(p.poly) +
                ", init=" + std::to_string(p.init) + ", refin=" + (p.refin ? "True" : "False") +
-               ", refout=" + (p.refout ? "True" : "False") + ", xorout=" + std::to_string(p.xorout) +
-               ", value=" + std::to_string(c.value()) + ")";
+               ", refout=" + (p.refout ? "True" : "False") +
+               ", xorout=" + std::to_string(p.xorout) + ", value=" + std::to_string(c.value()) +
+               ")";
       });
 }
 

@@ -6,8 +6,9 @@
 #include "motionbus/version.hpp"
 
 PYBIND11_MODULE(_motionbus, m) {
-  m.doc() = "motionbus codecs (T-format, Modbus, BiSS-C) from the C++ headers; use the motionbus "
-            "package, not this module.";
+  m.doc() =
+      "motionbus codecs (T-format, Modbus, BiSS-C) from the C++ headers; use the motionbus "
+      "package, not this module.";
   m.attr("__version__") = std::to_string(MOTIONBUS_VERSION_MAJOR) + "." +
                           std::to_string(MOTIONBUS_VERSION_MINOR) + "." +
                           std::to_string(MOTIONBUS_VERSION_PATCH);

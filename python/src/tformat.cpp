@@ -83,7 +83,8 @@ void bind_tformat(py::module_& root) {
 
   py::class_<tf::request> req(m, "Request", "A request as the encoder decoded it.");
   req.def(py::init<>())
-      .def_property_readonly("id", [](const tf::request& q) { return enum_value("DataId", static_cast<int>(q.id)); })
+      .def_property_readonly(
+          "id", [](const tf::request& q) { return enum_value("DataId", static_cast<int>(q.id)); })
       .def_readonly("cf", &tf::request::cf)
       .def_readonly("address", &tf::request::address, "EEPROM address (ID6, IDD).")
       .def_readonly("edf", &tf::request::edf, "Data to write (ID6).")
@@ -114,7 +115,8 @@ void bind_tformat(py::module_& root) {
           py::arg("id") = 0, py::kw_only(), py::arg("sf") = 0, py::arg("abs") = 0,
           py::arg("abm") = 0, py::arg("enid") = 0, py::arg("almc") = 0, py::arg("address") = 0,
           py::arg("busy") = false, py::arg("edf") = 0)
-      .def_property_readonly("id", [](const tf::response& r) { return enum_value("DataId", static_cast<int>(r.id)); })
+      .def_property_readonly(
+          "id", [](const tf::response& r) { return enum_value("DataId", static_cast<int>(r.id)); })
       .def_readonly("cf", &tf::response::cf)
       .def_readonly("sf", &tf::response::sf, "Status field (absent, 0, for ID6/IDD).")
       .def_readonly("abs", &tf::response::abs, "Single-turn position.")
@@ -127,10 +129,13 @@ void bind_tformat(py::module_& root) {
       .def_readonly("crc", &tf::response::crc, "The CRC as received.")
       .def_property_readonly("ea0", &tf::response::ea0, "SF counting error.")
       .def_property_readonly("ea1", &tf::response::ea1, "SF OR of OH, ME, BE, BA.")
-      .def_property_readonly("ca0", &tf::response::ca0, "SF: the encoder saw a request parity error.")
-      .def_property_readonly("ca1", &tf::response::ca1, "SF: the encoder saw a request delimiter error.")
-      .def_property_readonly("size", [](const tf::response& r) { return r.layout().size; },
-                             "Bytes of the frame (CF to CRC).")
+      .def_property_readonly("ca0", &tf::response::ca0,
+                             "SF: the encoder saw a request parity error.")
+      .def_property_readonly("ca1", &tf::response::ca1,
+                             "SF: the encoder saw a request delimiter error.")
+      .def_property_readonly(
+          "size", [](const tf::response& r) { return r.layout().size; },
+          "Bytes of the frame (CF to CRC).")
       .def_property_readonly(
           "alarms",
           [](const tf::response& r) {
@@ -145,12 +150,15 @@ void bind_tformat(py::module_& root) {
           "The ALMC alarms set, as AlmcBit members.");
   add_repr(rsp, {"id", "cf", "sf", "abs", "abm", "enid", "almc", "address", "busy", "edf", "crc"});
 
-  m.def("control_field", [](const py::handle& id) { return tf::control_field(data_id_arg(id)); },
-        py::arg("id"), "The CF byte of a Data ID (sync code, code bits, parity).");
-  m.def("request_size", [](const py::handle& id) { return tf::request_size(data_id_arg(id)); },
-        py::arg("id"), "Bytes of the request for `id` (1, 3 or 4).");
-  m.def("response_size", [](const py::handle& id) { return tf::layout_of(data_id_arg(id)).size; },
-        py::arg("id"), "Bytes of the response to `id` (4, 6 or 11).");
+  m.def(
+      "control_field", [](const py::handle& id) { return tf::control_field(data_id_arg(id)); },
+      py::arg("id"), "The CF byte of a Data ID (sync code, code bits, parity).");
+  m.def(
+      "request_size", [](const py::handle& id) { return tf::request_size(data_id_arg(id)); },
+      py::arg("id"), "Bytes of the request for `id` (1, 3 or 4).");
+  m.def(
+      "response_size", [](const py::handle& id) { return tf::layout_of(data_id_arg(id)).size; },
+      py::arg("id"), "Bytes of the response to `id` (4, 6 or 11).");
   m.def("status_field", &tf::status_field, py::arg("almc"), py::arg("ca0") = false,
         py::arg("ca1") = false, "The SF an encoder reports for alarm bits `almc`.");
   m.def("absolute_position", &tf::absolute_position, py::arg("abs"), py::arg("abm"),
@@ -175,7 +183,8 @@ void bind_tformat(py::module_& root) {
         const auto a = as<std::uint8_t>(address, "address");
         const auto e = as<std::uint8_t>(data, "data");
         return encode_into<tf::max_request_size>(
-            "tformat.encode_request", [&](mutable_byte_view out) { return tf::encode_request(d, a, e, out); });
+            "tformat.encode_request",
+            [&](mutable_byte_view out) { return tf::encode_request(d, a, e, out); });
       },
       py::arg("id"), py::arg("address") = 0, py::arg("data") = 0,
       "The request frame for Data ID `id`: CF, or CF ADF [EDF] CRC for the EEPROM IDs "
@@ -186,7 +195,8 @@ void bind_tformat(py::module_& root) {
          bool exact) {
         const bytes_arg in(data);
         const tf::decode_options o = options(st, mt, check_unused, from_enid);
-        const auto r = exact ? tf::decode_response_frame(in.view(), o) : tf::decode_response(in.view(), o);
+        const auto r =
+            exact ? tf::decode_response_frame(in.view(), o) : tf::decode_response(in.view(), o);
         check(r, "tformat.decode_response");
         return r.value();
       },
@@ -202,7 +212,8 @@ void bind_tformat(py::module_& root) {
          bool check_unused, bool from_enid) {
         const bytes_arg q(request, "request");
         const bytes_arg in(data);
-        const auto r = tf::decode_response_for(q.view(), in.view(), options(st, mt, check_unused, from_enid));
+        const auto r =
+            tf::decode_response_for(q.view(), in.view(), options(st, mt, check_unused, from_enid));
         check(r, "tformat.decode_response_for");
         return r.value();
       },
@@ -224,9 +235,11 @@ void bind_tformat(py::module_& root) {
       "encode_response",
       [](const tf::response& r) {
         return encode_into<tf::max_response_size>(
-            "tformat.encode_response", [&](mutable_byte_view out) { return tf::encode_response(r, out); });
+            "tformat.encode_response",
+            [&](mutable_byte_view out) { return tf::encode_response(r, out); });
       },
-      py::arg("response"), "The response frame for `response`'s id and fields (CF and CRC computed).");
+      py::arg("response"),
+      "The response frame for `response`'s id and fields (CF and CRC computed).");
 
   py::class_<receiver_box>(m, "Receiver",
                            "The master's stream receiver: feed it the bytes the UART delivers "
@@ -242,7 +255,8 @@ void bind_tformat(py::module_& root) {
              o.echo_mode = static_cast<tf::echo>(e);
              o.check_against_request = check_against_request;
              o.decode = options(st, mt, check_unused, from_enid);
-             return new receiver_box(o);  // NOLINT(cppcoreguidelines-owning-memory): pybind11 owns it
+             return new receiver_box(
+                 o);  // NOLINT(cppcoreguidelines-owning-memory): pybind11 owns it
            }),
            py::arg("echo") = 0, py::kw_only(), py::arg("check_against_request") = true,
            py::arg("single_turn_bits") = 17, py::arg("multi_turn_bits") = 16,
@@ -253,7 +267,9 @@ void bind_tformat(py::module_& root) {
             const bytes_arg q(request, "request");
             b.rx.sent(q.view());
           },
-          py::arg("request"), "Records the request frame just sent (its echo is skipped; responses are checked against it).")
+          py::arg("request"),
+          "Records the request frame just sent (its echo is skipped; responses are checked against "
+          "it).")
       .def(
           "feed",
           [](receiver_box& b, const py::handle& data) {
@@ -276,7 +292,8 @@ void bind_tformat(py::module_& root) {
             });
             return events;
           },
-          py::arg("byte"), "The per-byte step: returns the events this byte completes (usually none).")
+          py::arg("byte"),
+          "The per-byte step: returns the events this byte completes (usually none).")
       .def(
           "idle",
           [](receiver_box& b) -> py::object {
@@ -286,10 +303,13 @@ void bind_tformat(py::module_& root) {
             }
             return error_of(r, "tformat.Receiver.idle");
           },
-          "The line went idle: drops a partial frame and returns its DecodeError (truncated), or None.")
+          "The line went idle: drops a partial frame and returns its DecodeError (truncated), or "
+          "None.")
       .def_property_readonly("dropped", [](const receiver_box& b) { return b.rx.dropped(); })
-      .def_property_readonly("echoes_skipped", [](const receiver_box& b) { return b.rx.echoes_skipped(); })
-      .def_property_readonly("echo_missed", [](const receiver_box& b) { return b.rx.echo_missed(); })
+      .def_property_readonly("echoes_skipped",
+                             [](const receiver_box& b) { return b.rx.echoes_skipped(); })
+      .def_property_readonly("echo_missed",
+                             [](const receiver_box& b) { return b.rx.echo_missed(); })
       .def_property_readonly("pending", [](const receiver_box& b) { return b.rx.pending(); });
 }
 
