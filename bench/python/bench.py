@@ -50,6 +50,19 @@ def main() -> None:
     bits = biss.encode_frame(biss.ABSYS_LAYOUT, biss.SlaveValues(single_turn=123456), line_delay=2)
     packed, count = biss.encode_frame_bytes(biss.ABSYS_LAYOUT, biss.SlaveValues(single_turn=123456), line_delay=2)
 
+    big = list(range(125))
+    fc03_125_request = modbus.encode_read(3, 0, 125)
+    fc03_125_adu = modbus.encode_rtu(1, modbus.encode_read_registers_response(3, big))
+    framer125 = ModbusRtuFramer(ClientDecoder())
+
+    def pymodbus_rtu_125() -> None:
+        framer125.processIncomingPacket(fc03_125_adu, sink.append, unit=1)
+        assert sink[0].registers
+        sink.clear()
+
+    def motionbus_rtu_125() -> None:
+        modbus.decode_response_for(fc03_125_request, modbus.decode_rtu(fc03_125_adu).pdu).registers
+
     decoder = ClientDecoder()
     assert decoder.decode(fc03).registers == values
     framer = ModbusRtuFramer(ClientDecoder())
@@ -70,6 +83,8 @@ def main() -> None:
         ("pymodbus FC03 ClientDecoder.decode (PDU)", lambda: decoder.decode(fc03).registers),
         ("modbus FC03 RTU ADU (CRC) + .registers", motionbus_rtu),
         ("pymodbus FC03 RTU framer (CRC)", pymodbus_rtu),
+        ("modbus FC03 125 registers, RTU ADU + .registers", motionbus_rtu_125),
+        ("pymodbus FC03 125 registers, RTU framer", pymodbus_rtu_125),
         ("biss ABSYS decode_frame_bytes", lambda: biss.decode_frame_bytes(packed, biss.ABSYS_LAYOUT, bit_count=count)),
         ("biss ABSYS decode_frame (list of bits)", lambda: biss.decode_frame(bits, biss.ABSYS_LAYOUT)),
     ]
