@@ -1,6 +1,6 @@
 from typing import List, Optional, Tuple, Union
 
-from . import AlmcBit as AlmcBit, DataId as DataId, DecodeError, Echo as Echo
+from . import AlmcBit as AlmcBit, DataId as DataId, DecodeError, Echo as Echo, Errc
 from ._types import BytesLike
 
 __all__: List[str]
@@ -93,3 +93,22 @@ class Receiver:
     def echo_missed(self) -> bool: ...
     @property
     def pending(self) -> int: ...
+
+class Heard:
+    is_response: bool
+    bytes: bytes
+    request: Optional[Request]
+    @property
+    def request_error(self) -> Optional[Errc]: ...
+    response: Optional[Response]
+    id3_reply: bool
+
+class Listener:
+    def __init__(self, *, single_turn_bits: int = ..., multi_turn_bits: int = ...,
+                 check_unused_bits: bool = ..., resolution_from_enid: bool = ...) -> None: ...
+    def feed(self, data: BytesLike) -> List[Union[Heard, DecodeError]]: ...
+    def put(self, byte: int) -> List[Union[Heard, DecodeError]]: ...
+    def idle(self) -> List[Union[Heard, DecodeError]]: ...
+    dropped: int
+    pending: int
+    expecting_response: bool

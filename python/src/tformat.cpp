@@ -1,10 +1,13 @@
 // motionbus Python binding — motionbus.tformat: the T-format byte codec (both sides), the
 // master's stream receiver (fed chunks or single bytes, as a sigrok decoder or a UART loop
 // does).
+#include <string>
+
 #include "common.hpp"
 #include "motionbus/core/stream.hpp"
 #include "motionbus/tformat/codec.hpp"
 #include "motionbus/tformat/frame.hpp"
+#include "motionbus/tformat/listener.hpp"
 #include "motionbus/tformat/receiver.hpp"
 
 namespace mbpy {
@@ -53,6 +56,35 @@ struct receiver_box {
       return true;
     });
     return events;
+  }
+};
+
+// A frame the listener heard, its bytes copied out of the listener.
+struct heard_box {
+  bool is_response = false;
+  std::string bytes;
+  tf::request req{};
+  errc request_error = errc::ok;
+  tf::response resp{};
+  bool id3_reply = false;
+};
+
+struct listener_box {
+  tf::line_listener ls;
+  explicit listener_box(const tf::listener_options& o) : ls(o) {}
+  static py::object event(const motionbus::decode_result<tf::heard>& r) {
+    if (!r.is_complete()) {
+      return error_of(r, "tformat.Listener");
+    }
+    heard_box h;
+    const tf::heard& v = r.value();
+    h.is_response = v.is_response;
+    h.bytes.assign(reinterpret_cast<const char*>(v.bytes.data()), v.bytes.size());
+    h.req = v.req;
+    h.request_error = v.request_error;
+    h.resp = v.resp;
+    h.id3_reply = v.id3_reply;
+    return py::cast(std::move(h));
   }
 };
 
@@ -311,6 +343,97 @@ void bind_tformat(py::module_& root) {
       .def_property_readonly("echo_missed",
                              [](const receiver_box& b) { return b.rx.echo_missed(); })
       .def_property_readonly("pending", [](const receiver_box& b) { return b.rx.pending(); });
+
+  py::class_<heard_box> heard(m, "Heard",
+                              "A frame the Listener heard: a request (is_response False) or a "
+                              "response paired with the request before it.");
+  heard.def_readonly("is_response", &heard_box::is_response)
+      .def_property_readonly("bytes", [](const heard_box& h) { return py::bytes(h.bytes); })
+      .def_property_readonly(
+          "request",
+          [](const heard_box& h) -> py::object {
+            if (h.is_response) {
+              return py::none();
+            }
+            return py::cast(h.req);
+          },
+          "The request's fields (id and cf always), or None for a response.")
+      .def_property_readonly(
+          "request_error",
+          [](const heard_box& h) -> py::object {
+            if (h.is_response || h.request_error == errc::ok) {
+              return py::none();
+            }
+            return py::reinterpret_borrow<py::object>(lookup("motionbus._enums", "Errc"))(
+                static_cast<int>(h.request_error));
+          },
+          "Why the encoder answers this request with ID3 data (Errc), else None.")
+      .def_property_readonly("response",
+                             [](const heard_box& h) -> py::object {
+                               if (!h.is_response) {
+                                 return py::none();
+                               }
+                               return py::cast(h.resp);
+                             })
+      .def_readonly("id3_reply", &heard_box::id3_reply,
+                    "The response is ID3 data answering a request that is not ID3 (abnormal).");
+  add_repr(heard, {"is_response", "bytes", "request", "request_error", "response", "id3_reply"});
+
+  py::class_<listener_box>(m, "Listener",
+                           "Both directions of a tapped half-duplex line (a bus monitor, a "
+                           "capture decoder): requests and responses framed and paired. Feed "
+                           "it bytes (feed, or put one at a time); idle() at a silence.")
+      .def(py::init([](unsigned st, unsigned mt, bool check_unused, bool from_enid) {
+             tf::listener_options o;
+             o.decode = options(st, mt, check_unused, from_enid);
+             return new listener_box(o);  // NOLINT(cppcoreguidelines-owning-memory)
+           }),
+           py::kw_only(), py::arg("single_turn_bits") = 17, py::arg("multi_turn_bits") = 16,
+           py::arg("check_unused_bits") = true, py::arg("resolution_from_enid") = false)
+      .def(
+          "feed",
+          [](listener_box& b, const py::handle& data) {
+            const bytes_arg in(data);
+            py::list events;
+            (void)motionbus::feed_all(b.ls, in.view(), [&](const auto& r) {
+              events.append(listener_box::event(r));
+              return true;
+            });
+            return events;
+          },
+          py::arg("data"),
+          "Takes bytes; returns the events: Heard objects and DecodeError objects.")
+      .def(
+          "put",
+          [](listener_box& b, int byte) {
+            if (byte < 0 || byte > 255) {
+              throw py::value_error("byte must be 0..255");
+            }
+            py::list events;
+            motionbus::put_each(b.ls, static_cast<std::uint8_t>(byte), [&](const auto& r) {
+              events.append(listener_box::event(r));
+              return true;
+            });
+            return events;
+          },
+          py::arg("byte"), "The per-byte step: the events this byte completes.")
+      .def(
+          "idle",
+          [](listener_box& b) {
+            py::list events;
+            for (;;) {  // one result a call, each dropping what it settles
+              const auto r = b.ls.idle();
+              if (r.is_incomplete()) {
+                return events;
+              }
+              events.append(listener_box::event(r));
+            }
+          },
+          "The line went idle: the events the bytes held settle in (frames, cut-short frames).")
+      .def_property_readonly("dropped", [](const listener_box& b) { return b.ls.dropped(); })
+      .def_property_readonly("pending", [](const listener_box& b) { return b.ls.pending(); })
+      .def_property_readonly("expecting_response",
+                             [](const listener_box& b) { return b.ls.expecting_response(); });
 }
 
 }  // namespace mbpy

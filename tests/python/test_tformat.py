@@ -175,3 +175,41 @@ def test_ts5700n8500_emulator_and_profile() -> None:
         ts.reset_plan(DataId.read_abs)
     with pytest.raises(motionbus.EncodeError):
         ts.encode_overheat_threshold(200)
+
+
+@given(st.lists(st.sampled_from(IDS), min_size=1, max_size=6), st.integers(1, 16))
+def test_listener_pairs_requests_and_responses(ids: List[DataId], chunk: int) -> None:
+    e = ts.Emulator()
+    e.set_position(4321, 2)
+    stream = b""
+    for i in ids:
+        q = tformat.encode_request(i, 1, 2)
+        stream += q + e.respond(q, 0)
+    ls = tformat.Listener()
+    events = [x for k in range(0, len(stream), chunk) for x in ls.feed(stream[k:k + chunk])] + ls.idle()
+    ls2 = tformat.Listener()
+    assert [x for b in stream for x in ls2.put(b)] + ls2.idle() == events
+    requests = [h for h in events if not h.is_response]
+    responses = [h for h in events if h.is_response]
+    assert [h.request.id for h in requests] == ids
+    assert len(responses) == len(ids) and all(h.request is None and h.request_error is None for h in responses)
+    for h, i in zip(responses, ids):
+        assert h.response is not None and h.response.id == i and not h.id3_reply
+        assert h.bytes == tformat.encode_response(h.response)
+    assert ls.dropped == 0 and ls.pending == 0 and not ls.expecting_response
+
+
+def test_listener_flags_abnormal_requests_and_bad_responses() -> None:
+    e = ts.Emulator()
+    bad_parity = bytes([tformat.control_field(DataId.read_abs) ^ 0x80])
+    ls = tformat.Listener()
+    events = ls.feed(bad_parity + e.respond(bad_parity, 0))
+    assert events[0].request_error == motionbus.Errc.tformat_parity and events[0].request.cf == bad_parity[0]
+    assert events[1].is_response and events[1].id3_reply and "Heard(" in repr(events[1])
+    q = tformat.encode_request(DataId.read_abs)
+    reply = bytearray(e.respond(q, 0))
+    reply[-1] ^= 1
+    ls.feed(q)
+    assert ls.expecting_response
+    rejected = ls.feed(bytes(reply)) + ls.idle()
+    assert isinstance(rejected[0], DecodeError) and rejected[0].name == "crc_mismatch"
