@@ -1,4 +1,4 @@
-from typing import List, Optional, Tuple, Union
+from typing import List, Optional, Sequence, Tuple, Union
 
 from . import AlmcBit as AlmcBit, DataId as DataId, DecodeError, Echo as Echo, Errc
 from ._types import BytesLike
@@ -112,3 +112,14 @@ class Listener:
     dropped: int
     pending: int
     expecting_response: bool
+
+class LineFrame:
+    frame: Union[Response, Request]
+    start_bit: int
+    end: int
+
+def encode_line(frame: BytesLike, idle_bits: int = ...) -> List[int]: ...
+def decode_response_line(bits: Sequence[int], from_bit: int = ..., *, single_turn_bits: int = ...,
+                         multi_turn_bits: int = ..., check_unused_bits: bool = ...,
+                         resolution_from_enid: bool = ...) -> LineFrame: ...
+def decode_request_line(bits: Sequence[int], from_bit: int = ...) -> LineFrame: ...

@@ -131,11 +131,7 @@ void bind_absys(py::module_& root) {
             const auto r = e.frame(motionbus::span<std::uint8_t>(out.data(), out.size()),
                                    line_delay, ack_bits);
             const std::size_t n = value_or_raise(r, "absys.Emulator.frame");
-            py::list bits;
-            for (std::size_t i = 0; i < n; ++i) {
-              bits.append(static_cast<int>((out[i / 8U] >> (7U - i % 8U)) & 1U));
-            }
-            return bits;
+            return unpack_samples(out.data(), n);
           },
           py::arg("line_delay") = 1, py::arg("ack_bits") = 1,
           "This frame's SL samples as a list of 0/1.")

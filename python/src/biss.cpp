@@ -339,23 +339,11 @@ void bind_biss(py::module_& root) {
   m.def(
       "decode_frame",
       [](const py::handle& bits, const py::handle& layout, std::size_t mld, std::size_t mab) {
-        if (PySequence_Check(bits.ptr()) == 0 || PyUnicode_Check(bits.ptr()) != 0 ||
-            PyObject_CheckBuffer(bits.ptr()) != 0) {
-          throw py::type_error(
-              "bits must be a sequence of 0/1 samples (use decode_frame_bytes for bytes)");
-        }
-        const py::sequence s = py::reinterpret_borrow<py::sequence>(bits);
-        std::vector<std::uint8_t> packed((s.size() + 7U) / 8U, 0);
-        std::size_t i = 0;
-        for (const py::handle b : s) {
-          if (PyObject_IsTrue(b.ptr()) == 1) {
-            packed[i / 8U] = static_cast<std::uint8_t>(packed[i / 8U] | (0x80U >> (i % 8U)));
-          }
-          ++i;
-        }
+        const std::vector<std::uint8_t> packed = pack_samples(bits);
+        const std::size_t count = static_cast<std::size_t>(py::len(bits));
         const auto chain = chain_arg(layout);
         return decode_words(motionbus::span<const std::uint8_t>(packed.data(), packed.size()),
-                            s.size(), chain, decode_opts(mld, mab), bit_order::msb_first,
+                            count, chain, decode_opts(mld, mab), bit_order::msb_first,
                             py::isinstance<bs::slave_layout>(layout));
       },
       py::arg("bits"), py::arg("layout"), py::kw_only(), py::arg("max_line_delay") = 64,
@@ -444,11 +432,7 @@ void bind_biss(py::module_& root) {
         const auto bytes =
             encode_samples(layout, values, line_arg(line_delay, ack_bits, cds, timeout_bits),
                            bit_order::msb_first, bits);
-        py::list out;
-        for (std::size_t i = 0; i < bits; ++i) {
-          out.append(static_cast<int>((bytes[i / 8U] >> (7U - i % 8U)) & 1U));
-        }
-        return out;
+        return unpack_samples(bytes.data(), bits);
       },
       py::arg("layout"), py::arg("values"), py::kw_only(), py::arg("line_delay") = 0,
       py::arg("ack_bits") = 1, py::arg("cds") = false, py::arg("timeout_bits") = 0,

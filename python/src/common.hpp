@@ -136,6 +136,10 @@ T as(const py::handle& v, const char* name) {
 std::vector<std::uint16_t> registers_arg(const py::handle& seq, const char* name);
 std::vector<std::uint8_t> packed_bits(const py::handle& seq, const char* name);
 py::list unpack_bits(byte_view packed, std::size_t count);
+/// Line samples: a sequence of 0/1 (a sigrok decoder's, a test's) packed 8 a byte, the first in
+/// the MSB (TypeError for anything else, bytes included: the bytes forms take those); and back.
+std::vector<std::uint8_t> pack_samples(const py::handle& seq);
+py::list unpack_samples(const std::uint8_t* packed, std::size_t count);
 
 /// Gives a bound class `_fields` and lists it in `result_classes()`, whose members the package
 /// gives a `__repr__` listing those fields and an `__eq__` comparing them (motionbus/_errors.py).

@@ -146,6 +146,31 @@ py::list unpack_bits(byte_view packed, std::size_t count) {
   return out;
 }
 
+std::vector<std::uint8_t> pack_samples(const py::handle& seq) {
+  if (PySequence_Check(seq.ptr()) == 0 || PyUnicode_Check(seq.ptr()) != 0 ||
+      PyObject_CheckBuffer(seq.ptr()) != 0) {
+    throw py::type_error("bits must be a sequence of 0/1 samples (the *_bytes forms take bytes)");
+  }
+  const py::sequence s = py::reinterpret_borrow<py::sequence>(seq);
+  std::vector<std::uint8_t> packed((s.size() + 7U) / 8U, 0);
+  std::size_t i = 0;
+  for (const py::handle b : s) {
+    if (PyObject_IsTrue(b.ptr()) == 1) {
+      packed[i / 8U] = static_cast<std::uint8_t>(packed[i / 8U] | (0x80U >> (i % 8U)));
+    }
+    ++i;
+  }
+  return packed;
+}
+
+py::list unpack_samples(const std::uint8_t* packed, std::size_t count) {
+  py::list out;
+  for (std::size_t i = 0; i < count; ++i) {
+    out.append(static_cast<int>((packed[i / 8U] >> (7U - i % 8U)) & 1U));
+  }
+  return out;
+}
+
 void add_repr(py::handle cls, std::vector<const char*> fields) {
   py::tuple names(fields.size());
   for (std::size_t i = 0; i < fields.size(); ++i) {

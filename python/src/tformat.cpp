@@ -7,6 +7,7 @@
 #include "motionbus/core/stream.hpp"
 #include "motionbus/tformat/codec.hpp"
 #include "motionbus/tformat/frame.hpp"
+#include "motionbus/tformat/line.hpp"
 #include "motionbus/tformat/listener.hpp"
 #include "motionbus/tformat/receiver.hpp"
 
@@ -87,6 +88,20 @@ struct listener_box {
     return py::cast(std::move(h));
   }
 };
+
+// A frame found in line samples: the decoded frame, its start bit, the bit after it.
+struct line_box {
+  py::object frame;
+  std::size_t start_bit = 0;
+  std::size_t end = 0;
+};
+
+template <class T>
+line_box line_of(const motionbus::decode_result<tf::line_frame<T>, motionbus::input_unit::bits>& r,
+                 const char* what) {
+  check(r, what);
+  return line_box{py::cast(r.value().frame), r.value().start_bit, r.consumed_bits()};
+}
 
 }  // namespace
 
@@ -434,6 +449,55 @@ void bind_tformat(py::module_& root) {
       .def_property_readonly("pending", [](const listener_box& b) { return b.ls.pending(); })
       .def_property_readonly("expecting_response",
                              [](const listener_box& b) { return b.ls.expecting_response(); });
+
+  // --- the line: 10 samples a field (start 0, b0..b7, delimiter 1), for captures of SD/RD ---
+  py::class_<line_box> line(m, "LineFrame", "A frame found in line samples.");
+  line.def_readonly("frame", &line_box::frame, "The Response or Request decoded.")
+      .def_readonly("start_bit", &line_box::start_bit, "Index of its first start bit.")
+      .def_readonly("end", &line_box::end, "Index just past its last delimiter.");
+  add_repr(line, {"frame", "start_bit", "end"});
+  m.def(
+      "encode_line",
+      [](const py::handle& frame, std::size_t idle_bits) {
+        const bytes_arg in(frame, "frame");
+        if (idle_bits > (1U << 20U) || in.view().size() > 4096U) {
+          throw py::value_error("idle_bits must be at most 2**20 and frame at most 4096 bytes");
+        }
+        const std::size_t n = idle_bits + in.view().size() * tf::field_bits;
+        std::vector<std::uint8_t> out(n / 8U + 1U, 0);
+        const auto r =
+            tf::encode_line(in.view(), motionbus::span<std::uint8_t>(out.data(), out.size()),
+                            motionbus::bit_order::msb_first, 0, idle_bits);
+        return unpack_samples(out.data(), value_or_raise(r, "tformat.encode_line"));
+      },
+      py::arg("frame"), py::arg("idle_bits") = 0,
+      "The line samples (0/1) of a frame's bytes, after `idle_bits` idle 1s.");
+  m.def(
+      "decode_response_line",
+      [](const py::handle& bits, std::size_t from_bit, unsigned st, unsigned mt, bool check_unused,
+         bool from_enid) {
+        const std::vector<std::uint8_t> packed = pack_samples(bits);
+        const auto r = tf::decode_response_line(
+            motionbus::span<const std::uint8_t>(packed.data(), packed.size()),
+            motionbus::bit_order::msb_first, static_cast<std::size_t>(py::len(bits)), from_bit,
+            options(st, mt, check_unused, from_enid));
+        return line_of(r, "tformat.decode_response_line");
+      },
+      py::arg("bits"), py::arg("from_bit") = 0, py::kw_only(), py::arg("single_turn_bits") = 17,
+      py::arg("multi_turn_bits") = 16, py::arg("check_unused_bits") = true,
+      py::arg("resolution_from_enid") = false,
+      "Finds and decodes the response in line samples from `from_bit` on (start_bit, delimiter "
+      "errors as DecodeError, offset in bits).");
+  m.def(
+      "decode_request_line",
+      [](const py::handle& bits, std::size_t from_bit) {
+        const std::vector<std::uint8_t> packed = pack_samples(bits);
+        const auto r = tf::decode_request_line(
+            motionbus::span<const std::uint8_t>(packed.data(), packed.size()),
+            motionbus::bit_order::msb_first, static_cast<std::size_t>(py::len(bits)), from_bit);
+        return line_of(r, "tformat.decode_request_line");
+      },
+      py::arg("bits"), py::arg("from_bit") = 0, "Finds and decodes a request in line samples.");
 }
 
 }  // namespace mbpy

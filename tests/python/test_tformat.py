@@ -213,3 +213,23 @@ def test_listener_flags_abnormal_requests_and_bad_responses() -> None:
     assert ls.expecting_response
     rejected = ls.feed(bytes(reply)) + ls.idle()
     assert isinstance(rejected[0], DecodeError) and rejected[0].name == "crc_mismatch"
+
+
+@given(responses(), st.integers(0, 40), st.data())
+def test_line_samples_round_trip(r: tformat.Response, idle: int, d: st.DataObject) -> None:
+    frame = tformat.encode_response(r)
+    bits = tformat.encode_line(frame, idle)
+    assert len(bits) == idle + 10 * len(frame)
+    assert bits[idle:idle + 10] == [0] + [(frame[0] >> i) & 1 for i in range(8)] + [1]  # LSB first
+    got = tformat.decode_response_line(bits + [1, 1])
+    assert (got.start_bit, got.end) == (idle, len(bits))
+    assert tformat.encode_response(got.frame) == frame and "LineFrame(" in repr(got)
+    k = idle + 10 * d.draw(st.integers(0, len(frame) - 1)) + 9  # a delimiter
+    broken = list(bits)
+    broken[k] = 0
+    with pytest.raises(DecodeError) as e:
+        tformat.decode_response_line(broken)
+    assert e.value.unit == "bits"
+    q = tformat.encode_request(r.id, 3, 4)
+    req = tformat.decode_request_line(tformat.encode_line(q, 5))
+    assert req.frame.id == r.id and req.start_bit == 5
