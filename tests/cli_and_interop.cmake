@@ -149,3 +149,17 @@ if(values_pymodbus_ok)
 elseif(MOTIONBUS_REQUIRE_ALL_CHECKS)
   message(FATAL_ERROR "the file-record interop test needs python3-pymodbus")
 endif()
+# --- the Python package (python/, docs/python.md) ------------------------------------------
+# python_pytest: the suite against the build tree's package; python_install: the documented
+# pip install from a pristine copy into a fresh directory, then the suite against that.
+if(TARGET motionbus_python AND NOT TEST python_pytest)
+  add_test(NAME python_pytest
+    COMMAND ${CMAKE_COMMAND} -E env
+            "PYTHONPATH=${PROJECT_BINARY_DIR}/python:${CMAKE_CURRENT_SOURCE_DIR}/python"
+            /usr/bin/python3 -m pytest -q -p no:cacheprovider "${CMAKE_CURRENT_SOURCE_DIR}/python")
+  set_tests_properties(python_pytest PROPERTIES LABELS "python" TIMEOUT 300)
+  add_test(NAME python_install
+    COMMAND /usr/bin/python3 "${CMAKE_CURRENT_SOURCE_DIR}/python/install_and_test.py"
+            "${PROJECT_SOURCE_DIR}" "${PROJECT_BINARY_DIR}/python-install")
+  set_tests_properties(python_install PROPERTIES LABELS "python" TIMEOUT 900)
+endif()

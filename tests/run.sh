@@ -25,6 +25,8 @@ bash tools/scripts/ensure-packages.sh \
   libbenchmark-dev gcc-arm-none-eabi libstdc++-arm-none-eabi-newlib binutils-riscv64-unknown-elf \
   g++-s390x-linux-gnu g++-arm-linux-gnueabihf qemu-user \
   socat pkg-config libmodbus-dev python3-pymodbus python3-serial python3-serial-asyncio gcovr \
+  python3-dev pybind11-dev python3-pybind11 python3-pytest python3-hypothesis python3-mypy \
+  python3-pip python3-setuptools python3-wheel \
   python3-unicorn clang-tidy qemu-system-arm qemu-system-misc \
   libcli11-dev nlohmann-json3-dev libserialport-dev libzip-dev sigrok-cli iverilog
 

@@ -1,0 +1,5 @@
+"""Type aliases of the package's arguments."""
+
+from typing import Union
+
+BytesLike = Union[bytes, bytearray, memoryview]

@@ -1,0 +1,3 @@
+from typing import Union
+
+BytesLike = Union[bytes, bytearray, memoryview]
