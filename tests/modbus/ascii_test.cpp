@@ -5,12 +5,15 @@
 #include <doctest/doctest.h>
 
 #include <cstdint>
+#include <cstring>
 #include <string>
 #include <vector>
 
 #include "../support/bytes.hpp"
 #include "../support/prng.hpp"
+#include "../support/stream.hpp"
 #include "motionbus/core/stream.hpp"
+#include "motionbus/modbus/server.hpp"
 
 using namespace motionbus;
 using namespace motionbus::modbus;
@@ -55,38 +58,6 @@ event failure_event(errc e, std::uint32_t expected = 0, std::uint32_t received =
   return {false, e, 0, {}, expected, received};
 }
 
-// Every result of `stream` fed in chunks of `chunk` (feed_all).
-std::vector<event> run(ascii_framer& f, const bytes& stream, std::size_t chunk) {
-  std::vector<event> out;
-  for (std::size_t at = 0; at < stream.size(); at += chunk) {
-    const byte_view in(stream.data() + at, std::min(chunk, stream.size() - at));
-    const byte_view left = feed_all(f, in, [&](const auto& r) {
-      out.push_back(note(r));
-      return true;
-    });
-    CHECK(left.empty());
-  }
-  return out;
-}
-
-// The same one character at a time through put_each().
-std::vector<event> run_put(ascii_framer& f, const bytes& stream) {
-  std::vector<event> out;
-  for (const std::uint8_t c : stream) {
-    put_each(f, c, [&](const auto& r) {
-      CHECK(!r.is_incomplete());
-      out.push_back(note(r));
-      return true;
-    });
-  }
-  return out;
-}
-
-bytes operator+(bytes a, const bytes& b) {
-  a.insert(a.end(), b.begin(), b.end());
-  return a;
-}
-
 }  // namespace
 
 TEST_CASE("LRC: the two's complement of the 8-bit sum (Serial Line §2.5.2.2, §6.2.1)") {
@@ -127,7 +98,7 @@ TEST_CASE("encode_ascii: ':', uppercase hex of address, PDU and LRC, CR LF") {
 TEST_CASE("decode_ascii: the bytes back, lowercase digits accepted, what follows not read") {
   std::uint8_t out[max_ascii_bytes] = {};
   const bytes frame = chars(":1103006B00037E\r\n");
-  const auto r = decode_ascii(view(frame + chars(":01")), out);
+  const auto r = decode_ascii(view(cat({frame, chars(":01")})), out);
   REQUIRE(r.is_complete());
   CHECK(r.consumed() == frame.size());
   CHECK(r->slave == 0x11);
@@ -215,19 +186,19 @@ TEST_CASE("ascii framer: a frame split at every character boundary, and one char
   }
   for (std::size_t chunk = 1; chunk <= frame.size(); ++chunk) {
     ascii_framer f(framer_role::server, {0x11});
-    CHECK(run(f, frame, chunk) == std::vector<event>{frame_event(0x11, pdu)});
+    CHECK(fed_notes(f, view(frame), chunk, note) == std::vector<event>{frame_event(0x11, pdu)});
   }
   ascii_framer p(framer_role::server, {0x11});
-  CHECK(run_put(p, frame) == std::vector<event>{frame_event(0x11, pdu)});
+  CHECK(put_notes(p, view(frame), note) == std::vector<event>{frame_event(0x11, pdu)});
 }
 
 TEST_CASE("ascii framer: concatenated frames, garbage between them, a ':' restarts a frame") {
   const bytes a = {0x03, 0x00, 0x6B, 0x00, 0x03};
   const bytes b = {0x06, 0x00, 0x01, 0x00, 0x03};
-  const bytes stream =
-      ascii(0x11, a) + ascii(0x11, b) + chars(std::string("noise\r\n\x00\xff", 9)) +
-      ascii(0x11, a) + chars(":11030") /* cut short by a new ':' */ + ascii(0x11, b) +
-      chars(":1103G") /* non-hex: hunt for the next ':' */ + chars("1234\r\n") + ascii(0x11, a);
+  const bytes stream = cat(
+      {ascii(0x11, a), ascii(0x11, b), chars(std::string("noise\r\n\x00\xff", 9)), ascii(0x11, a),
+       chars(":11030") /* cut short by a new ':' */, ascii(0x11, b),
+       chars(":1103G") /* non-hex: hunt for the next ':' */, chars("1234\r\n"), ascii(0x11, a)});
   const std::vector<event> want = {
       frame_event(0x11, a), frame_event(0x11, b),
       frame_event(0x11, a), failure_event(errc::modbus_ascii_end),
@@ -235,11 +206,11 @@ TEST_CASE("ascii framer: concatenated frames, garbage between them, a ':' restar
       frame_event(0x11, a)};
   for (std::size_t chunk = 1; chunk <= stream.size(); chunk += 3) {
     ascii_framer f(framer_role::server, {0x11});
-    CHECK(run(f, stream, chunk) == want);
+    CHECK(fed_notes(f, view(stream), chunk, note) == want);
     CHECK(f.dropped() == 9U + 6U);  // the noise, and the characters after the bad one
   }
   ascii_framer p(framer_role::server, {0x11});
-  CHECK(run_put(p, stream) == want);
+  CHECK(put_notes(p, view(stream), note) == want);
 }
 
 TEST_CASE("ascii framer: the errors of a frame, each reported once, and the next frame read") {
@@ -259,8 +230,8 @@ TEST_CASE("ascii framer: the errors of a frame, each reported once, and the next
   for (const auto& c : cases) {
     CAPTURE(c.in);
     ascii_framer f(framer_role::server, {0x11});
-    const bytes stream = chars(c.in) + good;
-    CHECK(run(f, stream, 5) ==
+    const bytes stream = cat({chars(c.in), good});
+    CHECK(fed_notes(f, view(stream), 5, note) ==
           std::vector<event>{c.want, frame_event(0x11, {0x03, 0x00, 0x6B, 0x00, 0x03})});
   }
   // too long: the 256th byte fails at once (never more than 255 held)
@@ -271,7 +242,7 @@ TEST_CASE("ascii framer: the errors of a frame, each reported once, and the next
   ascii_framer f(framer_role::server, {0x11});
   std::vector<event> got;
   std::size_t most = 0;
-  for (const std::uint8_t c : chars(s) + good) {
+  for (const std::uint8_t c : cat({chars(s), good})) {
     if (f.put(c)) {
       got.push_back(note(f.result()));
     }
@@ -294,8 +265,8 @@ TEST_CASE("ascii framer: idle() is the inter-character timeout, a frame cut shor
   CHECK(f.pending() == 0U);
   CHECK(f.idle().is_incomplete());
   // the rest of the frame after the timeout is garbage until the next ':'
-  const bytes rest = chars("037E\r\n") + ascii(0x11, {0x07});
-  CHECK(run(f, rest, 4) == std::vector<event>{frame_event(0x11, {0x07})});
+  const bytes rest = cat({chars("037E\r\n"), ascii(0x11, {0x07})});
+  CHECK(fed_notes(f, view(rest), 4, note) == std::vector<event>{frame_event(0x11, {0x07})});
   CHECK(f.dropped() == 6U);
   // cut short after CR
   CHECK(f.feed(view(chars(":1107E8\r"))).is_incomplete());
@@ -304,33 +275,33 @@ TEST_CASE("ascii framer: idle() is the inter-character timeout, a frame cut shor
 
 TEST_CASE("ascii framer roles: server address and broadcast, client's sent(), listener") {
   const bytes pdu = {0x06, 0x00, 0x01, 0x00, 0x03};
-  const bytes stream = ascii(0x11, pdu) + ascii(0x12, pdu) + ascii(0x00, pdu);
+  const bytes stream = cat({ascii(0x11, pdu), ascii(0x12, pdu), ascii(0x00, pdu)});
   ascii_framer server(framer_role::server, {0x11});
-  CHECK(run(server, stream, 7) ==
+  CHECK(fed_notes(server, view(stream), 7, note) ==
         std::vector<event>{frame_event(0x11, pdu), frame_event(0x00, pdu)});
   CHECK(server.skipped() == 1U);
   ascii_framer either(framer_role::either, {0x12});  // `either`: a server
-  CHECK(run(either, stream, 7) ==
+  CHECK(fed_notes(either, view(stream), 7, note) ==
         std::vector<event>{frame_event(0x12, pdu), frame_event(0x00, pdu)});
   ascii_framer listener(framer_role::listener);
-  CHECK(run(listener, stream, 7) ==
+  CHECK(fed_notes(listener, view(stream), 7, note) ==
         std::vector<event>{frame_event(0x11, pdu), frame_event(0x12, pdu), frame_event(0x00, pdu)});
   ascii_framer client(framer_role::client);  // before any sent(): any slave
-  CHECK(run(client, stream, 7).size() == 3U);
+  CHECK(fed_notes(client, view(stream), 7, note).size() == 3U);
   client.sent(view(ascii(0x12, pdu)));
-  CHECK(run(client, stream, 7) == std::vector<event>{frame_event(0x12, pdu)});
+  CHECK(fed_notes(client, view(stream), 7, note) == std::vector<event>{frame_event(0x12, pdu)});
   client.sent(view(chars(":zz")));  // an unreadable address: any
-  CHECK(run(client, stream, 7).size() == 3U);
+  CHECK(fed_notes(client, view(stream), 7, note).size() == 3U);
   client.sent(view(chars("x12")));
-  CHECK(run(client, stream, 7).size() == 3U);
+  CHECK(fed_notes(client, view(stream), 7, note).size() == 3U);
   for (const char* unreadable : {":1", ":1z", ":z1"}) {
     client.sent(view(ascii(0x12, pdu)));
     client.sent(view(chars(unreadable)));
-    CHECK(run(client, stream, 7).size() == 3U);
+    CHECK(fed_notes(client, view(stream), 7, note).size() == 3U);
   }
   ascii_framer configured(framer_role::client, {0x00});
   configured = ascii_framer(framer_role::client, {0x11});
-  CHECK(run(configured, stream, 7) == std::vector<event>{frame_event(0x11, pdu)});
+  CHECK(fed_notes(configured, view(stream), 7, note) == std::vector<event>{frame_event(0x11, pdu)});
   // sent() drops a partial frame
   ascii_framer partial(framer_role::client, {0x11});
   CHECK(partial.feed(view(chars(":1106"))).is_incomplete());
@@ -343,7 +314,7 @@ TEST_CASE("ascii framer: the delimiter after CR may be changed (FC08 sub-functio
   ascii_framer f(framer_role::server, options);
   bytes frame = ascii(0x11, {0x07});
   frame.back() = '!';
-  CHECK(run(f, frame + ascii(0x11, {0x07}), 3) ==
+  CHECK(fed_notes(f, view(cat({frame, ascii(0x11, {0x07})})), 3, note) ==
         std::vector<event>{frame_event(0x11, {0x07}), failure_event(errc::modbus_ascii_end)});
 }
 
@@ -372,14 +343,96 @@ TEST_CASE("ascii framer put(): byte by byte, the results of feed() in chunks (ra
           c = static_cast<std::uint8_t>(c >= 'A' && c <= 'F' ? c + 0x20 : c);
         }
       }
-      stream = stream + frame;
+      stream.insert(stream.end(), frame.begin(), frame.end());
     }
     const framer_role role = rng.below(2) == 0 ? framer_role::server : framer_role::listener;
     ascii_framer by_feed(role, {0x11});
     ascii_framer by_put(role, {0x11});
-    const auto fed = run(by_feed, stream, 1 + rng.below(40));
-    CHECK(run_put(by_put, stream) == fed);
+    const auto fed = fed_notes(by_feed, view(stream), 1 + rng.below(40), note);
+    CHECK(put_notes(by_put, view(stream), note) == fed);
     CHECK(by_feed.pending() == by_put.pending());
     CHECK(by_feed.dropped() == by_put.dropped());
   }
+}
+
+namespace {
+// A firmware's framer: a `static`, default-constructed (docs/design.md: all zeros, .bss).
+const ascii_framer static_framer;
+}  // namespace
+
+TEST_CASE("ascii framer: a default-constructed framer is all zeros, the delimiter LF") {
+  unsigned char raw[sizeof static_framer] = {};
+  std::memcpy(raw, &static_framer, sizeof static_framer);
+  std::size_t nonzero = 0;
+  for (const unsigned char b : raw) {
+    nonzero += b != 0U ? 1U : 0U;
+  }
+  CHECK(nonzero == 0U);
+  CHECK(static_framer.options().delimiter == '\n');
+  CHECK(static_framer.options().address == 0U);
+  // every delimiter is kept, LF and NUL included
+  for (const unsigned d : {0x00U, 0x0AU, 0x21U, 0xFFU}) {
+    const ascii_framer f(framer_role::server, {0x11, static_cast<std::uint8_t>(d)});
+    CHECK(f.options().delimiter == d);
+    CHECK(f.options().address == 0x11U);
+  }
+  ascii_framer lf;  // the default framer frames with LF
+  CHECK(fed_notes(lf, view(ascii(0x00, {0x07})), 4, note) ==
+        std::vector<event>{frame_event(0x00, {0x07})});
+}
+
+TEST_CASE("decode_ascii: the delimiter after CR may be changed too") {
+  std::uint8_t out[max_ascii_bytes] = {};
+  bytes frame = ascii(0x11, {0x07});
+  CHECK(decode_ascii(view(frame), out, '\n').is_complete());
+  CHECK(decode_ascii(view(frame), out, '!').error() == errc::modbus_ascii_end);
+  frame.back() = '!';
+  const auto r = decode_ascii(view(frame), out, '!');
+  REQUIRE(r.is_complete());
+  CHECK(r.consumed() == frame.size());
+  CHECK(bytes(r->pdu.begin(), r->pdu.end()) == bytes{0x07});
+  CHECK(decode_ascii(view(frame), out).error() == errc::modbus_ascii_end);  // LF by default
+}
+
+namespace {
+// Holding registers 0..9, register i holding 0x100 + i.
+struct ten_registers {
+  std::uint8_t read_registers(std::uint8_t function, std::uint16_t address,
+                              span<std::uint16_t> out) const {
+    if (function != 0x03 || address + out.size() > 10U) {
+      return 0x02;
+    }
+    for (std::size_t i = 0; i < out.size(); ++i) {
+      out[i] = static_cast<std::uint16_t>(0x100U + address + i);
+    }
+    return 0;
+  }
+};
+}  // namespace
+
+TEST_CASE("ascii server, the recipe of docs/modbus.md §7: serve_frame, then encode_ascii") {
+  ten_registers dev;
+  ascii_framer rx(framer_role::server, {0x11});
+  // FC03 of registers 2..3, then one past the end (exception 02), then a broadcast
+  const bytes stream =
+      cat({ascii(0x11, {0x03, 0x00, 0x02, 0x00, 0x02}), ascii(0x11, {0x03, 0x00, 0x09, 0x00, 0x02}),
+           ascii(0x00, {0x03, 0x00, 0x00, 0x00, 0x01})});
+  std::vector<bytes> replies;
+  feed_chunks(rx, view(stream), 5, [&](const decode_result<ascii_frame>& r) {
+    REQUIRE(r.is_complete());
+    const ascii_frame& f = r.value();
+    std::uint8_t rtu[max_rtu_size] = {};
+    const result<std::size_t> n = serve_frame(dev, 0x11, rtu_frame{f.slave, f.pdu, 0}, rtu);
+    REQUIRE(n.has_value());
+    if (n.value() == 0U) {
+      replies.emplace_back();  // a broadcast: executed, not answered
+      return true;
+    }
+    std::uint8_t out[max_ascii_size] = {};
+    const auto m = encode_ascii(rtu[0], byte_view(rtu + 1, n.value() - 3U), out);
+    REQUIRE(m.has_value());
+    replies.emplace_back(out, out + m.value());
+    return true;
+  });
+  CHECK(replies == std::vector<bytes>{chars(":11030401020103E1\r\n"), chars(":1183026A\r\n"), {}});
 }
