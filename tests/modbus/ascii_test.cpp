@@ -423,14 +423,14 @@ TEST_CASE("ascii server, the recipe of docs/modbus.md §7: serve_frame, then enc
     const ascii_frame& f = r.value();
     std::uint8_t rtu[max_rtu_size] = {};
     const result<std::size_t> n = serve_frame(dev, 0x11, rtu_frame{f.slave, f.pdu, 0}, rtu);
-    REQUIRE(n.has_value());
+    REQUIRE(n);
     if (n.value() == 0U) {
       replies.emplace_back();  // a broadcast: executed, not answered
       return true;
     }
     std::uint8_t out[max_ascii_size] = {};
     const auto m = encode_ascii(rtu[0], byte_view(rtu + 1, n.value() - 3U), out);
-    REQUIRE(m.has_value());
+    REQUIRE(m);
     replies.emplace_back(out, out + m.value());
     return true;
   });
