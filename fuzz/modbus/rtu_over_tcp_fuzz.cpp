@@ -109,23 +109,7 @@ std::vector<noted> reference(const setup& s, mb::byte_view in, std::size_t& left
 
 template <class Framer>
 std::vector<noted> by_chunks(Framer& f, mb::byte_view in, std::size_t chunk) {
-  std::vector<noted> out;
-  for (std::size_t at = 0; at < in.size(); at += chunk) {
-    mb::byte_view part = in.subspan(at, chunk < in.size() - at ? chunk : in.size() - at);
-    for (int guard = 0;; ++guard) {
-      MOTIONBUS_FUZZ_CHECK(guard < 100000);
-      const auto r = f.feed(part);
-      MOTIONBUS_FUZZ_CHECK(f.pending() <= mo::max_rtu_size);
-      if (r.is_incomplete()) {
-        MOTIONBUS_FUZZ_CHECK(f.pending() + r.needed() <= mo::max_rtu_size);
-        break;
-      }
-      MOTIONBUS_FUZZ_CHECK(r.consumed() <= part.size());
-      part = part.subspan(r.consumed());
-      out.push_back(note(r));
-    }
-  }
-  return out;
+  return motionbus_fuzz::by_chunks(f, in, chunk, note, mo::max_rtu_size, mo::max_rtu_size);
 }
 
 template <class Framer>
