@@ -105,3 +105,47 @@ if(pymodbus_framers_rc EQUAL 0)
 elseif(MOTIONBUS_REQUIRE_ALL_CHECKS)
   message(FATAL_ERROR "the pymodbus framer interop test needs python3-pymodbus")
 endif()
+# --- typed values (modbus/values.hpp) against pymodbus's BinaryPayloadBuilder/Decoder and
+# libmodbus's value helpers (tests/interop/values_check.py) -----------------------------------
+find_package(PkgConfig QUIET)
+if(PKG_CONFIG_FOUND)
+  pkg_check_modules(MOTIONBUS_LIBMODBUS_VALUES QUIET libmodbus)
+endif()
+set(values_pymodbus_ok FALSE)
+if(EXISTS /usr/bin/python3)
+  execute_process(COMMAND /usr/bin/python3 -c "import pymodbus.payload"
+    RESULT_VARIABLE values_pymodbus_rc OUTPUT_QUIET ERROR_QUIET)
+  if(values_pymodbus_rc EQUAL 0)
+    set(values_pymodbus_ok TRUE)
+  endif()
+endif()
+if(MOTIONBUS_LIBMODBUS_VALUES_FOUND AND values_pymodbus_ok)
+  enable_language(C)
+  add_executable(motionbus_values_dump interop/values_dump.cpp)
+  target_link_libraries(motionbus_values_dump PRIVATE motionbus::motionbus)
+  motionbus_project_target(motionbus_values_dump)
+  add_executable(motionbus_libmodbus_values interop/libmodbus_values.c)
+  target_include_directories(motionbus_libmodbus_values SYSTEM PRIVATE
+    ${MOTIONBUS_LIBMODBUS_VALUES_INCLUDE_DIRS})
+  target_link_libraries(motionbus_libmodbus_values PRIVATE
+    ${MOTIONBUS_LIBMODBUS_VALUES_LINK_LIBRARIES})
+  target_compile_options(motionbus_libmodbus_values PRIVATE -Wall -Wextra -Werror)
+  add_test(NAME interop.values
+    COMMAND /usr/bin/python3 "${CMAKE_CURRENT_SOURCE_DIR}/interop/values_check.py"
+            "$<TARGET_FILE:motionbus_values_dump>" "$<TARGET_FILE:motionbus_libmodbus_values>")
+  set_tests_properties(interop.values PROPERTIES LABELS "interop" TIMEOUT 120)
+elseif(MOTIONBUS_REQUIRE_ALL_CHECKS)
+  message(FATAL_ERROR "the typed-value interop test needs libmodbus-dev and python3-pymodbus")
+endif()
+# FC14/15 file records against pymodbus's file_message classes (tests/interop/file_record_check.py)
+if(values_pymodbus_ok)
+  add_executable(motionbus_file_record_peer interop/file_record_peer.cpp)
+  target_link_libraries(motionbus_file_record_peer PRIVATE motionbus::motionbus)
+  motionbus_project_target(motionbus_file_record_peer)
+  add_test(NAME interop.file_records
+    COMMAND /usr/bin/python3 "${CMAKE_CURRENT_SOURCE_DIR}/interop/file_record_check.py"
+            "$<TARGET_FILE:motionbus_file_record_peer>")
+  set_tests_properties(interop.file_records PROPERTIES LABELS "interop" TIMEOUT 120)
+elseif(MOTIONBUS_REQUIRE_ALL_CHECKS)
+  message(FATAL_ERROR "the file-record interop test needs python3-pymodbus")
+endif()

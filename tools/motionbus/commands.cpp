@@ -62,6 +62,16 @@ const std::map<std::string, option_info>& catalogue() {
         "required by FC 05, 06, 0F, 10, 16 (AND,OR) and 17",
         {}}},
       {"write-address", {"ADDR", "FC17: the first register to write", {}}},
+      {"type",
+       {"TYPE",
+        "read modbus: values of u32, i32, f32 (2 registers) or u64, i64, f64 (4) for FC 03, 04, "
+        "10, 17: --quantity counts them, --values holds them",
+        {}}},
+      {"word-order",
+       {"ORDER",
+        "with --type: abcd (default), cdab, badc or dcba; A is the value's most significant "
+        "byte (docs/modbus.md, typed values)",
+        {}}},
       {"request", {"HEX", "the request ADU in hex: the response is checked against it", {}}},
       {"fc11",
        {"LAYOUT",

@@ -7,13 +7,18 @@
 //   encode modbus request --function FC --slave N [--address N] [--quantity N]
 //                         [--values a,b,...] [--write-address N] [--data HEX]
 //   read modbus --device PATH --function FC --slave N [...] [--baud N] [--parity E|O|N]
+//               [--type u32|i32|f32|u64|i64|f64 [--word-order abcd|cdab|badc|dcba]]
 #include <motionbus/core/errc.hpp>
 #include <motionbus/modbus.hpp>
 #include <motionbus/modbus/framer.hpp>
 
+#include <algorithm>
 #include <cctype>
+#include <cerrno>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <functional>
 #include <optional>
 #include <string>
@@ -309,6 +314,141 @@ int encode_request(const encode_options& opts) {
   return cli::finish(cli::outcome::success(f));
 }
 
+// --type and --word-order (read modbus): 32- and 64-bit values over registers
+// (modbus/values.hpp; docs/modbus.md section 9). A read (FC03, 04, 17) asks for --quantity
+// values (their registers) and prints them; a write (FC10, 17) takes them in --values.
+struct typed_values {
+  std::string type;  // u32 i32 f32 u64 i64 f64
+  mo::word_order order = mo::word_order::abcd;
+  std::size_t registers = 2;  // per value
+};
+
+std::optional<typed_values> typed_of(const std::optional<std::string>& type,
+                                     const std::optional<std::string>& order, std::uint8_t fc) {
+  if (!type) {
+    if (order) {
+      throw cli::usage_error{"--word-order is for --type"};
+    }
+    return std::nullopt;
+  }
+  typed_values t;
+  t.type = *type;
+  if (t.type != "u32" && t.type != "i32" && t.type != "f32" && t.type != "u64" && t.type != "i64" &&
+      t.type != "f64") {
+    throw cli::usage_error{"--type takes u32, i32, f32, u64, i64 or f64"};
+  }
+  t.registers = t.type[1] == '3' ? 2U : 4U;
+  const std::string o = order.value_or("abcd");
+  if (o == "abcd") {
+    t.order = mo::word_order::abcd;
+  } else if (o == "cdab") {
+    t.order = mo::word_order::cdab;
+  } else if (o == "badc") {
+    t.order = mo::word_order::badc;
+  } else if (o == "dcba") {
+    t.order = mo::word_order::dcba;
+  } else {
+    throw cli::usage_error{"--word-order takes abcd, cdab, badc or dcba"};
+  }
+  if (fc != 0x03 && fc != 0x04 && fc != 0x10 && fc != 0x17) {
+    throw cli::usage_error{"--type is for FC 03, 04 (reads), 10 (writes) and 17"};
+  }
+  return t;
+}
+
+// One --values item as a value of `t`, appended as its registers to `regs`.
+template <class T>
+void append_registers(T v, const typed_values& t, std::vector<std::uint16_t>& regs) {
+  for (const std::uint16_t r : mo::to_registers(v, t.order)) {
+    regs.push_back(r);
+  }
+}
+void append_typed(const std::string& item, const typed_values& t,
+                  std::vector<std::uint16_t>& regs) {
+  const auto refuse = [&] {
+    return cli::usage_error{"--values: \"" + item + "\" is no " + t.type};
+  };
+  char* end = nullptr;
+  errno = 0;
+  if (item.empty()) {
+    throw refuse();
+  }
+  if (t.type == "f32" || t.type == "f64") {
+    const double d = t.type == "f32" ? static_cast<double>(std::strtof(item.c_str(), &end))
+                                     : std::strtod(item.c_str(), &end);
+    if (*end != '\0' || (errno == ERANGE && std::isinf(d))) {
+      throw refuse();
+    }
+    if (t.type == "f32") {
+      append_registers(static_cast<float>(d), t, regs);
+    } else {
+      append_registers(d, t, regs);
+    }
+  } else if (t.type[0] == 'u') {
+    const auto v = item[0] == '-' ? std::nullopt : cli::parse_uint(item);
+    if (!v || (t.type == "u32" && *v > 0xFFFFFFFFU)) {
+      throw refuse();
+    }
+    if (t.type == "u32") {
+      append_registers(static_cast<std::uint32_t>(*v), t, regs);
+    } else {
+      append_registers(static_cast<std::uint64_t>(*v), t, regs);
+    }
+  } else {
+    const long long v = std::strtoll(item.c_str(), &end, 10);
+    if (*end != '\0' || errno == ERANGE || (t.type == "i32" && (v < INT32_MIN || v > INT32_MAX))) {
+      throw refuse();
+    }
+    if (t.type == "i32") {
+      append_registers(static_cast<std::int32_t>(v), t, regs);
+    } else {
+      append_registers(static_cast<std::int64_t>(v), t, regs);
+    }
+  }
+}
+
+// The typed values of `t` in the register bytes `data` (a read response's): JSON numbers (a
+// float's NaN or infinity as the text "nan", "inf", "-inf") and their text.
+template <class T>
+void add_typed(mb::byte_view data, const typed_values& t, nlohmann::ordered_json& json,
+               std::string& text) {
+  for (std::size_t i = 0; i + t.registers <= data.size() / 2U; i += t.registers) {
+    const T v = mo::value_at<T>(data, i, t.order).value();
+    std::string item;
+    if constexpr (std::is_floating_point<T>::value) {
+      char buf[40];
+      std::snprintf(buf, sizeof buf, sizeof(T) == 4 ? "%.9g" : "%.17g", static_cast<double>(v));
+      item = std::isnan(v) ? "nan" : std::isinf(v) ? (v < 0 ? "-inf" : "inf") : buf;
+      if (std::isfinite(v)) {
+        json.push_back(static_cast<double>(v));
+      } else {
+        json.push_back(item);
+      }
+    } else {
+      item = std::to_string(v);
+      json.push_back(v);
+    }
+    text += (text.empty() ? "" : ",") + item;
+  }
+}
+void add_typed_values(mb::byte_view data, const typed_values& t, cli::record& fields) {
+  nlohmann::ordered_json json = nlohmann::ordered_json::array();
+  std::string text;
+  if (t.type == "u32")
+    add_typed<std::uint32_t>(data, t, json, text);
+  else if (t.type == "i32")
+    add_typed<std::int32_t>(data, t, json, text);
+  else if (t.type == "f32")
+    add_typed<float>(data, t, json, text);
+  else if (t.type == "u64")
+    add_typed<std::uint64_t>(data, t, json, text);
+  else if (t.type == "i64")
+    add_typed<std::int64_t>(data, t, json, text);
+  else
+    add_typed<double>(data, t, json, text);
+  fields.add("typed_values", json, text);
+}
+
 // read modbus: one transaction as a client; the response printed like `decode modbus response
 // --request`.
 struct read_options {
@@ -316,16 +456,54 @@ struct read_options {
   request_options request;
   int timeout_ms = 1000;
   std::string fc11 = "standard";
+  std::optional<std::string> type;
+  std::optional<std::string> word_order;
   void bind(CLI::App& app) {
     line.bind(app);
     request.bind(app);
     cli::number(app, "timeout-ms", timeout_ms, 0, 60000);
     cli::text(app, "fc11", fc11);
+    cli::text(app, "type", type);
+    cli::text(app, "word-order", word_order);
   }
 };
 
+// The request's options with --type applied: --quantity counts values, --values holds them.
+request_options typed_request(const request_options& given, const typed_values& t,
+                              std::uint8_t fc) {
+  request_options r = given;
+  if (fc != 0x10) {  // a read: registers for --quantity values
+    r.quantity = static_cast<std::uint16_t>(
+        std::min<std::size_t>(std::size_t{given.quantity} * t.registers, 0xFFFF));
+  }
+  if (fc == 0x10 || fc == 0x17) {
+    if (!given.values) {
+      throw cli::usage_error{"FC " + std::to_string(fc) + " needs --values: what to write"};
+    }
+    std::vector<std::uint16_t> regs;
+    std::string item;
+    for (std::size_t i = 0; i <= given.values->size(); ++i) {
+      if (i < given.values->size() && (*given.values)[i] != ',') {
+        item += (*given.values)[i];
+        continue;
+      }
+      append_typed(item, t, regs);
+      item.clear();
+    }
+    std::string text;
+    for (const std::uint16_t v : regs) {
+      text += (text.empty() ? "" : ",") + std::to_string(v);
+    }
+    r.values = text;
+  }
+  return r;
+}
+
 int read_modbus(const read_options& opts) {
-  const auto adu = build_request(opts.request);
+  const auto fc_value = cli::parse_uint(opts.request.function.value_or(""));
+  const auto fc = static_cast<std::uint8_t>(fc_value && *fc_value <= 0x7F ? *fc_value : 0U);
+  const std::optional<typed_values> typed = typed_of(opts.type, opts.word_order, fc);
+  const auto adu = build_request(typed ? typed_request(opts.request, *typed, fc) : opts.request);
   if (adu[0] == 0) {
     throw cli::usage_error{"read modbus needs a unicast --slave (1..247)"};
   }
@@ -347,6 +525,10 @@ int read_modbus(const read_options& opts) {
     // The server refused the request (Modbus Application Protocol V1.1b3 §7): the transaction
     // failed, exit status 1, with the exception's fields as the evidence.
     o = cli::outcome::failure("exception", o.fields);
+  }
+  if (o.ok && typed && fc != 0x10) {  // the values read
+    const std::uint8_t* data = e.pdu.data() + 2;
+    add_typed_values(mb::byte_view(data, e.pdu.size() - 2U), *typed, o.fields);
   }
   cli::print(o);
   return o.ok ? 0 : 1;

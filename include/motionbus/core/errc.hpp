@@ -80,6 +80,12 @@ enum class [[nodiscard]] errc : std::uint8_t{
     modbus_ascii_odd_digits = 81,
     /// Modbus ASCII: a frame not ended by CR LF (CR without LF, or a ':' that restarts it).
     modbus_ascii_end = 82,
+    /// FC14/15: a sub-request's reference type is not 6 (Modbus App. Protocol §6.14; exception 02).
+    modbus_reference_type = 96,
+    /// FC14/15: a sub-request's file number is 0 (1..0xFFFF; exception 02).
+    modbus_file_number = 97,
+    /// FC14/15: a record number past 0x270F, or records that run past it (exception 02).
+    modbus_record_number = 98,
     // BiSS-C (128..191)
     /// SL stayed high (idle) over the whole bounded search: no slave acknowledged the clock.
     biss_no_ack = 128,
@@ -139,6 +145,9 @@ constexpr const char* to_string(errc e) noexcept {
     case errc::modbus_ascii_character: return "non_hex_character";
     case errc::modbus_ascii_odd_digits: return "odd_digit_count";
     case errc::modbus_ascii_end: return "missing_crlf";
+    case errc::modbus_reference_type: return "reference_type";
+    case errc::modbus_file_number: return "file_number";
+    case errc::modbus_record_number: return "record_number";
     case errc::biss_no_ack: return "no_ack";
     case errc::biss_no_start: return "no_start";
     case errc::biss_not_acknowledged: return "not_acknowledged";

@@ -111,7 +111,8 @@ constexpr std::size_t predict_request_size(byte_view in) noexcept {
     case 0x10: return in.size() < 7U ? 0 : 9U + in[6];
     case 0x17: return in.size() < 11U ? 0 : 13U + in[10];
     case 0x2B: return 7;  // MEI type, read device ID code, object ID
-    default: return unknown_length;
+    default:              // FC14/15 (file records): their byte count / data length
+      return (f | 1U) != 0x15U ? unknown_length : in.size() < 3U ? 0 : 5U + in[2];
   }
 }
 
@@ -134,6 +135,8 @@ constexpr std::size_t predict_response_size(
     case 0x03:
     case 0x04:
     case 0x0C:
+    case 0x14:
+    case 0x15:
     case 0x17: return in.size() < 3U ? 0 : 5U + in[2];
     case 0x05:
     case 0x06:
@@ -450,8 +453,8 @@ class basic_rtu_framer {
   // Responses whose length their own bytes give (a count, FC2B's objects): the listener frames
   // them with no request pending (MODBUS Application Protocol V1.1b3 §6).
   static constexpr bool self_sized_response(std::uint8_t f) noexcept {
-    return (f >= 0x01U && f <= 0x04U) || f == 0x0CU || f == 0x11U || f == 0x17U || f == 0x18U ||
-           f == 0x2BU;
+    return (f >= 0x01U && f <= 0x04U) || f == 0x0CU || f == 0x11U || f == 0x14U || f == 0x15U ||
+           f == 0x17U || f == 0x18U || f == 0x2BU;
   }
 
   constexpr bool server() const noexcept {

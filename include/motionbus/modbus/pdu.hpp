@@ -13,7 +13,8 @@
 // views into the caller's input: valid while that buffer is.
 // Implemented: 01, 02, 03, 04, 05, 06, 07, 08 (all defined sub-functions), 0B, 0C, 0F, 10, 11,
 // 16, 17, 18, 2B/0E (read device identification), exception responses with any code, and a raw
-// path for any other function code.
+// path for any other function code. FC14/15 (file records, decoded raw here) in
+// modbus/file_record.hpp.
 #ifndef MOTIONBUS_MODBUS_PDU_HPP
 #define MOTIONBUS_MODBUS_PDU_HPP
 
@@ -177,7 +178,10 @@ constexpr bool bit_at(byte_view packed, std::size_t i) noexcept {
 constexpr exception_code exception_for(errc e) noexcept {
   switch (e) {
     case errc::modbus_illegal_function: return exception_code::illegal_function;
-    case errc::modbus_address_overflow: return exception_code::illegal_data_address;
+    case errc::modbus_address_overflow:
+    case errc::modbus_reference_type:  // FC14/15 sub-requests (§6.14, §6.15)
+    case errc::modbus_file_number:
+    case errc::modbus_record_number: return exception_code::illegal_data_address;
     default: return exception_code::illegal_data_value;
   }
 }

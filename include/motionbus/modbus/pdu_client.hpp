@@ -13,6 +13,7 @@
 #include "motionbus/core/errc.hpp"
 #include "motionbus/core/result.hpp"
 #include "motionbus/core/span.hpp"
+#include "motionbus/modbus/file_record.hpp"
 #include "motionbus/modbus/pdu.hpp"
 
 namespace motionbus {
@@ -539,6 +540,203 @@ constexpr decode_result<response> decode_response_unpaired(
     return decode_failure{e, n, want, got};
   }
   return decode_result<response>::complete(r, n);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Client: file records, FC14 and FC15 (Modbus App. Protocol §6.14, §6.15; modbus/file_record.hpp)
+
+namespace detail {
+
+// The checks of an FC14/15 request to encode, in the decoder's order (03 before 02): returns
+// the request's size. Errors: modbus_pdu_length (no sub-request, or more than the PDU holds),
+// modbus_quantity (a length of 0, or an FC14 response past 253 bytes), modbus_byte_count
+// (FC15 data not 2 x length bytes), then the fields (modbus_reference_type never: the encoder
+// writes 6; modbus_file_number, modbus_record_number).
+constexpr result<std::size_t> check_file_request(std::uint8_t f,
+                                                 span<const file_record> records) noexcept {
+  const bool read = f == read_file_record_function;
+  std::size_t size = 2;
+  std::size_t reply = 2;
+  for (const file_record& rec : records) {
+    size += file_part_size(f, false, rec.length);
+    reply += 2U + 2U * std::size_t{rec.length};
+    if (rec.length == 0U || (read && reply > max_pdu_size)) {
+      return errc::modbus_quantity;
+    }
+    if (!read && rec.data.size() != 2U * std::size_t{rec.length}) {
+      return errc::modbus_byte_count;
+    }
+  }
+  if (records.empty() || size > max_pdu_size) {
+    return errc::modbus_pdu_length;
+  }
+  for (const file_record& rec : records) {
+    const errc e = check_file_fields(file_reference_type, rec.file, rec.record, rec.length);
+    if (e != errc::ok) {
+      return e;
+    }
+  }
+  return size;
+}
+
+constexpr result<std::size_t> encode_file_request(std::uint8_t f, span<const file_record> records,
+                                                  mutable_byte_view out) noexcept {
+  const result<std::size_t> size = check_file_request(f, records);
+  if (!size.ok()) {
+    return size;
+  }
+  if (out.size() < size.value()) {
+    return errc::buffer_too_small;
+  }
+  out[0] = f;
+  out[1] = static_cast<std::uint8_t>(size.value() - 2U);
+  std::size_t at = 2;
+  for (const file_record& rec : records) {
+    out[at] = file_reference_type;
+    store_be16(out, at + 1U, rec.file);
+    store_be16(out, at + 3U, rec.record);
+    store_be16(out, at + 5U, rec.length);
+    at += file_subrequest_size;
+    if (f == write_file_record_function) {
+      for (std::size_t i = 0; i < rec.data.size(); ++i) {
+        out[at + i] = rec.data[i];
+      }
+      at += rec.data.size();
+    }
+  }
+  return size;
+}
+
+// The response head of FC14/15 against the request `sent`: sets `q` to the decoded request
+// and returns true when the head settles the outcome (a failure in `fail`, or an exception
+// response in `r`).
+constexpr bool file_response_head(std::uint8_t f, byte_view sent, byte_view pdu, file_records& q,
+                                  file_records& r, decode_failure& fail) noexcept {
+  fail.consumed = pdu.size();
+  if (!pdu_size_ok(pdu.size())) {
+    fail.code = errc::modbus_pdu_length;
+    return true;
+  }
+  const decode_result<file_records> dq = decode_file_record_request(sent);
+  if (!dq.is_complete() || dq.value().function != f) {
+    fail.code = errc::invalid_argument;
+    return true;
+  }
+  q = dq.value();
+  response head;
+  errc e = errc::ok;
+  if (response_head(pdu, f, head, e, fail.expected, fail.received)) {
+    fail.code = e;
+    r.function = f;
+    r.response = true;
+    r.exception = head.exception;
+    r.exception_code = head.exception_code;
+    return true;
+  }
+  return false;
+}
+
+}  // namespace detail
+
+/// FC14: read the sub-requests `records` (file, record, length; data unused). Errors:
+/// modbus_quantity (a length of 0, or a response that would pass 253 bytes),
+/// modbus_pdu_length (none, or more than 35), modbus_file_number (0), modbus_record_number
+/// (past 0x270F), buffer_too_small.
+constexpr result<std::size_t> encode_read_file_record(span<const file_record> records,
+                                                      mutable_byte_view out) noexcept {
+  return detail::encode_file_request(read_file_record_function, records, out);
+}
+
+/// FC15: write the sub-requests `records` (file, record, length and 2 x length bytes of
+/// big-endian registers in data). Errors: as encode_read_file_record, and modbus_byte_count (data
+/// not 2 x length bytes), modbus_pdu_length (more than 253 bytes).
+constexpr result<std::size_t> encode_write_file_record(span<const file_record> records,
+                                                       mutable_byte_view out) noexcept {
+  return detail::encode_file_request(write_file_record_function, records, out);
+}
+
+/// Client: decodes the response PDU to the FC14 request `sent` (as encoded): the request first.
+/// Complete: the records read (file_record_at: the request's file and record, the response's
+/// data); an exception response is complete with exception set. Failed (consumed = PDU size):
+/// modbus_pdu_length, invalid_argument (`sent` is no valid FC14 request), modbus_mismatch
+/// (another function; or sub-responses of other lengths or in another number than requested),
+/// truncated (fewer bytes than the data length says), modbus_byte_count (more; a sub-response
+/// whose length is even, below 3, or runs past the data), modbus_reference_type (not 6).
+constexpr decode_result<file_records> decode_read_file_record_response(byte_view sent,
+                                                                       byte_view pdu) noexcept {
+  file_records q;
+  file_records r;
+  decode_failure fail;
+  if (detail::file_response_head(read_file_record_function, sent, pdu, q, r, fail)) {
+    if (fail.code == errc::ok) {
+      return decode_result<file_records>::complete(r, pdu.size());
+    }
+    return fail;
+  }
+  const std::size_t n = pdu.size();
+  errc e = errc::ok;
+  if (n < 2U) {
+    e = errc::truncated;
+  } else if (pdu[1] != n - 2U) {
+    e = pdu[1] > n - 2U ? errc::truncated : errc::modbus_byte_count;
+  }
+  std::size_t k = 0;
+  std::size_t req = 0;  // in q.body
+  for (std::size_t at = 2; e == errc::ok && at < n; ++k) {
+    const std::size_t length = pdu[at];
+    if (at + 2U > n || length < 3U || length % 2U == 0U || at + 1U + length > n) {
+      e = errc::modbus_byte_count;
+    } else if (pdu[at + 1U] != file_reference_type) {
+      e = errc::modbus_reference_type;
+    } else if (k >= q.count || length != 1U + 2U * std::size_t{load_be16(q.body, req + 5U)}) {
+      e = errc::modbus_mismatch;  // not the records asked for
+    }
+    at += 1U + length;
+    req += file_subrequest_size;
+  }
+  if (e == errc::ok && k != q.count) {
+    e = errc::modbus_mismatch;  // fewer sub-responses than sub-requests
+  }
+  if (e != errc::ok) {
+    return decode_failure{e, n};
+  }
+  r = q;
+  r.body = pdu.subspan(2);
+  r.response = true;
+  return decode_result<file_records>::complete(r, n);
+}
+
+/// Client: decodes the response PDU to the FC15 request `sent` (as encoded), which must echo it.
+/// Complete: the records written; an exception response is complete with exception set. Failed
+/// (consumed = PDU size): modbus_pdu_length, invalid_argument (`sent` is no valid FC15
+/// request), the request decoder's errors for a response that is no valid FC15 PDU itself,
+/// modbus_mismatch (another function, or not the request's bytes).
+constexpr decode_result<file_records> decode_write_file_record_response(byte_view sent,
+                                                                        byte_view pdu) noexcept {
+  file_records q;
+  file_records r;
+  decode_failure fail;
+  if (detail::file_response_head(write_file_record_function, sent, pdu, q, r, fail)) {
+    if (fail.code == errc::ok) {
+      return decode_result<file_records>::complete(r, pdu.size());
+    }
+    return fail;
+  }
+  const std::size_t n = pdu.size();
+  const decode_result<file_records> echo = decode_file_record_request(pdu);
+  if (!echo.is_complete()) {
+    return decode_failure{echo.error(), n};
+  }
+  bool same = n == sent.size();
+  for (std::size_t i = 0; same && i < n; ++i) {
+    same = pdu[i] == sent[i];
+  }
+  if (!same) {
+    return decode_failure{errc::modbus_mismatch, n};
+  }
+  r = echo.value();
+  r.response = true;
+  return decode_result<file_records>::complete(r, n);
 }
 
 }  // namespace modbus

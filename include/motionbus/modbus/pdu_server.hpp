@@ -11,6 +11,7 @@
 #include "motionbus/core/errc.hpp"
 #include "motionbus/core/result.hpp"
 #include "motionbus/core/span.hpp"
+#include "motionbus/modbus/file_record.hpp"
 #include "motionbus/modbus/pdu.hpp"
 
 namespace motionbus {
@@ -170,6 +171,61 @@ constexpr result<std::size_t> encode_device_identification_response(
     out[7U + i] = objects[i];
   }
   return 7U + objects.size();
+}
+
+// ---------------------------------------------------------------------------------------------
+// Server: file records, FC14 and FC15 (Modbus App. Protocol §6.14, §6.15; requests decoded by
+// decode_file_record_request, modbus/file_record.hpp)
+
+/// FC14 response: per record read, its length (1 + bytes), reference type 6 and `data` (its
+/// registers, big-endian; file, record and length unused). Errors: modbus_byte_count (data
+/// empty or of an odd size), modbus_pdu_length (none, or past 253 bytes), buffer_too_small.
+constexpr result<std::size_t> encode_read_file_record_response(span<const file_record> records,
+                                                               mutable_byte_view out) noexcept {
+  std::size_t size = 2;
+  for (const file_record& rec : records) {
+    if (rec.data.empty() || rec.data.size() % 2U != 0U) {
+      return errc::modbus_byte_count;
+    }
+    size += 2U + rec.data.size();
+  }
+  if (records.empty() || size > max_pdu_size) {
+    return errc::modbus_pdu_length;
+  }
+  if (out.size() < size) {
+    return errc::buffer_too_small;
+  }
+  out[0] = read_file_record_function;
+  out[1] = static_cast<std::uint8_t>(size - 2U);
+  std::size_t at = 2;
+  for (const file_record& rec : records) {
+    out[at] = static_cast<std::uint8_t>(1U + rec.data.size());
+    out[at + 1U] = file_reference_type;
+    for (std::size_t i = 0; i < rec.data.size(); ++i) {
+      out[at + 2U + i] = rec.data[i];
+    }
+    at += 2U + rec.data.size();
+  }
+  return size;
+}
+
+/// FC15 response: the request `q` (decode_file_record_request) echoed. Errors:
+/// invalid_argument (q is no FC15 request), buffer_too_small.
+constexpr result<std::size_t> encode_write_file_record_response(const file_records& q,
+                                                                mutable_byte_view out) noexcept {
+  if (q.function != write_file_record_function || q.response) {
+    return errc::invalid_argument;
+  }
+  const std::size_t size = 2U + q.body.size();
+  if (out.size() < size) {
+    return errc::buffer_too_small;
+  }
+  out[0] = write_file_record_function;
+  out[1] = static_cast<std::uint8_t>(q.body.size());
+  for (std::size_t i = 0; i < q.body.size(); ++i) {
+    out[2U + i] = q.body[i];
+  }
+  return size;
 }
 
 }  // namespace modbus

@@ -14,6 +14,15 @@
 //   std::uint8_t write_registers(std::uint16_t address,
 //                                motionbus::span<const std::uint16_t>); // FC06, FC10 (16, 17)
 //   std::uint8_t report_server_id(motionbus::mutable_byte_view out, std::size_t& size); // FC11
+//   std::uint8_t read_file_record(std::uint16_t file, std::uint16_t record,
+//                                 motionbus::mutable_byte_view out);  // FC14: 2 x length bytes
+//   std::uint8_t write_file_record(std::uint16_t file, std::uint16_t record,
+//                                  motionbus::byte_view data);        // FC15: 2 x length bytes
+//       // file records (Modbus App. Protocol §6.14, §6.15), as big-endian register bytes, one
+//       // call per sub-request, in the request's order; optional, checked before any write:
+//   std::uint8_t check_file_record(std::uint16_t file, std::uint16_t record,
+//                                  std::uint16_t length) const;
+//       // without it an FC15 sub-request that fails leaves the ones before it written
 // Registers may instead be read and written as the big-endian bytes of the PDU, which spares
 // the server a register buffer (250 bytes of stack) and a conversion (preferred when present):
 //   std::uint8_t read_registers_be(std::uint8_t function, std::uint16_t address,
@@ -101,6 +110,16 @@ using check_registers_call = decltype(std::declval<const D&>().check_registers(
     std::uint8_t{}, std::uint16_t{}, std::uint16_t{}));  // const: a check changes nothing
 template <class D>
 using admit_call = decltype(std::declval<const D&>().admit(byte_view{}));  // const, as above
+// FC14/15 file records
+template <class D>
+using read_file_record_call = decltype(std::declval<D&>().read_file_record(
+    std::uint16_t{}, std::uint16_t{}, mutable_byte_view{}));
+template <class D>
+using write_file_record_call =
+    decltype(std::declval<D&>().write_file_record(std::uint16_t{}, std::uint16_t{}, byte_view{}));
+template <class D>
+using check_file_record_call = decltype(std::declval<const D&>().check_file_record(
+    std::uint16_t{}, std::uint16_t{}, std::uint16_t{}));  // const: a check changes nothing
 
 template <class D>
 using has_read_bits = returns_code<read_bits_call, D>;
@@ -120,6 +139,12 @@ template <class D>
 using has_check_registers = returns_code<check_registers_call, D>;
 template <class D>
 using has_admit = returns_code<admit_call, D>;
+template <class D>
+using has_read_file_record = returns_code<read_file_record_call, D>;
+template <class D>
+using has_write_file_record = returns_code<write_file_record_call, D>;
+template <class D>
+using has_check_file_record = returns_code<check_file_record_call, D>;
 
 template <class D, class = void>
 struct has_function_set : std::false_type {};
@@ -137,6 +162,7 @@ struct accessor_names {
       write_registers_be, report_server_id, check_registers, admit, functions;
   int read_bit, read_register, write_coil, write_register, read_register_be, write_register_be,
       report_slave_id;
+  int read_file_record, write_file_record, check_file_record;  // FC14/15
 };
 template <class D>
 struct name_probe : D, accessor_names {};
@@ -178,6 +204,12 @@ template <class P>
 using write_register_be_name = decltype(&P::write_register_be);
 template <class P>
 using report_slave_id_name = decltype(&P::report_slave_id);
+template <class P>
+using read_file_record_name = decltype(&P::read_file_record);
+template <class P>
+using write_file_record_name = decltype(&P::write_file_record);
+template <class P>
+using check_file_record_name = decltype(&P::check_file_record);
 
 // Whether D has a member called as Name says (the probe's own member alone is unambiguous).
 template <template <class> class Name, class D, class = void>
@@ -217,6 +249,12 @@ constexpr function_set accessor_functions() noexcept {
   if constexpr (has_report_server_id<Device>::value) {
     set |= functions_of(0x11);
   }
+  if constexpr (has_read_file_record<Device>::value) {
+    set |= functions_of(0x14);
+  }
+  if constexpr (has_write_file_record<Device>::value) {
+    set |= functions_of(0x15);
+  }
   return set;
 }
 
@@ -235,8 +273,8 @@ constexpr function_set declared_functions() noexcept {
 /// The functions serve_frame and serve_rtu serve for a device type: those its accessors allow
 /// (01/02 read_bits; 03/04 read_registers or read_registers_be; 05/0F write_coils; 06/10
 /// write_registers or write_registers_be; 16/17 a register reader and a register writer; 11
-/// report_server_id), narrowed by its `functions` if it has one. Only these are decoded; any
-/// other function is answered with exception 01.
+/// report_server_id; 14 read_file_record; 15 write_file_record), narrowed by its `functions` if it
+/// has one. Only these are decoded; any other function is answered with exception 01.
 template <class Device>
 constexpr function_set served_functions() noexcept {
   const function_set set = detail::accessor_functions<Device>();
@@ -316,10 +354,24 @@ struct device_checks {
   static_assert(!names<report_slave_id_name, D>::value || has_report_server_id<D>::value,
                 "modbus server device: report_slave_id is no accessor; did you mean std::uint8_t "
                 "report_server_id(motionbus::mutable_byte_view out, std::size_t& size)?");
-  static_assert(accessor_functions<D>() != 0U,
-                "modbus server device: no accessor the server recognises; it needs one of "
-                "read_bits, read_registers, read_registers_be, write_coils, write_registers, "
-                "write_registers_be, report_server_id (signatures in modbus/server.hpp)");
+  static_assert(!names<read_file_record_name, D>::value || has_read_file_record<D>::value,
+                "modbus server device: read_file_record must be std::uint8_t "
+                "read_file_record(std::uint16_t file, std::uint16_t record, "
+                "motionbus::mutable_byte_view out)");
+  static_assert(!names<write_file_record_name, D>::value || has_write_file_record<D>::value,
+                "modbus server device: write_file_record must be std::uint8_t "
+                "write_file_record(std::uint16_t file, std::uint16_t record, motionbus::byte_view "
+                "data)");
+  static_assert(!names<check_file_record_name, D>::value || has_check_file_record<D>::value,
+                "modbus server device: check_file_record must be std::uint8_t "
+                "check_file_record(std::uint16_t file, std::uint16_t record, std::uint16_t "
+                "length) const");
+  static_assert(
+      accessor_functions<D>() != 0U,
+      "modbus server device: no accessor the server recognises; it needs one of "
+      "read_bits, read_registers, read_registers_be, write_coils, write_registers, "
+      "write_registers_be, report_server_id, read_file_record, write_file_record (signatures "
+      "in modbus/server.hpp)");
   static_assert(!has_function_set<D>::value || declared_functions<D>() != 0U,
                 "modbus server device: its functions is empty; every request would be answered "
                 "with exception 01");
@@ -327,7 +379,8 @@ struct device_checks {
                 "modbus server device: its functions names a function its accessors cannot "
                 "serve (01/02 need read_bits; 03/04 read_registers or read_registers_be; 05/0F "
                 "write_coils; 06/10 write_registers or write_registers_be; 16/17 a register "
-                "reader and writer; 11 report_server_id)");
+                "reader and writer; 11 report_server_id; 14 read_file_record; 15 "
+                "write_file_record)");
   static constexpr bool value = true;
 };
 
@@ -367,6 +420,60 @@ constexpr std::uint8_t write_registers_from(Device& dev, std::uint16_t address,
     }
     return dev.write_registers(address, span<const std::uint16_t>(writes, n));
   }
+}
+
+// FC14/15 (Modbus App. Protocol §6.14, §6.15): `data` is the request after its function code
+// (decode_request leaves these functions raw). The sub-requests are decoded and checked whole
+// (exceptions 03, then 02, as decode_file_record_request), then served in order: FC14 reads each
+// record into its place in the response; FC15 checks every sub-request with check_file_record if
+// the device has it, then writes each. Returns the response's size.
+template <class Device>
+constexpr std::size_t serve_file_records(Device& dev, std::uint8_t f, byte_view data,
+                                         mutable_byte_view pdu_out) noexcept {
+  const decode_result<file_records> d = decode_file_records(f, data);
+  std::uint8_t code = 0;
+  if (!d.is_complete()) {
+    code = static_cast<std::uint8_t>(exception_for(d.error()));
+  }
+  constexpr bool reads = has_read_file_record<Device>::value;
+  constexpr bool writes = has_write_file_record<Device>::value;
+  // coverage: serve_frame answers a function without its accessor with 01 before this
+  if (f == read_file_record_function ? !reads : !writes) {
+    code = illegal_function_code;
+  }
+  const file_records& q = d.value();
+  std::size_t at = 2;  // FC14: where the next record's answer goes
+  if constexpr (has_check_file_record<Device>::value) {
+    for (std::size_t k = 0; code == 0U && f == write_file_record_function && k < q.count; ++k) {
+      const file_record rec = file_record_at(q, k).value();
+      code = std::as_const(dev).check_file_record(rec.file, rec.record, rec.length);
+    }
+  }
+  for (std::size_t k = 0; code == 0U && k < q.count; ++k) {
+    const file_record rec = file_record_at(q, k).value();
+    if (f == read_file_record_function) {
+      if constexpr (reads) {
+        const std::size_t bytes = 2U * std::size_t{rec.length};
+        pdu_out[at] = static_cast<std::uint8_t>(1U + bytes);
+        pdu_out[at + 1U] = file_reference_type;
+        code = dev.read_file_record(rec.file, rec.record, pdu_out.subspan(at + 2U, bytes));
+        at += 2U + bytes;
+      }
+    } else {
+      if constexpr (writes) {
+        code = dev.write_file_record(rec.file, rec.record, rec.data);
+      }
+    }
+  }
+  if (code != 0U) {
+    return encode_exception(f, code, pdu_out).value_or(0);
+  }
+  if (f == read_file_record_function) {
+    pdu_out[0] = f;
+    pdu_out[1] = static_cast<std::uint8_t>(at - 2U);  // decode_file_records: at <= 253
+    return at;
+  }
+  return encode_write_file_record_response(q, pdu_out).value_or(0);
 }
 
 // Serves one decoded request; writes the response PDU into `pdu_out` (>= 253 bytes).
@@ -456,6 +563,10 @@ constexpr std::size_t serve_pdu(Device& dev, const request& q, mutable_byte_view
           return 2U + 2U * q.quantity;
         }
       }
+    }
+  } else if (f == 0x14 || f == 0x15) {
+    if constexpr (serves(0x14) || serves(0x15)) {
+      return serve_file_records(dev, f, q.data, pdu_out);  // raw in q: decoded there
     }
   } else if (f == 0x11) {
     if constexpr (serves(0x11)) {

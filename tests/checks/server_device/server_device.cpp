@@ -94,6 +94,17 @@ struct device : registers, reader {
   // near miss: a check that could change the device
   std::uint8_t check_registers(std::uint8_t, std::uint16_t, std::uint16_t) { return 0; }
 };
+#elif defined(CASE_file_record_signature)
+struct device : registers {
+  // near miss: the records as registers, not the PDU's big-endian bytes
+  std::uint8_t read_file_record(std::uint16_t, std::uint16_t, mb::span<std::uint16_t>) { return 0; }
+};
+#elif defined(CASE_check_file_record_not_const)
+struct device : registers {
+  std::uint8_t write_file_record(std::uint16_t, std::uint16_t, mb::byte_view) { return 0; }
+  // near miss: a check that could change the device
+  std::uint8_t check_file_record(std::uint16_t, std::uint16_t, std::uint16_t) { return 0; }
+};
 #else
 struct device : registers {
   static constexpr md::function_set functions = md::functions_of(0x06, 0x10);
