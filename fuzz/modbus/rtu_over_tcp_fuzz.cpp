@@ -1,11 +1,12 @@
 // Modbus RTU over TCP: the RTU framer with frame_end::length (no t3.5 silence on a byte
-// stream), server and client. Oracles: a reference written from the length rules alone (at each
-// position: the size the rule gives as bytes arrive; no rule: the byte is garbage; a size, held:
-// decode_rtu decides, a failure drops one byte, a frame is taken whole) reports exactly what the
-// framer reports, fed in chunks of any size, and leaves exactly as many bytes unsettled as the
-// framer holds; put() byte by byte reports the same (stream_oracle.hpp); the role fixed by the
-// type reports the same; never more than 256 bytes held or wanted; after idle(), a clean frame
-// is delivered exactly once.
+// stream), server and client. Oracles: a reference written from the length rules alone (its
+// own table, from the Application Protocol's PDU layouts: request_size(), response_size(); at
+// each position: the size the rule gives as bytes arrive; no rule: the byte is garbage; a
+// size, held: decode_rtu decides, a failure drops one byte, a frame is taken whole) reports
+// exactly what the framer reports, fed in chunks of any size, and leaves exactly as many bytes
+// unsettled as the framer holds; put() byte by byte reports the same (stream_oracle.hpp); the
+// role fixed by the type reports the same; never more than 256 bytes held or wanted; after
+// idle(), a clean frame is delivered exactly once.
 #include <motionbus/modbus/framer.hpp>
 
 #include <tuple>
@@ -35,9 +36,102 @@ struct setup {
   mo::report_id_format fc11;
 };
 
+// --- The length rules, from the specification (not the framer's predict_*_size) ----------
+// MODBUS Application Protocol V1.1b3 §6, each PDU's layout; the ADU adds the address before it
+// and the CRC after it (Serial Line §2.5.1). A size in bytes, 0: more bytes are needed to tell,
+// no_rule: the function has no length rule (garbage on a stream).
+constexpr std::size_t no_rule = static_cast<std::size_t>(-1);
+
+// The ADU's size: `fixed` bytes and the count at `at`, once `at` has arrived.
+std::size_t counted(mb::byte_view held, std::size_t at, std::size_t fixed) {
+  return held.size() <= at ? 0U : fixed + held[at];
+}
+
+std::size_t request_size(mb::byte_view held) {
+  switch (held[1]) {
+    case 0x01:  // read coils, discrete inputs, holding
+    case 0x02:  // and input registers, write one coil
+    case 0x03:  // or register: start/address, quantity
+    case 0x04:  // or value, 2 bytes each
+    case 0x05:
+    case 0x06:
+    case 0x08: return 8;  // diagnostics: sub-function, one data word (Return Query Data: below)
+    case 0x07:            // read exception status, get comm event counter and log, report
+    case 0x0B:            // server ID: the function code alone
+    case 0x0C:
+    case 0x11: return 4;
+    case 0x0F:  // write multiple coils, registers: start, quantity, byte count N, N bytes
+    case 0x10: return counted(held, 6, 9);
+    case 0x14:  // read, write file record: byte count N, N bytes
+    case 0x15: return counted(held, 2, 5);
+    case 0x16: return 10;                     // mask write register: address, AND mask, OR mask
+    case 0x17: return counted(held, 10, 13);  // read and write: 4 words, byte count, bytes
+    case 0x18: return 6;                      // read FIFO queue: its address
+    case 0x2B: return 7;                      // read device identification: MEI, code, object
+    default: return no_rule;
+  }
+}
+
+// Read Device Identification's response (§6.21): MEI type, code, conformity, more follows,
+// next object, the number of objects at ADU byte 7, then each object: id, length, value.
+std::size_t device_id_size(mb::byte_view held) {
+  if (held.size() < 8U) {
+    return 0;
+  }
+  std::size_t end = 8;
+  for (std::size_t k = 0; k < held[7]; ++k) {
+    if (end + 2U > held.size()) {  // its header still to come
+      return held.size() >= mo::max_rtu_size ? mo::max_rtu_size + 1U : 0U;
+    }
+    end += 2U + held[end + 1U];
+    if (end > held.size()) {  // its value still to come: too long already, or wait
+      return end > mo::max_rtu_size            ? end
+             : held.size() >= mo::max_rtu_size ? mo::max_rtu_size + 1U
+                                               : 0U;
+    }
+  }
+  return end + 2U;
+}
+
+std::size_t response_size(mb::byte_view held, std::uint8_t asked, mo::report_id_format fc11) {
+  const std::uint8_t f = held[1];
+  if (f >= 0x80U) {
+    return 5;  // an exception (the framer takes one of any function): its code
+  }
+  if (f != asked) {
+    return no_rule;
+  }
+  switch (f) {
+    case 0x01:  // a byte count N, N bytes
+    case 0x02:
+    case 0x03:
+    case 0x04:
+    case 0x0C:
+    case 0x14:
+    case 0x15:
+    case 0x17: return counted(held, 2, 5);
+    case 0x11:  // report server ID: counted, or (a device's layout) two bytes
+      return fc11 == mo::report_id_format::two_bytes_no_count ? 6U : counted(held, 2, 5);
+    case 0x05:  // the request's two words echoed
+    case 0x06:
+    case 0x08:
+    case 0x0B:
+    case 0x0F:
+    case 0x10: return 8;
+    case 0x07: return 5;   // the status byte
+    case 0x16: return 10;  // the request echoed
+    case 0x18:             // a 2-byte byte count N (FIFO count and values), N bytes
+      return held.size() < 4U ? 0U : 6U + (std::size_t{held[2]} << 8U | held[3]);
+    case 0x2B: return device_id_size(held);
+    default: return no_rule;
+  }
+}
+
 std::size_t predict(const setup& s, mb::byte_view held) {
-  return s.server ? mo::predict_request_size(held)
-                  : mo::predict_response_size(held, s.function, s.fc11);
+  if (held.size() < 2U) {
+    return 0;
+  }
+  return s.server ? request_size(held) : response_size(held, s.function, s.fc11);
 }
 
 bool for_us(const setup& s, std::uint8_t slave) {
@@ -67,7 +161,7 @@ std::vector<noted> reference(const setup& s, mb::byte_view in, std::size_t& left
       left = rem;
       return out;
     }
-    if (total == mo::unknown_length) {  // no rule: garbage
+    if (total == no_rule) {  // no rule: garbage
       ++p;
       continue;
     }
@@ -109,23 +203,7 @@ std::vector<noted> reference(const setup& s, mb::byte_view in, std::size_t& left
 
 template <class Framer>
 std::vector<noted> by_chunks(Framer& f, mb::byte_view in, std::size_t chunk) {
-  std::vector<noted> out;
-  for (std::size_t at = 0; at < in.size(); at += chunk) {
-    mb::byte_view part = in.subspan(at, chunk < in.size() - at ? chunk : in.size() - at);
-    for (int guard = 0;; ++guard) {
-      MOTIONBUS_FUZZ_CHECK(guard < 100000);
-      const auto r = f.feed(part);
-      MOTIONBUS_FUZZ_CHECK(f.pending() <= mo::max_rtu_size);
-      if (r.is_incomplete()) {
-        MOTIONBUS_FUZZ_CHECK(f.pending() + r.needed() <= mo::max_rtu_size);
-        break;
-      }
-      MOTIONBUS_FUZZ_CHECK(r.consumed() <= part.size());
-      part = part.subspan(r.consumed());
-      out.push_back(note(r));
-    }
-  }
-  return out;
+  return motionbus_fuzz::by_chunks(f, in, chunk, note, mo::max_rtu_size, mo::max_rtu_size);
 }
 
 template <class Framer>

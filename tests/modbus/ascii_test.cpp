@@ -5,12 +5,16 @@
 #include <doctest/doctest.h>
 
 #include <cstdint>
+#include <cstring>
 #include <string>
 #include <vector>
 
 #include "../support/bytes.hpp"
+#include "../support/frame_events.hpp"
 #include "../support/prng.hpp"
+#include "../support/stream.hpp"
 #include "motionbus/core/stream.hpp"
+#include "motionbus/modbus/server.hpp"
 
 using namespace motionbus;
 using namespace motionbus::modbus;
@@ -26,65 +30,6 @@ bytes chars(const std::string& s) {
 bytes ascii(std::uint8_t slave, const bytes& pdu) {
   std::uint8_t out[max_ascii_size] = {};
   return output(encode_ascii(slave, view(pdu), out), out);
-}
-
-struct event {
-  bool ok;
-  errc error;
-  std::uint8_t slave;
-  bytes pdu;
-  std::uint32_t expected;
-  std::uint32_t received;
-  bool operator==(const event& o) const {
-    return ok == o.ok && error == o.error && slave == o.slave && pdu == o.pdu &&
-           expected == o.expected && received == o.received;
-  }
-};
-
-event note(const decode_result<ascii_frame>& r) {
-  if (r) {
-    return {true, errc::ok, r->slave, bytes(r->pdu.begin(), r->pdu.end()), 0, 0};
-  }
-  return {false, r.error(), 0, {}, r.expected(), r.received()};
-}
-
-event frame_event(std::uint8_t slave, const bytes& pdu) {
-  return {true, errc::ok, slave, pdu, 0, 0};
-}
-event failure_event(errc e, std::uint32_t expected = 0, std::uint32_t received = 0) {
-  return {false, e, 0, {}, expected, received};
-}
-
-// Every result of `stream` fed in chunks of `chunk` (feed_all).
-std::vector<event> run(ascii_framer& f, const bytes& stream, std::size_t chunk) {
-  std::vector<event> out;
-  for (std::size_t at = 0; at < stream.size(); at += chunk) {
-    const byte_view in(stream.data() + at, std::min(chunk, stream.size() - at));
-    const byte_view left = feed_all(f, in, [&](const auto& r) {
-      out.push_back(note(r));
-      return true;
-    });
-    CHECK(left.empty());
-  }
-  return out;
-}
-
-// The same one character at a time through put_each().
-std::vector<event> run_put(ascii_framer& f, const bytes& stream) {
-  std::vector<event> out;
-  for (const std::uint8_t c : stream) {
-    put_each(f, c, [&](const auto& r) {
-      CHECK(!r.is_incomplete());
-      out.push_back(note(r));
-      return true;
-    });
-  }
-  return out;
-}
-
-bytes operator+(bytes a, const bytes& b) {
-  a.insert(a.end(), b.begin(), b.end());
-  return a;
 }
 
 }  // namespace
@@ -127,7 +72,7 @@ TEST_CASE("encode_ascii: ':', uppercase hex of address, PDU and LRC, CR LF") {
 TEST_CASE("decode_ascii: the bytes back, lowercase digits accepted, what follows not read") {
   std::uint8_t out[max_ascii_bytes] = {};
   const bytes frame = chars(":1103006B00037E\r\n");
-  const auto r = decode_ascii(view(frame + chars(":01")), out);
+  const auto r = decode_ascii(view(cat({frame, chars(":01")})), out);
   REQUIRE(r.is_complete());
   CHECK(r.consumed() == frame.size());
   CHECK(r->slave == 0x11);
@@ -201,13 +146,13 @@ TEST_CASE("ascii framer: a frame split at every character boundary, and one char
   const bytes frame = ascii(0x11, pdu);
   for (std::size_t cut = 0; cut <= frame.size(); ++cut) {
     ascii_framer f(framer_role::server, {0x11});
-    std::vector<event> got;
+    std::vector<frame_note> got;
     for (const auto& part : {bytes(frame.begin(), frame.begin() + static_cast<long>(cut)),
                              bytes(frame.begin() + static_cast<long>(cut), frame.end())}) {
       const auto r = f.feed(view(part));
       if (!r.is_incomplete()) {
         CHECK(r.consumed() == part.size());
-        got.push_back(note(r));
+        got.push_back(note_frame(r));
       }
     }
     REQUIRE(got.size() == 1U);
@@ -215,38 +160,39 @@ TEST_CASE("ascii framer: a frame split at every character boundary, and one char
   }
   for (std::size_t chunk = 1; chunk <= frame.size(); ++chunk) {
     ascii_framer f(framer_role::server, {0x11});
-    CHECK(run(f, frame, chunk) == std::vector<event>{frame_event(0x11, pdu)});
+    CHECK(fed_notes(f, view(frame), chunk, note_frame) ==
+          std::vector<frame_note>{frame_event(0x11, pdu)});
   }
   ascii_framer p(framer_role::server, {0x11});
-  CHECK(run_put(p, frame) == std::vector<event>{frame_event(0x11, pdu)});
+  CHECK(put_notes(p, view(frame), note_frame) == std::vector<frame_note>{frame_event(0x11, pdu)});
 }
 
 TEST_CASE("ascii framer: concatenated frames, garbage between them, a ':' restarts a frame") {
   const bytes a = {0x03, 0x00, 0x6B, 0x00, 0x03};
   const bytes b = {0x06, 0x00, 0x01, 0x00, 0x03};
-  const bytes stream =
-      ascii(0x11, a) + ascii(0x11, b) + chars(std::string("noise\r\n\x00\xff", 9)) +
-      ascii(0x11, a) + chars(":11030") /* cut short by a new ':' */ + ascii(0x11, b) +
-      chars(":1103G") /* non-hex: hunt for the next ':' */ + chars("1234\r\n") + ascii(0x11, a);
-  const std::vector<event> want = {
+  const bytes stream = cat(
+      {ascii(0x11, a), ascii(0x11, b), chars(std::string("noise\r\n\x00\xff", 9)), ascii(0x11, a),
+       chars(":11030") /* cut short by a new ':' */, ascii(0x11, b),
+       chars(":1103G") /* non-hex: hunt for the next ':' */, chars("1234\r\n"), ascii(0x11, a)});
+  const std::vector<frame_note> want = {
       frame_event(0x11, a), frame_event(0x11, b),
       frame_event(0x11, a), failure_event(errc::modbus_ascii_end),
       frame_event(0x11, b), failure_event(errc::modbus_ascii_character),
       frame_event(0x11, a)};
   for (std::size_t chunk = 1; chunk <= stream.size(); chunk += 3) {
     ascii_framer f(framer_role::server, {0x11});
-    CHECK(run(f, stream, chunk) == want);
+    CHECK(fed_notes(f, view(stream), chunk, note_frame) == want);
     CHECK(f.dropped() == 9U + 6U);  // the noise, and the characters after the bad one
   }
   ascii_framer p(framer_role::server, {0x11});
-  CHECK(run_put(p, stream) == want);
+  CHECK(put_notes(p, view(stream), note_frame) == want);
 }
 
 TEST_CASE("ascii framer: the errors of a frame, each reported once, and the next frame read") {
   const bytes good = ascii(0x11, {0x03, 0x00, 0x6B, 0x00, 0x03});
   const struct {
     const char* in;
-    event want;
+    frame_note want;
   } cases[] = {
       {":1103006B00037F\r\n", failure_event(errc::crc_mismatch, 0x7E, 0x7F)},
       {":1103006B00037\r\n", failure_event(errc::modbus_ascii_odd_digits)},
@@ -259,9 +205,9 @@ TEST_CASE("ascii framer: the errors of a frame, each reported once, and the next
   for (const auto& c : cases) {
     CAPTURE(c.in);
     ascii_framer f(framer_role::server, {0x11});
-    const bytes stream = chars(c.in) + good;
-    CHECK(run(f, stream, 5) ==
-          std::vector<event>{c.want, frame_event(0x11, {0x03, 0x00, 0x6B, 0x00, 0x03})});
+    const bytes stream = cat({chars(c.in), good});
+    CHECK(fed_notes(f, view(stream), 5, note_frame) ==
+          std::vector<frame_note>{c.want, frame_event(0x11, {0x03, 0x00, 0x6B, 0x00, 0x03})});
   }
   // too long: the 256th byte fails at once (never more than 255 held)
   std::string s = ":11";
@@ -269,17 +215,17 @@ TEST_CASE("ascii framer: the errors of a frame, each reported once, and the next
     s += "00";
   }
   ascii_framer f(framer_role::server, {0x11});
-  std::vector<event> got;
+  std::vector<frame_note> got;
   std::size_t most = 0;
-  for (const std::uint8_t c : chars(s) + good) {
+  for (const std::uint8_t c : cat({chars(s), good})) {
     if (f.put(c)) {
-      got.push_back(note(f.result()));
+      got.push_back(note_frame(f.result()));
     }
     most = std::max(most, f.pending());
   }
   CHECK(most == max_ascii_bytes);
-  CHECK(got == std::vector<event>{failure_event(errc::modbus_pdu_length),
-                                  frame_event(0x11, {0x03, 0x00, 0x6B, 0x00, 0x03})});
+  CHECK(got == std::vector<frame_note>{failure_event(errc::modbus_pdu_length),
+                                       frame_event(0x11, {0x03, 0x00, 0x6B, 0x00, 0x03})});
 }
 
 TEST_CASE("ascii framer: idle() is the inter-character timeout, a frame cut short is truncated") {
@@ -294,8 +240,9 @@ TEST_CASE("ascii framer: idle() is the inter-character timeout, a frame cut shor
   CHECK(f.pending() == 0U);
   CHECK(f.idle().is_incomplete());
   // the rest of the frame after the timeout is garbage until the next ':'
-  const bytes rest = chars("037E\r\n") + ascii(0x11, {0x07});
-  CHECK(run(f, rest, 4) == std::vector<event>{frame_event(0x11, {0x07})});
+  const bytes rest = cat({chars("037E\r\n"), ascii(0x11, {0x07})});
+  CHECK(fed_notes(f, view(rest), 4, note_frame) ==
+        std::vector<frame_note>{frame_event(0x11, {0x07})});
   CHECK(f.dropped() == 6U);
   // cut short after CR
   CHECK(f.feed(view(chars(":1107E8\r"))).is_incomplete());
@@ -304,33 +251,36 @@ TEST_CASE("ascii framer: idle() is the inter-character timeout, a frame cut shor
 
 TEST_CASE("ascii framer roles: server address and broadcast, client's sent(), listener") {
   const bytes pdu = {0x06, 0x00, 0x01, 0x00, 0x03};
-  const bytes stream = ascii(0x11, pdu) + ascii(0x12, pdu) + ascii(0x00, pdu);
+  const bytes stream = cat({ascii(0x11, pdu), ascii(0x12, pdu), ascii(0x00, pdu)});
   ascii_framer server(framer_role::server, {0x11});
-  CHECK(run(server, stream, 7) ==
-        std::vector<event>{frame_event(0x11, pdu), frame_event(0x00, pdu)});
+  CHECK(fed_notes(server, view(stream), 7, note_frame) ==
+        std::vector<frame_note>{frame_event(0x11, pdu), frame_event(0x00, pdu)});
   CHECK(server.skipped() == 1U);
   ascii_framer either(framer_role::either, {0x12});  // `either`: a server
-  CHECK(run(either, stream, 7) ==
-        std::vector<event>{frame_event(0x12, pdu), frame_event(0x00, pdu)});
+  CHECK(fed_notes(either, view(stream), 7, note_frame) ==
+        std::vector<frame_note>{frame_event(0x12, pdu), frame_event(0x00, pdu)});
   ascii_framer listener(framer_role::listener);
-  CHECK(run(listener, stream, 7) ==
-        std::vector<event>{frame_event(0x11, pdu), frame_event(0x12, pdu), frame_event(0x00, pdu)});
+  CHECK(fed_notes(listener, view(stream), 7, note_frame) ==
+        std::vector<frame_note>{frame_event(0x11, pdu), frame_event(0x12, pdu),
+                                frame_event(0x00, pdu)});
   ascii_framer client(framer_role::client);  // before any sent(): any slave
-  CHECK(run(client, stream, 7).size() == 3U);
+  CHECK(fed_notes(client, view(stream), 7, note_frame).size() == 3U);
   client.sent(view(ascii(0x12, pdu)));
-  CHECK(run(client, stream, 7) == std::vector<event>{frame_event(0x12, pdu)});
+  CHECK(fed_notes(client, view(stream), 7, note_frame) ==
+        std::vector<frame_note>{frame_event(0x12, pdu)});
   client.sent(view(chars(":zz")));  // an unreadable address: any
-  CHECK(run(client, stream, 7).size() == 3U);
+  CHECK(fed_notes(client, view(stream), 7, note_frame).size() == 3U);
   client.sent(view(chars("x12")));
-  CHECK(run(client, stream, 7).size() == 3U);
+  CHECK(fed_notes(client, view(stream), 7, note_frame).size() == 3U);
   for (const char* unreadable : {":1", ":1z", ":z1"}) {
     client.sent(view(ascii(0x12, pdu)));
     client.sent(view(chars(unreadable)));
-    CHECK(run(client, stream, 7).size() == 3U);
+    CHECK(fed_notes(client, view(stream), 7, note_frame).size() == 3U);
   }
   ascii_framer configured(framer_role::client, {0x00});
   configured = ascii_framer(framer_role::client, {0x11});
-  CHECK(run(configured, stream, 7) == std::vector<event>{frame_event(0x11, pdu)});
+  CHECK(fed_notes(configured, view(stream), 7, note_frame) ==
+        std::vector<frame_note>{frame_event(0x11, pdu)});
   // sent() drops a partial frame
   ascii_framer partial(framer_role::client, {0x11});
   CHECK(partial.feed(view(chars(":1106"))).is_incomplete());
@@ -343,8 +293,8 @@ TEST_CASE("ascii framer: the delimiter after CR may be changed (FC08 sub-functio
   ascii_framer f(framer_role::server, options);
   bytes frame = ascii(0x11, {0x07});
   frame.back() = '!';
-  CHECK(run(f, frame + ascii(0x11, {0x07}), 3) ==
-        std::vector<event>{frame_event(0x11, {0x07}), failure_event(errc::modbus_ascii_end)});
+  CHECK(fed_notes(f, view(cat({frame, ascii(0x11, {0x07})})), 3, note_frame) ==
+        std::vector<frame_note>{frame_event(0x11, {0x07}), failure_event(errc::modbus_ascii_end)});
 }
 
 TEST_CASE("ascii framer put(): byte by byte, the results of feed() in chunks (random streams)") {
@@ -372,14 +322,96 @@ TEST_CASE("ascii framer put(): byte by byte, the results of feed() in chunks (ra
           c = static_cast<std::uint8_t>(c >= 'A' && c <= 'F' ? c + 0x20 : c);
         }
       }
-      stream = stream + frame;
+      stream.insert(stream.end(), frame.begin(), frame.end());
     }
     const framer_role role = rng.below(2) == 0 ? framer_role::server : framer_role::listener;
     ascii_framer by_feed(role, {0x11});
     ascii_framer by_put(role, {0x11});
-    const auto fed = run(by_feed, stream, 1 + rng.below(40));
-    CHECK(run_put(by_put, stream) == fed);
+    const auto fed = fed_notes(by_feed, view(stream), 1 + rng.below(40), note_frame);
+    CHECK(put_notes(by_put, view(stream), note_frame) == fed);
     CHECK(by_feed.pending() == by_put.pending());
     CHECK(by_feed.dropped() == by_put.dropped());
   }
+}
+
+namespace {
+// A firmware's framer: a `static`, default-constructed (docs/design.md: all zeros, .bss).
+const ascii_framer static_framer;
+}  // namespace
+
+TEST_CASE("ascii framer: a default-constructed framer is all zeros, the delimiter LF") {
+  unsigned char raw[sizeof static_framer] = {};
+  std::memcpy(raw, &static_framer, sizeof static_framer);
+  std::size_t nonzero = 0;
+  for (const unsigned char b : raw) {
+    nonzero += b != 0U ? 1U : 0U;
+  }
+  CHECK(nonzero == 0U);
+  CHECK(static_framer.options().delimiter == '\n');
+  CHECK(static_framer.options().address == 0U);
+  // every delimiter is kept, LF and NUL included
+  for (const unsigned d : {0x00U, 0x0AU, 0x21U, 0xFFU}) {
+    const ascii_framer f(framer_role::server, {0x11, static_cast<std::uint8_t>(d)});
+    CHECK(f.options().delimiter == d);
+    CHECK(f.options().address == 0x11U);
+  }
+  ascii_framer lf;  // the default framer frames with LF
+  CHECK(fed_notes(lf, view(ascii(0x00, {0x07})), 4, note_frame) ==
+        std::vector<frame_note>{frame_event(0x00, {0x07})});
+}
+
+TEST_CASE("decode_ascii: the delimiter after CR may be changed too") {
+  std::uint8_t out[max_ascii_bytes] = {};
+  bytes frame = ascii(0x11, {0x07});
+  CHECK(decode_ascii(view(frame), out, '\n').is_complete());
+  CHECK(decode_ascii(view(frame), out, '!').error() == errc::modbus_ascii_end);
+  frame.back() = '!';
+  const auto r = decode_ascii(view(frame), out, '!');
+  REQUIRE(r.is_complete());
+  CHECK(r.consumed() == frame.size());
+  CHECK(bytes(r->pdu.begin(), r->pdu.end()) == bytes{0x07});
+  CHECK(decode_ascii(view(frame), out).error() == errc::modbus_ascii_end);  // LF by default
+}
+
+namespace {
+// Holding registers 0..9, register i holding 0x100 + i.
+struct ten_registers {
+  std::uint8_t read_registers(std::uint8_t function, std::uint16_t address,
+                              span<std::uint16_t> out) const {
+    if (function != 0x03 || address + out.size() > 10U) {
+      return 0x02;
+    }
+    for (std::size_t i = 0; i < out.size(); ++i) {
+      out[i] = static_cast<std::uint16_t>(0x100U + address + i);
+    }
+    return 0;
+  }
+};
+}  // namespace
+
+TEST_CASE("ascii server, the recipe of docs/modbus.md §7: serve_frame, then encode_ascii") {
+  ten_registers dev;
+  ascii_framer rx(framer_role::server, {0x11});
+  // FC03 of registers 2..3, then one past the end (exception 02), then a broadcast
+  const bytes stream =
+      cat({ascii(0x11, {0x03, 0x00, 0x02, 0x00, 0x02}), ascii(0x11, {0x03, 0x00, 0x09, 0x00, 0x02}),
+           ascii(0x00, {0x03, 0x00, 0x00, 0x00, 0x01})});
+  std::vector<bytes> replies;
+  feed_chunks(rx, view(stream), 5, [&](const decode_result<ascii_frame>& r) {
+    REQUIRE(r.is_complete());
+    const ascii_frame& f = r.value();
+    std::uint8_t rtu[max_rtu_size] = {};
+    const result<std::size_t> n = serve_frame(dev, 0x11, rtu_frame{f.slave, f.pdu, 0}, rtu);
+    REQUIRE(n);
+    if (n.value() == 0U) {
+      replies.emplace_back();  // a broadcast: executed, not answered
+      return true;
+    }
+    std::uint8_t out[max_ascii_size] = {};
+    const auto m = encode_ascii(rtu[0], byte_view(rtu + 1, n.value() - 3U), out);
+    REQUIRE(m);
+    replies.emplace_back(out, out + m.value());
+    return true;
+  });
+  CHECK(replies == std::vector<bytes>{chars(":11030401020103E1\r\n"), chars(":1183026A\r\n"), {}});
 }

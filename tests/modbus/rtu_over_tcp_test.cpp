@@ -6,7 +6,9 @@
 #include <cstdint>
 #include <vector>
 
+#include "../support/frame_events.hpp"
 #include "../support/modbus.hpp"
+#include "../support/stream.hpp"
 #include "motionbus/core/stream.hpp"
 #include "motionbus/modbus/framer.hpp"
 
@@ -21,42 +23,18 @@ constexpr framer_options over_tcp(std::uint8_t address) {
   return framer_options{address, frame_end::length};
 }
 
-struct event {
-  bool ok;
-  errc error;
-  std::uint8_t slave;
-  bytes pdu;
-  std::uint32_t expected;
-  std::uint32_t received;
-  bool operator==(const event& o) const {
-    return ok == o.ok && error == o.error && slave == o.slave && pdu == o.pdu &&
-           expected == o.expected && received == o.received;
-  }
-};
-
-event note(const decode_result<rtu_frame>& r) {
-  if (r) {
-    return {true, errc::ok, r->slave, bytes(r->pdu.begin(), r->pdu.end()), 0, 0};
-  }
-  return {false, r.error(), 0, {}, r.expected(), r.received()};
-}
-
-event frame_event(std::uint8_t slave, const bytes& pdu) {
-  return {true, errc::ok, slave, pdu, 0, 0};
-}
-
 // `stream` as a socket delivers it: in the chunks `cuts` make; every result (feed_all), and
 // the most bytes the framer held.
 template <class Framer>
-std::vector<event> receive(Framer& f, const bytes& stream, const std::vector<std::size_t>& cuts,
-                           std::size_t* most = nullptr) {
-  std::vector<event> out;
+std::vector<frame_note> receive(Framer& f, const bytes& stream,
+                                const std::vector<std::size_t>& cuts, std::size_t* most = nullptr) {
+  std::vector<frame_note> out;
   std::size_t from = 0;
   std::vector<std::size_t> ends = cuts;
   ends.push_back(stream.size());
   for (const std::size_t to : ends) {
     (void)feed_all(f, byte_view(stream.data() + from, to - from), [&](const auto& r) {
-      out.push_back(note(r));
+      out.push_back(note_frame(r));
       return true;
     });
     CHECK(f.pending() <= max_rtu_size);
@@ -66,23 +44,6 @@ std::vector<event> receive(Framer& f, const bytes& stream, const std::vector<std
     from = to;
   }
   return out;
-}
-
-template <class Framer>
-std::vector<event> receive_by_byte(Framer& f, const bytes& stream) {
-  std::vector<event> out;
-  for (const std::uint8_t b : stream) {
-    put_each(f, b, [&](const auto& r) {
-      out.push_back(note(r));
-      return true;
-    });
-  }
-  return out;
-}
-
-bytes operator+(bytes a, const bytes& b) {
-  a.insert(a.end(), b.begin(), b.end());
-  return a;
 }
 
 }  // namespace
@@ -103,9 +64,9 @@ TEST_CASE("RTU over TCP, server: back-to-back requests framed by length alone, a
                                    {0x2B, 0x0E, 0x01, 0x00},
                                    {0x06, 0x00, 0x01, 0x00, 0x03}};
   bytes stream;
-  std::vector<event> want;
+  std::vector<frame_note> want;
   for (const bytes& pdu : pdus) {
-    stream = stream + rtu(0x41, pdu);
+    stream = cat({stream, rtu(0x41, pdu)});
     want.push_back(frame_event(0x41, pdu));
   }
   // split in two at every byte boundary
@@ -124,7 +85,7 @@ TEST_CASE("RTU over TCP, server: back-to-back requests framed by length alone, a
     CHECK(receive(f, stream, cuts) == want);
   }
   rtu_server_framer by_byte(over_tcp(0x41));
-  CHECK(receive_by_byte(by_byte, stream) == want);
+  CHECK(put_notes(by_byte, view(stream), note_frame) == want);
 }
 
 TEST_CASE("RTU over TCP, server: garbage, a bad CRC and another address between frames") {
@@ -136,11 +97,11 @@ TEST_CASE("RTU over TCP, server: garbage, a bad CRC and another address between 
   bytes bad = rtu(0x41, {0x06, 0x41, 0x41, 0x41, 0x41});
   REQUIRE(bad == bytes{0x41, 0x06, 0x41, 0x41, 0x41, 0x41, 0x33, 0x42});
   bad.back() = 0xFF;
-  const bytes stream = f1 + bytes{0xFF, 0xFF, 0xFF} + f2 + other + bad + f1;
-  const std::vector<event> want = {frame_event(0x41, {0x03, 0x00, 0x6B, 0x00, 0x03}),
-                                   frame_event(0x41, {0x06, 0x00, 0x01, 0x00, 0x03}),
-                                   {false, errc::crc_mismatch, 0, {}, 0x4233, 0xFF33},
-                                   frame_event(0x41, {0x03, 0x00, 0x6B, 0x00, 0x03})};
+  const bytes stream = cat({f1, bytes{0xFF, 0xFF, 0xFF}, f2, other, bad, f1});
+  const std::vector<frame_note> want = {frame_event(0x41, {0x03, 0x00, 0x6B, 0x00, 0x03}),
+                                        frame_event(0x41, {0x06, 0x00, 0x01, 0x00, 0x03}),
+                                        {false, errc::crc_mismatch, 0, {}, 0x4233, 0xFF33},
+                                        frame_event(0x41, {0x03, 0x00, 0x6B, 0x00, 0x03})};
   for (std::size_t cut = 0; cut <= stream.size(); ++cut) {
     rtu_framer f(framer_role::server, over_tcp(0x41));
     CHECK(receive(f, stream, {cut}) == want);
@@ -148,7 +109,7 @@ TEST_CASE("RTU over TCP, server: garbage, a bad CRC and another address between 
     CHECK(f.skipped() == 1U);
   }
   rtu_server_framer by_byte(over_tcp(0x41));
-  CHECK(receive_by_byte(by_byte, stream) == want);
+  CHECK(put_notes(by_byte, view(stream), note_frame) == want);
 }
 
 TEST_CASE("RTU over TCP: a bad length holds what follows until its bytes are in (256 at most)") {
@@ -158,7 +119,7 @@ TEST_CASE("RTU over TCP: a bad length holds what follows until its bytes are in 
   const bytes request = rtu(0x41, {0x03, 0x00, 0x6B, 0x00, 0x03});
   bytes stream = head;
   for (int i = 0; i < 32; ++i) {
-    stream = stream + request;
+    stream = cat({stream, request});
   }
   rtu_server_framer f(over_tcp(0x41));
   std::size_t most = 0;
@@ -166,24 +127,24 @@ TEST_CASE("RTU over TCP: a bad length holds what follows until its bytes are in 
   CHECK(receive(f, first, {}, &most).empty());  // held, nothing settled
   CHECK(f.pending() == 254U);
   const bytes rest(stream.begin() + 254, stream.end());
-  const std::vector<event> got = receive(f, rest, {1, 5}, &most);
+  const std::vector<frame_note> got = receive(f, rest, {1, 5}, &most);
   CHECK(most <= max_rtu_size);
-  std::vector<event> frames;
-  for (const event& e : got) {
+  std::vector<frame_note> frames;
+  for (const frame_note& e : got) {
     if (e.ok) {
       frames.push_back(e);
     }
   }
-  CHECK(frames == std::vector<event>(32, frame_event(0x41, {0x03, 0x00, 0x6B, 0x00, 0x03})));
+  CHECK(frames == std::vector<frame_note>(32, frame_event(0x41, {0x03, 0x00, 0x6B, 0x00, 0x03})));
   CHECK(got.front().error == errc::crc_mismatch);  // the long request, at its 255th byte
   CHECK(f.pending() == 0U);
   // a quiet connection (the user's idle timer calls idle()) ends what is held instead
   rtu_server_framer quiet(over_tcp(0x41));
-  CHECK(receive(quiet, head + request, {}).empty());
+  CHECK(receive(quiet, cat({head, request}), {}).empty());
   CHECK(quiet.idle().error() == errc::truncated);
   CHECK(quiet.pending() == 0U);
   CHECK(receive(quiet, request, {3}) ==
-        std::vector<event>{frame_event(0x41, {0x03, 0x00, 0x6B, 0x00, 0x03})});
+        std::vector<frame_note>{frame_event(0x41, {0x03, 0x00, 0x6B, 0x00, 0x03})});
 }
 
 TEST_CASE("RTU over TCP, client: the response to the request sent, any split") {
@@ -191,9 +152,9 @@ TEST_CASE("RTU over TCP, client: the response to the request sent, any split") {
   const bytes response = rtu(0x41, {0x03, 0x04, 0x00, 0x2A, 0x01, 0x02});
   const bytes exception = rtu(0x41, {0x83, 0x02});
   const bytes stranger = rtu(0x42, {0x03, 0x04, 0x00, 0x00, 0x00, 0x00});
-  const bytes stream = stranger + response + exception;
-  const std::vector<event> want = {frame_event(0x41, {0x03, 0x04, 0x00, 0x2A, 0x01, 0x02}),
-                                   frame_event(0x41, {0x83, 0x02})};
+  const bytes stream = cat({stranger, response, exception});
+  const std::vector<frame_note> want = {frame_event(0x41, {0x03, 0x04, 0x00, 0x2A, 0x01, 0x02}),
+                                        frame_event(0x41, {0x83, 0x02})};
   for (std::size_t cut = 0; cut <= stream.size(); ++cut) {
     rtu_framer f(framer_role::client, over_tcp(0));
     f.sent(view(request));
@@ -205,10 +166,10 @@ TEST_CASE("RTU over TCP, client: the response to the request sent, any split") {
   }
   rtu_client_framer by_byte(over_tcp(0));
   by_byte.sent(view(request));
-  CHECK(receive_by_byte(by_byte, stream) == want);
+  CHECK(put_notes(by_byte, view(stream), note_frame) == want);
   // a response of another function is no response: dropped (no silence to end it)
   rtu_client_framer f(over_tcp(0));
   f.sent(view(request));
-  CHECK(receive(f, rtu(0x41, {0x04, 0x02, 0x00, 0x01}) + response, {5}) ==
-        std::vector<event>{frame_event(0x41, {0x03, 0x04, 0x00, 0x2A, 0x01, 0x02})});
+  CHECK(receive(f, cat({rtu(0x41, {0x04, 0x02, 0x00, 0x01}), response}), {5}) ==
+        std::vector<frame_note>{frame_event(0x41, {0x03, 0x04, 0x00, 0x2A, 0x01, 0x02})});
 }

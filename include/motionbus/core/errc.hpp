@@ -74,11 +74,13 @@ enum class [[nodiscard]] errc : std::uint8_t{
     modbus_slave_address = 70,
     /// A PDU outside 1..253 bytes, or an ADU outside 4..256.
     modbus_pdu_length = 71,
-    /// Modbus ASCII: a character other than a hex digit inside a frame (Serial Line §2.5.2.1).
+    /// Modbus ASCII: a character other than a hex digit, CR or the delimiter inside a frame
+    /// (Serial Line §2.5.2.1).
     modbus_ascii_character = 80,
     /// Modbus ASCII: an odd number of hex digits between ':' and CR LF (two a byte).
     modbus_ascii_odd_digits = 81,
-    /// Modbus ASCII: a frame not ended by CR LF (CR without LF, or a ':' that restarts it).
+    /// Modbus ASCII: a frame not ended by CR LF (CR without LF, LF without CR, or a ':' that
+    /// restarts it; LF: the delimiter, unless changed).
     modbus_ascii_end = 82,
     /// FC14/15: a sub-request's reference type is not 6 (Modbus App. Protocol §6.14; exception 02).
     modbus_reference_type = 96,

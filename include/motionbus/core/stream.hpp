@@ -1,6 +1,6 @@
 // motionbus — the feed loops of the stream objects (tformat::receiver, modbus::rtu_framer and
-// its fixed-role forms), written once: every result they report for a chunk of input, or for
-// one byte, in order.
+// its fixed-role forms, modbus::ascii_framer), written once: every result they report for a
+// chunk of input, or for one byte, in order.
 //
 //   feed_all(rx, in, [&](const auto& r) {   // r: a decode_result, complete or failed
 //     if (r) handle(r.value()); else log(r.error());

@@ -22,6 +22,19 @@
 //     if (rx.put(c) && rx.result()) handle(rx.result().value());
 //   on_char_timeout():                  // no character for 1 s inside a frame
 //     (void)rx.idle();                  // a frame cut short: truncated
+//
+// Firmware contract (Cortex-M4; sizes checked by the test command, stack and instructions by
+// the meter at -Os: docs/footprint.md):
+//   ascii_framer size: 300 bytes (the decoded bytes of the longest ADU, the reader's state, the
+//     options and put()'s result). A default-constructed `static` framer is all zeros: .bss,
+//     no start-up code, no flash copied to RAM (the delimiter is stored relative to LF).
+//   put(c), a server: 34.6 instructions a character over an FC03 request, LRC included, 81 at
+//     its last character (the delimiter: digits, length, LRC and address checked), 64 bytes of
+//     stack.
+//   Interrupts: put() or feed() may run in the UART receive interrupt, idle() in the
+//     inter-character timer's; sent() (client) runs before the request's first character goes
+//     out. None of them may run while another runs on the same framer. A frame handed over
+//     (ascii_frame::pdu) points into the framer: use it, or copy it, before the next call.
 #ifndef MOTIONBUS_MODBUS_ASCII_HPP
 #define MOTIONBUS_MODBUS_ASCII_HPP
 
@@ -113,9 +126,10 @@ enum class ascii_event : std::uint8_t {
 // and ascii_framer: the state only; the bytes go to the caller's storage.
 class ascii_reader {
  public:
-  // Takes `c`, storing decoded bytes at `bytes` (room for `capacity` <= 255).
+  // Takes `c`, storing decoded bytes at `bytes` (room for `capacity` <= 255); the delimiter
+  // after CR is LF XOR `delimiter_x` (0: LF; the framer stores it so: see ascii_framer).
   constexpr ascii_event step(std::uint8_t c, std::uint8_t* bytes, std::size_t capacity,
-                             std::uint8_t delimiter) noexcept {
+                             std::uint8_t delimiter_x) noexcept {
     if (phase_ == phase::digits) {
       const std::uint8_t v = hex_value(c);
       if (v != not_hex) {
@@ -138,10 +152,11 @@ class ascii_reader {
         phase_ = phase::end;
         return ascii_event::more;
       }
-      return stray(c, c == delimiter ? errc::modbus_ascii_end : errc::modbus_ascii_character);
+      return stray(
+          c, is_delimiter(c, delimiter_x) ? errc::modbus_ascii_end : errc::modbus_ascii_character);
     }
     if (phase_ == phase::end) {
-      if (c == delimiter) {
+      if (is_delimiter(c, delimiter_x)) {
         return end(bytes);
       }
       return stray(c, errc::modbus_ascii_end);
@@ -174,6 +189,10 @@ class ascii_reader {
 
  private:
   enum class phase : std::uint8_t { hunting = 0, digits = 1, end = 2 };
+
+  static constexpr bool is_delimiter(std::uint8_t c, std::uint8_t delimiter_x) noexcept {
+    return static_cast<std::uint8_t>(c ^ std::uint8_t{'\n'}) == delimiter_x;
+  }
 
   constexpr void start() noexcept {
     reset();
@@ -270,14 +289,17 @@ constexpr result<std::size_t> encode_ascii(std::uint8_t slave, byte_view pdu,
 /// modbus_ascii_end (no CR LF: the input ends first, CR is not followed by LF, or a ':' starts
 /// another frame, at which consumed stops), modbus_pdu_length (fewer than 3 or more than 255
 /// bytes), modbus_slave_address (248..255), buffer_too_small (`out` too short for the frame).
-constexpr decode_result<ascii_frame> decode_ascii(byte_view in, mutable_byte_view out) noexcept {
+/// `delimiter`: the character after CR, as ascii_options::delimiter (LF unless changed).
+constexpr decode_result<ascii_frame> decode_ascii(byte_view in, mutable_byte_view out,
+                                                  std::uint8_t delimiter = '\n') noexcept {
   if (in.empty() || in[0] != ':') {
     return decode_failure{errc::no_frame, in.empty() ? 0U : 1U};
   }
   const std::size_t capacity = out.size() < max_ascii_bytes ? out.size() : max_ascii_bytes;
   detail::ascii_reader reader;
   for (std::size_t i = 0; i < in.size(); ++i) {
-    const detail::ascii_event e = reader.step(in[i], out.data(), capacity, '\n');
+    const detail::ascii_event e = reader.step(
+        in[i], out.data(), capacity, static_cast<std::uint8_t>(delimiter ^ std::uint8_t{'\n'}));
     if (e == detail::ascii_event::frame) {
       return decode_result<ascii_frame>::complete(reader.frame(out.data()), i + 1U);
     }
@@ -305,9 +327,22 @@ struct ascii_options {
 /// framer_role::either is a server.
 class ascii_framer {
  public:
+  /// A default-constructed framer is all zeros (its options are stored relative to the
+  /// defaults, as tformat::receiver stores its own): a `static` one lands in .bss, not .data.
   constexpr explicit ascii_framer(framer_role role = framer_role::server,
                                   ascii_options options = {}) noexcept
-      : options_(options), slave_(options.address), role_(role) {}
+      : address_(options.address),
+        delimiter_x_(static_cast<std::uint8_t>(options.delimiter ^ std::uint8_t{'\n'})),
+        slave_(options.address),
+        role_(role) {}
+
+  /// The options the framer was built with.
+  constexpr ascii_options options() const noexcept {
+    ascii_options o;
+    o.address = address_;
+    o.delimiter = static_cast<std::uint8_t>(delimiter_x_ ^ std::uint8_t{'\n'});
+    return o;
+  }
 
   /// Client: records the request just written, its ASCII ADU (':' and the address's two digits
   /// are read: the response is expected from that slave, any for 0 or an unreadable address).
@@ -377,12 +412,12 @@ class ascii_framer {
     switch (role_) {
       case framer_role::listener: return true;
       case framer_role::client: return slave_ == 0U || slave == slave_;
-      default: return slave == options_.address || slave == broadcast_address;
+      default: return slave == address_ || slave == broadcast_address;
     }
   }
 
   constexpr bool step(std::uint8_t c) noexcept {
-    const detail::ascii_event e = reader_.step(c, bytes_, max_ascii_bytes, options_.delimiter);
+    const detail::ascii_event e = reader_.step(c, bytes_, max_ascii_bytes, delimiter_x_);
     if (e == detail::ascii_event::more) {
       return false;
     }
@@ -405,8 +440,10 @@ class ascii_framer {
 
   std::uint8_t bytes_[max_ascii_bytes] = {};  // address, PDU, LRC of the frame being read
   detail::ascii_reader reader_;
-  ascii_options options_;
-  std::uint8_t slave_ = 0;  // client: the slave of the request sent (0: any)
+  // The options, each stored so that its default is 0 (a default framer is all zeros).
+  std::uint8_t address_ = 0;
+  std::uint8_t delimiter_x_ = 0;  // XOR the default delimiter, LF
+  std::uint8_t slave_ = 0;        // client: the slave of the request sent (0: any)
   framer_role role_ = framer_role::server;
   std::size_t dropped_ = 0;
   std::size_t skipped_ = 0;
