@@ -4,8 +4,9 @@
 // is silent: a request cut short is answered then (ID3 data, as the specification's Table 6
 // says), a wrong sync code never.
 //
-// The silence: 1 ms or less on a real line at 2.5 Mbps; 50 ms under emulation, where the gaps
-// between bytes come from the host's scheduling (MOTIONBUS_SILENCE_US).
+// The silence: 1 ms or less on a real line at 2.5 Mbps; 500 ms under emulation, where the gaps
+// between bytes come from the host's scheduling (MOTIONBUS_SILENCE_US): QEMU hands the UART a
+// request's bytes one main-loop turn apart, measured up to 266 ms apart on a loaded host.
 #include <cstddef>
 #include <cstdint>
 
@@ -14,7 +15,7 @@
 #include "motionbus/tformat/codec.hpp"
 
 #ifndef MOTIONBUS_SILENCE_US
-#define MOTIONBUS_SILENCE_US 50000
+#define MOTIONBUS_SILENCE_US 500000  // not 50 ms: a loaded host split requests (issue 27)
 #endif
 
 namespace mb = motionbus;

@@ -1,7 +1,7 @@
 // motionbus firmware examples — Arm MPS2 with the AN386 image (Cortex-M4), as QEMU models it
-// (-M mps2-an386): startup code, the CMSDK APB UART0 polled, SysTick as a microsecond clock. No
-// vendor SDK: the registers are those of the board's documentation (Arm MPS2 AN386, CMSDK APB
-// UART).
+// (-M mps2-an386): startup code, the CMSDK APB UART0 polled, the FPGA I/O block's COUNTER as a
+// microsecond clock. No vendor SDK: the registers are those of the board's documentation (Arm
+// MPS2 AN386: CMSDK APB UART, FPGA system control and I/O).
 #include <cstddef>
 #include <cstdint>
 
@@ -10,29 +10,24 @@
 namespace {
 
 constexpr std::uintptr_t uart0 = 0x40004000U;
+constexpr std::uintptr_t fpgaio = 0x40028000U;      // FPGA system control and I/O
 constexpr std::uint32_t core_clock_hz = 25000000U;  // the AN386 image's system clock
 
 volatile std::uint32_t& reg(std::uintptr_t address) {
   return *reinterpret_cast<volatile std::uint32_t*>(address);
 }
 
-volatile std::uint32_t milliseconds = 0;
-
 }  // namespace
 
-// The startup code and vector table are cortex_m_startup.cpp's; this board takes SysTick.
-extern "C" void systick_handler() {
-  milliseconds = milliseconds + 1U;
-}
+// The startup code and vector table are cortex_m_startup.cpp's; this board takes no interrupt.
 
 namespace board {
 
 void init() {
-  reg(uart0 + 0x10U) = core_clock_hz / 9600U;     // BAUDDIV (QEMU ignores the rate)
-  reg(uart0 + 0x08U) = 0x3U;                      // CTRL: TX and RX enabled
-  reg(0xE000E014U) = core_clock_hz / 1000U - 1U;  // SysTick reload: 1 ms
-  reg(0xE000E018U) = 0U;
-  reg(0xE000E010U) = 0x7U;  // processor clock, interrupt, enabled
+  reg(uart0 + 0x10U) = core_clock_hz / 9600U;           // BAUDDIV (QEMU ignores the rate)
+  reg(uart0 + 0x08U) = 0x3U;                            // CTRL: TX and RX enabled
+  reg(fpgaio + 0x1CU) = core_clock_hz / 1000000U - 1U;  // PRESCALE: COUNTER counts microseconds
+  reg(fpgaio + 0x18U) = 0U;                             // COUNTER
 }
 
 bool uart_read(std::uint8_t& byte) {
@@ -59,16 +54,11 @@ void console(const char* text) {
 }
 
 std::uint32_t now_us() {
-  // the milliseconds counted by the SysTick interrupt, plus the microseconds of the current one
-  // from the counter (it counts down from the reload value); read again if a tick came between
-  for (;;) {
-    const std::uint32_t ms = milliseconds;
-    const std::uint32_t left = reg(0xE000E018U);
-    if (ms == milliseconds) {
-      const std::uint32_t reload = reg(0xE000E014U);
-      return ms * 1000U + (reload - left) / (core_clock_hz / 1000000U);
-    }
-  }
+  // Not SysTick milliseconds plus its counter: QEMU holds SysTick's counter at 0 until its
+  // interrupt is delivered, late when the host is loaded, and drops the ticks missed, so that
+  // clock stood still and then jumped (two reset requests 3 ms apart read 55 us apart: issue 27).
+  // COUNTER is computed from the emulated clock at each read.
+  return reg(fpgaio + 0x18U);
 }
 
 }  // namespace board
