@@ -36,22 +36,22 @@ class frame_buffer {
   static constexpr std::size_t capacity = N;
 
   /// Bytes held.
-  MOTIONBUS_INLINE constexpr std::size_t size() const noexcept {
+  constexpr std::size_t size() const noexcept {
     return static_cast<std::size_t>(end_ - start_);
   }
-  MOTIONBUS_INLINE constexpr bool empty() const noexcept { return end_ == start_; }
+  constexpr bool empty() const noexcept { return end_ == start_; }
   /// Byte `i` of those held (i < size()).
-  MOTIONBUS_INLINE constexpr std::uint8_t operator[](std::size_t i) const noexcept {
+  constexpr std::uint8_t operator[](std::size_t i) const noexcept {
     return bytes_[start_ + i];
   }
   /// The first `n` bytes held (n <= size()), valid until the next append, push or clear.
-  MOTIONBUS_INLINE constexpr byte_view first(std::size_t n) const noexcept {
+  constexpr byte_view first(std::size_t n) const noexcept {
     return byte_view(bytes_ + start_, n);
   }
-  MOTIONBUS_INLINE constexpr byte_view view() const noexcept { return first(size()); }
+  constexpr byte_view view() const noexcept { return first(size()); }
 
   /// Appends one byte; false (nothing appended) when N bytes are held.
-  MOTIONBUS_INLINE constexpr bool push(std::uint8_t b) noexcept {
+  constexpr bool push(std::uint8_t b) noexcept {
     const index end = end_;
     if (end == N) {
       return push_at_capacity(b);
@@ -62,14 +62,14 @@ class frame_buffer {
   }
   /// Appends the byte push_before() refused where, with it, wanted() bytes are held (there is
   /// room for it at the end: see want()).
-  MOTIONBUS_INLINE constexpr void put_last(std::uint8_t b) noexcept {
+  constexpr void put_last(std::uint8_t b) noexcept {
     place_last(b);
     end_ = static_cast<index>(end_ + 1U);
   }
   /// put_last() in two steps: the byte stored, then (unless the owner drops everything held
   /// with restart()) counted.
-  MOTIONBUS_INLINE constexpr void place_last(std::uint8_t b) noexcept { bytes_[end_] = b; }
-  MOTIONBUS_INLINE constexpr void count_last() noexcept { end_ = static_cast<index>(end_ + 1U); }
+  constexpr void place_last(std::uint8_t b) noexcept { bytes_[end_] = b; }
+  constexpr void count_last() noexcept { end_ = static_cast<index>(end_ + 1U); }
   /// The owner decides when `n` (<= N) bytes are held: push_before() refuses the byte that
   /// would make `n` (or more) held, and no earlier byte (room is made at the end first where
   /// `n` bytes from the front would not fit), so that the owner may take a refusal inside a
@@ -80,23 +80,23 @@ class frame_buffer {
   }
   /// want(n) where room for `n` bytes from the front was made already (reserve(n) or more,
   /// with nothing dropped since): no room check.
-  MOTIONBUS_INLINE constexpr void want_within(std::size_t n) noexcept {
+  constexpr void want_within(std::size_t n) noexcept {
     want_ = static_cast<index>(n);
     const std::size_t stop = static_cast<std::size_t>(start_) + n;
     stop_ = static_cast<index>(stop - (stop != 0U ? 1U : 0U));
   }
   /// Makes room for `n` (<= N) bytes from the front: moves the bytes held there if needed.
-  MOTIONBUS_INLINE constexpr void reserve(std::size_t n) noexcept {
+  constexpr void reserve(std::size_t n) noexcept {
     if (static_cast<std::size_t>(start_) + n > N) {
       make_room();
     }
   }
   /// The `n` of the last want() (0: decide at every byte).
-  MOTIONBUS_INLINE constexpr std::size_t wanted() const noexcept { return want_; }
+  constexpr std::size_t wanted() const noexcept { return want_; }
   /// The per-byte step of a stream object: appends `b` when, with it, fewer than wanted()
   /// bytes are held, and returns true. False (nothing appended) when a decision is due: the
   /// byte would make wanted() held (or more).
-  MOTIONBUS_INLINE constexpr bool push_before(std::uint8_t b) noexcept {
+  constexpr bool push_before(std::uint8_t b) noexcept {
     const index end = end_;
     if (end >= stop_) {
       return false;
@@ -106,10 +106,10 @@ class frame_buffer {
     return true;
   }
   /// The bytes held, from the front (size() of them).
-  MOTIONBUS_INLINE constexpr const std::uint8_t* data() const noexcept { return bytes_ + start_; }
+  constexpr const std::uint8_t* data() const noexcept { return bytes_ + start_; }
   /// The first byte of a frame of `n` (1..N) bytes, into an empty buffer: held at the front,
   /// and want(n).
-  MOTIONBUS_INLINE constexpr void start_with(std::uint8_t b, std::size_t n) noexcept {
+  constexpr void start_with(std::uint8_t b, std::size_t n) noexcept {
     bytes_[0] = b;
     start_ = 0;
     end_ = 1;
@@ -163,7 +163,7 @@ class frame_buffer {
   }
   /// Drops everything held, whose bytes stay readable until the next append (a frame handed
   /// over), and want(n) from the front.
-  MOTIONBUS_INLINE constexpr void restart(std::size_t n) noexcept {
+  constexpr void restart(std::size_t n) noexcept {
     start_ = 0;
     end_ = 0;
     want_ = static_cast<index>(n);
