@@ -101,13 +101,13 @@ class [[nodiscard]] decode_result {
   // and empty, so that making it active writes no bytes (an empty aggregate, value-initialised,
   // would let a compiler clear the whole union).
   struct nothing {
-    MOTIONBUS_INLINE constexpr nothing() noexcept {}  // NOLINT(modernize-use-equals-default)
+    constexpr nothing() noexcept {}  // NOLINT(modernize-use-equals-default)
   };
   union storage {
     nothing none;
     T value;
     evidence failure;
-    MOTIONBUS_INLINE constexpr storage() noexcept : none() {}
+    constexpr storage() noexcept : none() {}
     MOTIONBUS_INLINE constexpr explicit storage(const T& v) noexcept : value(v) {}
     MOTIONBUS_INLINE constexpr explicit storage(const evidence& f) noexcept : failure(f) {}
   };
@@ -116,7 +116,7 @@ class [[nodiscard]] decode_result {
   using value_type = T;
 
   /// A complete value that used `consumed` units of input.
-  MOTIONBUS_INLINE static constexpr decode_result complete(const T& value,
+  static constexpr decode_result complete(const T& value,
                                                            std::size_t consumed) noexcept {
     return decode_result(value, consumed);
   }
@@ -171,7 +171,7 @@ class [[nodiscard]] decode_result {
   };
   /// Incomplete, at least 1 unit needed: all zeros, so that an object holding one (a stream
   /// object's last result) can be a `static` in .bss.
-  MOTIONBUS_INLINE constexpr decode_result() noexcept
+  constexpr decode_result() noexcept
       : count_(0), status_(decode_status::incomplete) {}
   // NOLINTNEXTLINE(google-explicit-constructor): `return need_input{n};` from a decoder
   MOTIONBUS_INLINE constexpr decode_result(need_input n) noexcept
