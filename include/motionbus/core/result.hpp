@@ -174,7 +174,7 @@ class [[nodiscard]] decode_result {
   constexpr decode_result() noexcept
       : count_(0), status_(decode_status::incomplete) {}
   // NOLINTNEXTLINE(google-explicit-constructor): `return need_input{n};` from a decoder
-  MOTIONBUS_INLINE constexpr decode_result(need_input n) noexcept
+  constexpr decode_result(need_input n) noexcept
       : count_(n.at_least == 0 ? 1 : n.at_least), status_(decode_status::incomplete) {}
   // NOLINTNEXTLINE(google-explicit-constructor): `return decode_failure{...};` likewise
   MOTIONBUS_INLINE constexpr decode_result(decode_failure f) noexcept
