@@ -334,17 +334,14 @@ MOTIONBUS_INLINE constexpr decode_result<response> decode_response_small(
 /// A busy EEPROM is state (response::busy), not an error. MOTIONBUS_SMALL_CODE picks the
 /// form (core/config.hpp); both return the same results. Forced inline, as the two forms it
 /// forwards to: the polled IDs decode in the caller (the meter's ID3 figure is 58, 90 called).
+MOTIONBUS_INLINE constexpr decode_result<response> decode_response(
+    byte_view in, const decode_options& opt = {}) noexcept {
 #if MOTIONBUS_SMALL_CODE
-MOTIONBUS_INLINE constexpr decode_result<response> decode_response(
-    byte_view in, const decode_options& opt = {}) noexcept {
   return detail::decode_response_small(in, opt);
-}
 #else
-MOTIONBUS_INLINE constexpr decode_result<response> decode_response(
-    byte_view in, const decode_options& opt = {}) noexcept {
   return detail::decode_response_fast(in, opt);
-}
 #endif
+}
 
 /// decode_response on a buffer that must hold exactly one frame (e.g. bytes received up to
 /// the line's idle): fewer bytes are errc::truncated, more are errc::tformat_length.
