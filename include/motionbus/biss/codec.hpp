@@ -28,6 +28,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <type_traits>
+#include <utility>
 
 #include "motionbus/biss/frame.hpp"
 #include "motionbus/core/bits.hpp"
@@ -298,52 +299,48 @@ MOTIONBUS_INLINE constexpr frame_result<N> decode_chain(span<const Word> words,
 
 }  // namespace detail
 
+namespace detail {
+
+// The capture as span<const Word>, from a span<const Word>, a span<Word> or a plain array.
+template <class Word>
+constexpr span<const Word> capture_words(span<const Word> words) noexcept {
+  return words;
+}
+template <class Word, class = std::enable_if_t<!std::is_const<Word>::value>>
+constexpr span<const Word> capture_words(span<Word> words) noexcept {
+  return span<const Word>(words);
+}
+template <class Word, std::size_t N>
+constexpr span<const Word> capture_words(const Word (&words)[N]) noexcept {
+  return span<const Word>(words, N);
+}
+template <class Words>
+using capture_word_t = typename decltype(capture_words(std::declval<const Words&>()))::value_type;
+
+}  // namespace detail
+
 /// Decodes the sensor data frame of a chain from a raw SL capture of `bit_count` samples
-/// (clipped to the words given). See the file comment for the outcomes. Forced inline, as
-/// every decode_frame form: it hands the caller's layouts on to decode_chain.
-template <crc_table_size Table = default_crc_table, class Word>
+/// (clipped to the words given): a span<const Word>, a span<Word> or a plain array of Word.
+/// See the file comment for the outcomes.
+// inline: hands the caller's constant layouts on to decode_chain, which folds them.
+template <crc_table_size Table = default_crc_table, class Words,
+          class Word = detail::capture_word_t<Words>>
 MOTIONBUS_INLINE constexpr frame_result<max_chain> decode_frame(
-    span<const Word> words, std::size_t bit_count, span<const slave_layout> chain,
+    const Words& words, std::size_t bit_count, span<const slave_layout> chain,
     const decode_options& opt = {}, bit_order order = bit_order::msb_first) noexcept {
-  return detail::decode_chain<Table, max_chain, Word>(words, bit_count, chain, opt, order);
+  return detail::decode_chain<Table, max_chain, Word>(detail::capture_words(words), bit_count,
+                                                      chain, opt, order);
 }
 
 /// Single-slave form: the slave's data is `slaves[0]`.
-template <crc_table_size Table = default_crc_table, class Word>
+// inline: as the chain form.
+template <crc_table_size Table = default_crc_table, class Words,
+          class Word = detail::capture_word_t<Words>>
 MOTIONBUS_INLINE constexpr frame_result<1> decode_frame(
-    span<const Word> words, std::size_t bit_count, const slave_layout& layout,
+    const Words& words, std::size_t bit_count, const slave_layout& layout,
     const decode_options& opt = {}, bit_order order = bit_order::msb_first) noexcept {
-  return detail::decode_chain<Table, 1, Word>(words, bit_count,
+  return detail::decode_chain<Table, 1, Word>(detail::capture_words(words), bit_count,
                                               span<const slave_layout>(&layout, 1), opt, order);
-}
-
-// The same over span<Word> and over plain arrays: `Word` is not deduced from span<const Word>
-// for those, so these forward (chain and single-slave forms).
-template <crc_table_size Table = default_crc_table, class Word,
-          class = std::enable_if_t<!std::is_const<Word>::value>>
-MOTIONBUS_INLINE constexpr frame_result<max_chain> decode_frame(
-    span<Word> words, std::size_t bit_count, span<const slave_layout> chain,
-    const decode_options& opt = {}, bit_order order = bit_order::msb_first) noexcept {
-  return decode_frame<Table, Word>(span<const Word>(words), bit_count, chain, opt, order);
-}
-template <crc_table_size Table = default_crc_table, class Word, std::size_t N>
-MOTIONBUS_INLINE constexpr frame_result<max_chain> decode_frame(
-    const Word (&words)[N], std::size_t bit_count, span<const slave_layout> chain,
-    const decode_options& opt = {}, bit_order order = bit_order::msb_first) noexcept {
-  return decode_frame<Table, Word>(span<const Word>(words, N), bit_count, chain, opt, order);
-}
-template <crc_table_size Table = default_crc_table, class Word,
-          class = std::enable_if_t<!std::is_const<Word>::value>>
-MOTIONBUS_INLINE constexpr frame_result<1> decode_frame(
-    span<Word> words, std::size_t bit_count, const slave_layout& layout,
-    const decode_options& opt = {}, bit_order order = bit_order::msb_first) noexcept {
-  return decode_frame<Table, Word>(span<const Word>(words), bit_count, layout, opt, order);
-}
-template <crc_table_size Table = default_crc_table, class Word, std::size_t N>
-MOTIONBUS_INLINE constexpr frame_result<1> decode_frame(
-    const Word (&words)[N], std::size_t bit_count, const slave_layout& layout,
-    const decode_options& opt = {}, bit_order order = bit_order::msb_first) noexcept {
-  return decode_frame<Table, Word>(span<const Word>(words, N), bit_count, layout, opt, order);
 }
 
 // ---------------------------------------------------------------------------------------------

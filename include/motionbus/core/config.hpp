@@ -68,8 +68,6 @@
 #ifndef MOTIONBUS_INLINE
 #if (defined(__GNUC__) || defined(__clang__)) && defined(__OPTIMIZE__)
 #define MOTIONBUS_INLINE inline __attribute__((always_inline))
-#elif defined(_MSC_VER) && !defined(_DEBUG)
-#define MOTIONBUS_INLINE __forceinline
 #else
 #define MOTIONBUS_INLINE inline
 #endif

@@ -185,6 +185,32 @@ struct framer_options {
   report_id_format fc11 = report_id_format::standard;  ///< client: FC11 response layout
 };
 
+namespace detail {
+// The framer's buffer: frame_buffer and the steps of a server's put() alone. A request's
+// function code sizes it (up to 10 bytes): room for those is made at its first byte, so that
+// its second byte sets the size with no room check, and its last byte is stored at once but
+// counted only where the frame is not handed over.
+class rtu_buffer : public frame_buffer<max_rtu_size> {
+ public:
+  static constexpr std::size_t max_fixed_request = 10;  // fixed_request_size's largest
+  /// Makes room for max_fixed_request bytes from the front: moves the bytes held if needed.
+  constexpr void reserve_fixed() noexcept {
+    if (static_cast<std::size_t>(start_) + max_fixed_request > max_rtu_size) {
+      make_room();
+    }
+  }
+  /// want(n) for n <= max_fixed_request after reserve_fixed(), nothing dropped since.
+  constexpr void want_within(std::size_t n) noexcept {
+    want_ = static_cast<index>(n);
+    const std::size_t stop = static_cast<std::size_t>(start_) + n;
+    stop_ = static_cast<index>(stop - (stop != 0U ? 1U : 0U));
+  }
+  /// put_last() in two steps: the byte stored, then (unless restart() drops it all) counted.
+  constexpr void place_last(std::uint8_t b) noexcept { bytes_[end_] = b; }
+  constexpr void count_last() noexcept { end_ = static_cast<index>(end_ + 1U); }
+};
+}  // namespace detail
+
 /// A framer's role, the template parameter of basic_rtu_framer: fixed by the type, so that a
 /// server links only the request length rule (no client code) and a client only the
 /// response's; or `either`, the one type whose role is chosen at run time (its constructor's
@@ -220,8 +246,7 @@ class basic_rtu_framer {
   constexpr void sent(byte_view request_adu) noexcept {
     slave_ = request_adu.size() > 0U ? request_adu[0] : std::uint8_t{0};
     function_ = request_adu.size() > 1U ? request_adu[1] : std::uint8_t{0};
-    buf_.want(0);
-    buf_.clear();
+    buf_.restart(0);
     waiting_ = 0;
     phase_ = phase::scanning;
   }
@@ -261,7 +286,7 @@ class basic_rtu_framer {
       const std::size_t total = detail::fixed_request_size(byte);
       if (total != 0U) {
         buf_.put_last(byte);      // the second byte of two wanted: it fits
-        buf_.want_within(total);  // room for 10 bytes was made with the first (put_other)
+        buf_.want_within(total);  // room was made with the first (put_other)
         phase_ = phase::framing;
         return false;
       }
@@ -306,7 +331,7 @@ class basic_rtu_framer {
           r = hand_over(whole.value(), buf_.size(), 0);
         } else {
           ++skipped_;
-          buf_.clear();
+          buf_.restart(0);
         }
       }
     }
@@ -332,8 +357,7 @@ class basic_rtu_framer {
     // The silence ends whatever is held: the framer starts the next frame empty (a frame
     // handed over stays readable in the buffer until the next call).
     dropped_ += buf_.size();
-    buf_.want(0);
-    buf_.clear();
+    buf_.restart(0);
     waiting_ = 0;
     phase_ = phase::scanning;
     return r;
@@ -365,7 +389,7 @@ class basic_rtu_framer {
       if (size == 0U) {
         buf_.want(2);
         if (server()) {
-          buf_.reserve(max_fixed_request);  // for put()'s function code path
+          buf_.reserve_fixed();  // for put()'s function code path
           phase_ = phase::function_code;
         }
         return false;
@@ -402,7 +426,7 @@ class basic_rtu_framer {
   // true, and `out` complete, for a frame for this node whose CRC matches; else false.
   constexpr bool end_frame(decode_result<rtu_frame>& out) noexcept {
     const std::size_t total = buf_.wanted();
-    const std::uint8_t* const frame = buf_.data();
+    const std::uint8_t* const frame = buf_.view().data();
     const std::uint16_t received = load_le16(byte_view(frame, total), total - 2U);
     const std::uint8_t slave = frame[0];
     if (crc16_modbus<Table>::compute(byte_view(frame, total - 2U)) != received ||
@@ -528,7 +552,7 @@ class basic_rtu_framer {
     waiting_ = 0;
     // a server's next function code takes put()'s inline path when it is the next byte but one
     if (server() && buf_.size() < 2U) {
-      buf_.reserve(max_fixed_request);
+      buf_.reserve_fixed();
       phase_ = phase::function_code;
     } else {
       phase_ = phase::scanning;
@@ -730,7 +754,7 @@ class basic_rtu_framer {
     }
   }
 
-  frame_buffer<max_rtu_size> buf_;  // first: put() stores at the object's address
+  detail::rtu_buffer buf_;  // first: put() stores at the object's address
   framer_options options_;
   // client: the slave of the request sent (options.address until sent(); 0: any); listener:
   // the slave of the request heard
@@ -739,8 +763,6 @@ class basic_rtu_framer {
   // A bool (the length rule failed on the bytes held: only idle() decides), or the CRC's low
   // byte while a Return Query Data is awaited (keep_query_crc())
   std::uint8_t waiting_ = 0;
-  // The largest request the function code alone sizes (fixed_request_size).
-  static constexpr std::size_t max_fixed_request = 10;
   // What put() decides at the next byte push_before() refuses.
   enum class phase : std::uint8_t {
     scanning = 0,       // put_other(): anything
