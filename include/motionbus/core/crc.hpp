@@ -468,7 +468,8 @@ class crc {
         // evaluation), never at the coverage build's -O0; tests/core/crc_test.cpp checks it at
         // -O2 for every count 8..64 and tests/static/core_static.cpp in constant evaluation
         const unsigned bytes = (n + 7U) / 8U;
-        std::uint64_t m = (v ^ (static_cast<std::uint64_t>(reg_) << (n - 8U))) << (64U - 8U * bytes);
+        std::uint64_t m = (v ^ (static_cast<std::uint64_t>(reg_) << (n - 8U)))
+                          << (64U - 8U * bytes);
         std::uint32_t r = 0;
         MOTIONBUS_UNROLL(8)
         for (unsigned k = 0; k < bytes; ++k) {

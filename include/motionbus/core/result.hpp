@@ -116,8 +116,7 @@ class [[nodiscard]] decode_result {
   using value_type = T;
 
   /// A complete value that used `consumed` units of input.
-  static constexpr decode_result complete(const T& value,
-                                                           std::size_t consumed) noexcept {
+  static constexpr decode_result complete(const T& value, std::size_t consumed) noexcept {
     return decode_result(value, consumed);
   }
   /// Settles a decode_result in place (a stream object's own result, framer.hpp): call one
@@ -171,8 +170,7 @@ class [[nodiscard]] decode_result {
   };
   /// Incomplete, at least 1 unit needed: all zeros, so that an object holding one (a stream
   /// object's last result) can be a `static` in .bss.
-  constexpr decode_result() noexcept
-      : count_(0), status_(decode_status::incomplete) {}
+  constexpr decode_result() noexcept : count_(0), status_(decode_status::incomplete) {}
   // NOLINTNEXTLINE(google-explicit-constructor): `return need_input{n};` from a decoder
   constexpr decode_result(need_input n) noexcept
       : count_(n.at_least == 0 ? 1 : n.at_least), status_(decode_status::incomplete) {}
