@@ -365,7 +365,8 @@ class receiver {
   }
 
   frame_buffer<max_response_size> buf_;  // first: put() stores at the object's address
-  // The options, each stored so that its default is 0 (a default receiver is all zeros).
+  // The options, each stored so that its default is 0: a default receiver is all zeros, a
+  // `static` one in .bss (stored as given, it is in .data: its image in flash, copied at boot).
   bool echo_ = false;
   bool skip_check_ = false;
   std::uint8_t single_turn_x_ = 0;  // XOR the default resolution
