@@ -444,8 +444,8 @@ class crc {
 
  public:
   /// Feeds the low `count` bits of `bits` in the CRC's bit order (see the file comment).
-  /// A count above 64 is treated as 64. Forced inline: MOTIONBUS_CONSTANT_P then sees a
-  /// count the caller fixes (a BiSS-C frame's CRC).
+  /// A count above 64 is treated as 64.
+  // inline: MOTIONBUS_CONSTANT_P then sees a count the caller fixes (a BiSS-C frame's CRC).
   MOTIONBUS_INLINE constexpr crc& update_bits(std::uint64_t bits, unsigned count) noexcept {
     const unsigned n = count > 64U ? 64U : count;
     const std::uint64_t v = bits & detail::low_mask64(n);
@@ -513,8 +513,8 @@ class crc {
   /// The CRC of everything fed so far (reflection and final XOR applied). Feeding may go on.
   constexpr value_type value() const noexcept { return value_of(reg_); }
 
-  /// One-shot CRC of `data`. Forced inline: the walk then gets the view's pointer and size in
-  /// registers, not the view through the stack.
+  /// One-shot CRC of `data`.
+  // inline: the walk gets the view's pointer and size in registers, not through the stack.
   MOTIONBUS_INLINE static constexpr value_type compute(byte_view data) noexcept {
     return value_of(feed_range(initial_register(), data.data(), data.size()));
   }
