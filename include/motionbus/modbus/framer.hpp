@@ -42,10 +42,10 @@
 //     is sized inline too. An FC01-FC06 request: 24.8 a byte, CRC included (25.2 with the
 //     run-time role of rtu_framer), 96 at its last byte (CRC, address), 56 bytes of stack. An
 //     FC0F, FC10 or FC17 request (its byte count: the length rule reads the bytes held at each
-//     byte until it has it): up to 126.6 a byte (the shortest), 1641 at its last byte at worst
+//     byte until it has it): up to 128.8 a byte (the shortest), 1650 at its last byte at worst
 //     (FC10 of 123 registers: the CRC over 253 bytes). FC08 Return Query Data (no count: one
-//     CRC pass over the bytes held as they arrive finds its end): 73.1 a byte with 4 data
-//     bytes, 122.9 a byte and 1662 at its last byte with 250 (the longest ADU: the worst case
+//     CRC pass over the bytes held as they arrive finds its end): 74.6 a byte with 4 data
+//     bytes, 123.9 a byte and 1671 at its last byte with 250 (the longest ADU: the worst case
 //     of put()). 208 bytes of stack at worst (any request but FC01-FC06).
 //   Interrupts: put() or feed() may run in the UART receive interrupt, idle() in the t3.5
 //     timer's; sent() (client) runs before the request's first byte goes out. None of them may

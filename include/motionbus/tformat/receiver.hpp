@@ -32,8 +32,8 @@
 //     A default-constructed `static` receiver is all zeros: .bss, no start-up code, no flash
 //     copied to RAM.
 //   put(byte): 12 instructions for a byte inside a frame, the call included (inline: the byte
-//     and its index stored, nothing else written). An ID3 response: 26.2 a byte, decode and
-//     check included, 143 at its last byte; an ID0 response (the short layouts' path): 52.5 a
+//     and its index stored, nothing else written). An ID3 response: 26.4 a byte, decode and
+//     check included, 143 at its last byte; an ID0 response (the short layouts' path): 52.8 a
 //     byte, 230 at its last byte; the last byte of a response with a bad CRC (the bytes held
 //     rescanned): 600, the worst measured. 168 bytes of stack at worst (the last byte of an
 //     ID0 response; measured with the receiver alone in its translation unit, as in a receive
