@@ -42,8 +42,8 @@ class frame_buffer {
   constexpr bool empty() const noexcept { return end_ == start_; }
   /// Byte `i` of those held (i < size()).
   constexpr std::uint8_t operator[](std::size_t i) const noexcept { return bytes_[start_ + i]; }
-  /// The bytes held, valid until the next push, fill_and_decide() or restart() (a frame
-  /// handed over: `view().first(n)`).
+  /// The bytes held (a frame handed over: `view().first(n)`), valid until a byte is appended
+  /// (push, push_before, put_last, fill_and_decide).
   constexpr byte_view view() const noexcept { return byte_view(bytes_ + start_, size()); }
 
   /// Appends one byte; false (nothing appended) when N bytes are held.
