@@ -1,8 +1,9 @@
-// motionbus — the bounded frame buffer under the stream objects (the T-format receiver, the
-// Modbus RTU framer): bytes are appended at the end and dropped from the front by moving an
-// index, never by shifting what is held; the held bytes are moved to the front only when the
-// end reaches the capacity, or when the bytes wanted would not fit (at most once per frame).
-// The bytes held are always contiguous, so a frame is handed over as a view into the buffer.
+// motionbus — the bounded frame buffer under the stream objects (the T-format receiver and
+// line listener, the Modbus RTU framer): bytes are appended at the end and dropped from the front
+// by moving an index, never by shifting what is held; the held bytes are moved to the front only
+// when the end reaches the capacity, or when the bytes wanted would not fit (at most once per
+// frame). The bytes held are always contiguous, so a frame is handed over as a view into the
+// buffer.
 //
 // The buffer also keeps its owner's decision point: want(n) says that the owner decides
 // nothing until `n` bytes are held. push_before() is the per-byte step of a stream object
@@ -11,6 +12,9 @@
 // refusal for the frame's last byte. The bytes are the first member, so that the store is one
 // instruction from the object's address when the buffer is the owner's first member too (the
 // receiver and the framer put it first).
+//
+// Its public operations are those both protocols' stream objects use; a step only one owner
+// takes lives in that owner, on the protected members (modbus::detail::rtu_buffer).
 //
 // A default-constructed buffer is all zeros: a stream object that holds one can be a `static`
 // in .bss. No heap, no I/O.
