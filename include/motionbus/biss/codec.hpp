@@ -28,6 +28,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <type_traits>
+#include <utility>
 
 #include "motionbus/biss/frame.hpp"
 #include "motionbus/core/bits.hpp"
@@ -65,7 +66,7 @@ constexpr std::uint32_t dynamic_wire_crc(const crc_format& f, std::uint64_t data
 /// The wire value of the CRC over `data` (data_bits) followed by `status` (status_bits), as a
 /// slave sends it. The CRC6 0x43 used by nearly every encoder takes a compile-time table of
 /// `Table` size; any other format is computed bit by bit from its run-time parameters.
-/// Forced inline: with the caller's constant format it folds to the table steps alone.
+// inline: with the caller's constant format it folds to the table steps alone.
 template <crc_table_size Table = default_crc_table>
 MOTIONBUS_INLINE constexpr std::uint32_t wire_crc(const crc_format& f, std::uint64_t data,
                                                   unsigned data_bits, std::uint32_t status,
@@ -89,7 +90,7 @@ MOTIONBUS_INLINE constexpr std::uint32_t wire_crc(const crc_format& f, std::uint
 namespace detail {
 
 // Validates a chain and returns its bits after CDS (0 on error, with `e` set).
-// Forced inline: a constant one-slave chain folds to a constant.
+// inline: a constant one-slave chain folds to a constant.
 MOTIONBUS_INLINE constexpr std::size_t checked_chain_bits(span<const slave_layout> chain,
                                                           errc& e) noexcept {
   std::size_t bits = 0;
@@ -109,22 +110,8 @@ MOTIONBUS_INLINE constexpr std::size_t checked_chain_bits(span<const slave_layou
 
 namespace detail {
 
-// decode_chain's starting result, overwritten by every exit. It is the caller's object (the
-// return slot), so its starting stores stay: for one slave the default (all zeros, "1 more
-// bit needed"), stored from one zero register; for a chain from a run-time value (a constant
-// one lets GCC clear the whole object first).
-template <std::size_t N>
-MOTIONBUS_INLINE constexpr frame_result<N> initial_frame_result(std::size_t chain_size) noexcept {
-  if constexpr (N == 1U) {
-    static_cast<void>(chain_size);
-    return frame_result<N>{};
-  } else {
-    return need_input{chain_size};
-  }
-}
-
 // decode_frame into a chain_frame<N> (chain.size() <= N).
-// Forced inline although long, the one exception to the policy (docs/design.md): a layout
+// inline, although long (the one exception to the policy, docs/design.md): a layout
 // known at the call site folds its checks, field offsets and CRC choice away; out of line,
 // the ABSYS decode costs several times as many instructions (meter: biss.decode_frame.absys64).
 template <crc_table_size Table, std::size_t N, class Word>
@@ -135,7 +122,11 @@ MOTIONBUS_INLINE constexpr frame_result<N> decode_chain(span<const Word> words,
                                                         bit_order order) noexcept {
   // Every exit settles `result` through `o` and returns it: the frame is filled in place
   // (no copy of up to max_chain slaves).
-  frame_result<N> result = detail::initial_frame_result<N>(chain.size());
+  // The starting result, overwritten by every exit. It is the caller's object (the return
+  // slot), so its starting stores stay: for one slave the default (all zeros, "1 more bit
+  // needed"), stored from one zero register; for a chain from a run-time count (a constant
+  // one lets GCC clear the whole object first).
+  frame_result<N> result = N == 1U ? frame_result<N>{} : frame_result<N>(need_input{chain.size()});
   typename frame_result<N>::outcome o(result);
   if (chain.empty() || chain.size() > N) {
     o.fail(errc::invalid_argument, 0);
@@ -298,52 +289,48 @@ MOTIONBUS_INLINE constexpr frame_result<N> decode_chain(span<const Word> words,
 
 }  // namespace detail
 
+namespace detail {
+
+// The capture as span<const Word>, from a span<const Word>, a span<Word> or a plain array.
+template <class Word>
+constexpr span<const Word> capture_words(span<const Word> words) noexcept {
+  return words;
+}
+template <class Word, class = std::enable_if_t<!std::is_const<Word>::value>>
+constexpr span<const Word> capture_words(span<Word> words) noexcept {
+  return span<const Word>(words);
+}
+template <class Word, std::size_t N>
+constexpr span<const Word> capture_words(const Word (&words)[N]) noexcept {
+  return span<const Word>(words, N);
+}
+template <class Words>
+using capture_word_t = typename decltype(capture_words(std::declval<const Words&>()))::value_type;
+
+}  // namespace detail
+
 /// Decodes the sensor data frame of a chain from a raw SL capture of `bit_count` samples
-/// (clipped to the words given). See the file comment for the outcomes. Forced inline, as
-/// every decode_frame form: it hands the caller's layouts on to decode_chain.
-template <crc_table_size Table = default_crc_table, class Word>
+/// (clipped to the words given): a span<const Word>, a span<Word> or a plain array of Word.
+/// See the file comment for the outcomes.
+// inline: hands the caller's constant layouts on to decode_chain, which folds them.
+template <crc_table_size Table = default_crc_table, class Words,
+          class Word = detail::capture_word_t<Words>>
 MOTIONBUS_INLINE constexpr frame_result<max_chain> decode_frame(
-    span<const Word> words, std::size_t bit_count, span<const slave_layout> chain,
+    const Words& words, std::size_t bit_count, span<const slave_layout> chain,
     const decode_options& opt = {}, bit_order order = bit_order::msb_first) noexcept {
-  return detail::decode_chain<Table, max_chain, Word>(words, bit_count, chain, opt, order);
+  return detail::decode_chain<Table, max_chain, Word>(detail::capture_words(words), bit_count,
+                                                      chain, opt, order);
 }
 
 /// Single-slave form: the slave's data is `slaves[0]`.
-template <crc_table_size Table = default_crc_table, class Word>
+// inline: as the chain form.
+template <crc_table_size Table = default_crc_table, class Words,
+          class Word = detail::capture_word_t<Words>>
 MOTIONBUS_INLINE constexpr frame_result<1> decode_frame(
-    span<const Word> words, std::size_t bit_count, const slave_layout& layout,
+    const Words& words, std::size_t bit_count, const slave_layout& layout,
     const decode_options& opt = {}, bit_order order = bit_order::msb_first) noexcept {
-  return detail::decode_chain<Table, 1, Word>(words, bit_count,
+  return detail::decode_chain<Table, 1, Word>(detail::capture_words(words), bit_count,
                                               span<const slave_layout>(&layout, 1), opt, order);
-}
-
-// The same over span<Word> and over plain arrays: `Word` is not deduced from span<const Word>
-// for those, so these forward (chain and single-slave forms).
-template <crc_table_size Table = default_crc_table, class Word,
-          class = std::enable_if_t<!std::is_const<Word>::value>>
-MOTIONBUS_INLINE constexpr frame_result<max_chain> decode_frame(
-    span<Word> words, std::size_t bit_count, span<const slave_layout> chain,
-    const decode_options& opt = {}, bit_order order = bit_order::msb_first) noexcept {
-  return decode_frame<Table, Word>(span<const Word>(words), bit_count, chain, opt, order);
-}
-template <crc_table_size Table = default_crc_table, class Word, std::size_t N>
-MOTIONBUS_INLINE constexpr frame_result<max_chain> decode_frame(
-    const Word (&words)[N], std::size_t bit_count, span<const slave_layout> chain,
-    const decode_options& opt = {}, bit_order order = bit_order::msb_first) noexcept {
-  return decode_frame<Table, Word>(span<const Word>(words, N), bit_count, chain, opt, order);
-}
-template <crc_table_size Table = default_crc_table, class Word,
-          class = std::enable_if_t<!std::is_const<Word>::value>>
-MOTIONBUS_INLINE constexpr frame_result<1> decode_frame(
-    span<Word> words, std::size_t bit_count, const slave_layout& layout,
-    const decode_options& opt = {}, bit_order order = bit_order::msb_first) noexcept {
-  return decode_frame<Table, Word>(span<const Word>(words), bit_count, layout, opt, order);
-}
-template <crc_table_size Table = default_crc_table, class Word, std::size_t N>
-MOTIONBUS_INLINE constexpr frame_result<1> decode_frame(
-    const Word (&words)[N], std::size_t bit_count, const slave_layout& layout,
-    const decode_options& opt = {}, bit_order order = bit_order::msb_first) noexcept {
-  return decode_frame<Table, Word>(span<const Word>(words, N), bit_count, layout, opt, order);
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -96,8 +96,8 @@ struct slave_layout {
   bool has_warning = true;      ///< nW present
   crc_format crc = crc6_43;
 
-  // The accessors and validate() are forced inline: a decoder called with a constant layout
-  // folds them away (and its CRC to byte steps), whatever else the program calls them from.
+  // inline (the accessors and validate()): a decoder called with a constant layout folds them
+  // away (and its CRC to byte steps), whatever else the program calls them from.
   MOTIONBUS_INLINE constexpr unsigned data_bits() const noexcept {
     return multi_turn_bits + single_turn_bits + alignment_bits;
   }

@@ -67,7 +67,7 @@ constexpr std::uint64_t load_be(byte_view in, std::size_t at) noexcept {
 }
 
 /// The 16-bit big-endian value at `in[at]` (a Modbus register, a length field).
-/// Forced inline: the Modbus server reads every register through it, and -Os calls it.
+// inline: the Modbus server reads every register through it, and -Os calls it.
 MOTIONBUS_INLINE constexpr std::uint16_t load_be16(byte_view in, std::size_t at) noexcept {
   return static_cast<std::uint16_t>((in[at] << 8U) | in[at + 1U]);
 }

@@ -204,31 +204,6 @@ struct crc_kernel {
     return r;
   }
 
-  /// Feeds `count` (8 .. 64) bits, MSB first, with the byte table (the kernels of
-  /// can_slice_bits): the register folded into the top byte of the field as in
-  /// feed_sliced_bits, the field is fed from a zero register, which leading zero bits leave at
-  /// zero, so the field rounded up to whole bytes is the same message: byte steps only, no
-  /// bit-by-bit tail. The message is kept left-aligned, so that each step takes its top byte
-  /// (constant shifts only). Inlined: it is meant for counts the compiler knows.
-  MOTIONBUS_INLINE static constexpr std::uint32_t feed_whole_bytes(std::uint32_t reg,
-                                                                   std::uint64_t bits,
-                                                                   unsigned count) noexcept {
-    // coverage-begin: called only for counts the optimiser folds (crc::update_bits), never at
-    // the coverage build's -O0; checked at -O2 and in constant evaluation (see there)
-    const unsigned bytes = (count + 7U) / 8U;
-    std::uint64_t m = (bits ^ (static_cast<std::uint64_t>(reg) << (count - 8U)))
-                      << (64U - 8U * bytes);
-    std::uint32_t r = 0;
-    // A count known at compile time: unrolled into straight-line table steps.
-    MOTIONBUS_UNROLL(8)
-    for (unsigned k = 0; k < bytes; ++k) {
-      r = step_chunk<8>(r, static_cast<std::uint32_t>(m >> 56U));
-      m <<= 8U;
-    }
-    return r;
-    // coverage-end
-  }
-
   /// Feeds four bytes b0..b3 (b0 first) with the slice tables (reflected, width 8..32).
   static constexpr std::uint32_t step_slice4(std::uint32_t reg, std::uint32_t word) noexcept {
     const auto& t = slice_holder<4>::tables;
@@ -469,8 +444,8 @@ class crc {
 
  public:
   /// Feeds the low `count` bits of `bits` in the CRC's bit order (see the file comment).
-  /// A count above 64 is treated as 64. Forced inline: MOTIONBUS_CONSTANT_P then sees a
-  /// count the caller fixes (a BiSS-C frame's CRC).
+  /// A count above 64 is treated as 64.
+  // inline: MOTIONBUS_CONSTANT_P then sees a count the caller fixes (a BiSS-C frame's CRC).
   MOTIONBUS_INLINE constexpr crc& update_bits(std::uint64_t bits, unsigned count) noexcept {
     const unsigned n = count > 64U ? 64U : count;
     const std::uint64_t v = bits & detail::low_mask64(n);
@@ -483,12 +458,25 @@ class crc {
     }
     if constexpr (chunk_bits == 8U && kernel::can_slice_bits) {
       if (MOTIONBUS_CONSTANT_P(n) && n >= 8U) {
-        // A count known at compile time (a BiSS-C frame's CRC): a few byte steps inline. A
-        // count known only at run time calls the shared kernel (smaller where inlined often).
+        // A count known at compile time (a BiSS-C frame's CRC): byte steps only, unrolled into
+        // straight-line code. The register is folded into the top byte of the field (as in
+        // feed_sliced_bits) and the field fed from a zero register, which leading zero bits
+        // leave at zero: the field rounded up to whole bytes is the same message, kept
+        // left-aligned so that each step takes its top byte (constant shifts only). A count
+        // known only at run time calls the shared kernel (smaller where inlined often).
         // coverage-begin: taken where the optimiser folds the count (-O1 and up, constant
         // evaluation), never at the coverage build's -O0; tests/core/crc_test.cpp checks it at
         // -O2 for every count 8..64 and tests/static/core_static.cpp in constant evaluation
-        reg_ = kernel::feed_whole_bytes(reg_, v, n);
+        const unsigned bytes = (n + 7U) / 8U;
+        std::uint64_t m = (v ^ (static_cast<std::uint64_t>(reg_) << (n - 8U)))
+                          << (64U - 8U * bytes);
+        std::uint32_t r = 0;
+        MOTIONBUS_UNROLL(8)
+        for (unsigned k = 0; k < bytes; ++k) {
+          r = kernel::template step_chunk<8>(r, static_cast<std::uint32_t>(m >> 56U));
+          m <<= 8U;
+        }
+        reg_ = r;
         return *this;
         // coverage-end
       }
@@ -525,8 +513,8 @@ class crc {
   /// The CRC of everything fed so far (reflection and final XOR applied). Feeding may go on.
   constexpr value_type value() const noexcept { return value_of(reg_); }
 
-  /// One-shot CRC of `data`. Forced inline: the walk then gets the view's pointer and size in
-  /// registers, not the view through the stack.
+  /// One-shot CRC of `data`.
+  // inline: the walk gets the view's pointer and size in registers, not through the stack.
   MOTIONBUS_INLINE static constexpr value_type compute(byte_view data) noexcept {
     return value_of(feed_range(initial_register(), data.data(), data.size()));
   }

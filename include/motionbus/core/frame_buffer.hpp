@@ -1,8 +1,9 @@
-// motionbus — the bounded frame buffer under the stream objects (the T-format receiver, the
-// Modbus RTU framer): bytes are appended at the end and dropped from the front by moving an
-// index, never by shifting what is held; the held bytes are moved to the front only when the
-// end reaches the capacity, or when the bytes wanted would not fit (at most once per frame).
-// The bytes held are always contiguous, so a frame is handed over as a view into the buffer.
+// motionbus — the bounded frame buffer under the stream objects (the T-format receiver and
+// line listener, the Modbus RTU framer): bytes are appended at the end and dropped from the front
+// by moving an index, never by shifting what is held; the held bytes are moved to the front only
+// when the end reaches the capacity, or when the bytes wanted would not fit (at most once per
+// frame). The bytes held are always contiguous, so a frame is handed over as a view into the
+// buffer.
 //
 // The buffer also keeps its owner's decision point: want(n) says that the owner decides
 // nothing until `n` bytes are held. push_before() is the per-byte step of a stream object
@@ -11,6 +12,9 @@
 // refusal for the frame's last byte. The bytes are the first member, so that the store is one
 // instruction from the object's address when the buffer is the owner's first member too (the
 // receiver and the framer put it first).
+//
+// Its public operations are those both protocols' stream objects use; a step only one owner
+// takes lives in that owner, on the protected members (modbus::detail::rtu_buffer).
 //
 // A default-constructed buffer is all zeros: a stream object that holds one can be a `static`
 // in .bss. No heap, no I/O.
@@ -29,6 +33,8 @@ namespace motionbus {
 template <std::size_t N>
 class frame_buffer {
   static_assert(N >= 1U && N <= 65535U, "frame_buffer: 1 to 65535 bytes");
+
+ protected:
   // holds 0..N (want_ and stop_ reach N)
   using index = std::conditional_t<(N < 256U), std::uint8_t, std::uint16_t>;
 
@@ -36,22 +42,16 @@ class frame_buffer {
   static constexpr std::size_t capacity = N;
 
   /// Bytes held.
-  MOTIONBUS_INLINE constexpr std::size_t size() const noexcept {
-    return static_cast<std::size_t>(end_ - start_);
-  }
-  MOTIONBUS_INLINE constexpr bool empty() const noexcept { return end_ == start_; }
+  constexpr std::size_t size() const noexcept { return static_cast<std::size_t>(end_ - start_); }
+  constexpr bool empty() const noexcept { return end_ == start_; }
   /// Byte `i` of those held (i < size()).
-  MOTIONBUS_INLINE constexpr std::uint8_t operator[](std::size_t i) const noexcept {
-    return bytes_[start_ + i];
-  }
-  /// The first `n` bytes held (n <= size()), valid until the next append, push or clear.
-  MOTIONBUS_INLINE constexpr byte_view first(std::size_t n) const noexcept {
-    return byte_view(bytes_ + start_, n);
-  }
-  MOTIONBUS_INLINE constexpr byte_view view() const noexcept { return first(size()); }
+  constexpr std::uint8_t operator[](std::size_t i) const noexcept { return bytes_[start_ + i]; }
+  /// The bytes held (a frame handed over: `view().first(n)`), valid until a byte is appended
+  /// (push, push_before, put_last, fill_and_decide).
+  constexpr byte_view view() const noexcept { return byte_view(bytes_ + start_, size()); }
 
   /// Appends one byte; false (nothing appended) when N bytes are held.
-  MOTIONBUS_INLINE constexpr bool push(std::uint8_t b) noexcept {
+  constexpr bool push(std::uint8_t b) noexcept {
     const index end = end_;
     if (end == N) {
       return push_at_capacity(b);
@@ -60,43 +60,10 @@ class frame_buffer {
     bytes_[end] = b;
     return true;
   }
-  /// Appends the byte push_before() refused where, with it, wanted() bytes are held (there is
-  /// room for it at the end: see want()).
-  MOTIONBUS_INLINE constexpr void put_last(std::uint8_t b) noexcept {
-    place_last(b);
-    end_ = static_cast<index>(end_ + 1U);
-  }
-  /// put_last() in two steps: the byte stored, then (unless the owner drops everything held
-  /// with restart()) counted.
-  MOTIONBUS_INLINE constexpr void place_last(std::uint8_t b) noexcept { bytes_[end_] = b; }
-  MOTIONBUS_INLINE constexpr void count_last() noexcept { end_ = static_cast<index>(end_ + 1U); }
-  /// The owner decides when `n` (<= N) bytes are held: push_before() refuses the byte that
-  /// would make `n` (or more) held, and no earlier byte (room is made at the end first where
-  /// `n` bytes from the front would not fit), so that the owner may take a refusal inside a
-  /// frame of `n` bytes for its last byte.
-  MOTIONBUS_INLINE constexpr void want(std::size_t n) noexcept {
-    want_ = static_cast<index>(n);
-    set_stop();
-  }
-  /// want(n) where room for `n` bytes from the front was made already (reserve(n) or more,
-  /// with nothing dropped since): no room check.
-  MOTIONBUS_INLINE constexpr void want_within(std::size_t n) noexcept {
-    want_ = static_cast<index>(n);
-    const std::size_t stop = static_cast<std::size_t>(start_) + n;
-    stop_ = static_cast<index>(stop - (stop != 0U ? 1U : 0U));
-  }
-  /// Makes room for `n` (<= N) bytes from the front: moves the bytes held there if needed.
-  MOTIONBUS_INLINE constexpr void reserve(std::size_t n) noexcept {
-    if (static_cast<std::size_t>(start_) + n > N) {
-      make_room();
-    }
-  }
-  /// The `n` of the last want() (0: decide at every byte).
-  MOTIONBUS_INLINE constexpr std::size_t wanted() const noexcept { return want_; }
   /// The per-byte step of a stream object: appends `b` when, with it, fewer than wanted()
   /// bytes are held, and returns true. False (nothing appended) when a decision is due: the
   /// byte would make wanted() held (or more).
-  MOTIONBUS_INLINE constexpr bool push_before(std::uint8_t b) noexcept {
+  constexpr bool push_before(std::uint8_t b) noexcept {
     const index end = end_;
     if (end >= stop_) {
       return false;
@@ -105,18 +72,70 @@ class frame_buffer {
     end_ = static_cast<index>(end + 1U);
     return true;
   }
-  /// The bytes held, from the front (size() of them).
-  MOTIONBUS_INLINE constexpr const std::uint8_t* data() const noexcept { return bytes_ + start_; }
-  /// The first byte of a frame of `n` (1..N) bytes, into an empty buffer: held at the front,
-  /// and want(n).
-  MOTIONBUS_INLINE constexpr void start_with(std::uint8_t b, std::size_t n) noexcept {
-    bytes_[0] = b;
-    start_ = 0;
-    end_ = 1;
-    want_ = static_cast<index>(n);
-    stop_ = static_cast<index>(n - 1U);
+  /// Appends `b` where there is room for it at the end, unchecked: the byte push_before()
+  /// refused (with it, wanted() bytes are held: see want()), or the first byte after restart().
+  constexpr void put_last(std::uint8_t b) noexcept {
+    bytes_[end_] = b;
+    end_ = static_cast<index>(end_ + 1U);
   }
-  /// Appends up to `n` bytes of `in` (as many as fit); returns how many.
+
+  /// The owner decides when `n` (<= N) bytes are held: push_before() refuses the byte that
+  /// would make `n` (or more) held, and no earlier byte (room is made at the end first where
+  /// `n` bytes from the front would not fit), so that the owner may take a refusal inside a
+  /// frame of `n` bytes for its last byte.
+  // inline: called at every decision of both stream objects; a call costs more than the body.
+  MOTIONBUS_INLINE constexpr void want(std::size_t n) noexcept {
+    want_ = static_cast<index>(n);
+    const std::size_t stop = static_cast<std::size_t>(start_) + n;
+    if (stop > N) {
+      make_room();  // sets the stop from the front
+      return;
+    }
+    stop_ = static_cast<index>(stop - (stop != 0U ? 1U : 0U));
+  }
+  /// The `n` of the last want() (0: decide at every byte).
+  constexpr std::size_t wanted() const noexcept { return want_; }
+
+  /// The feed loop of a stream object, written once: whenever wanted() bytes are held, asks
+  /// `decide()` (true: something settled, stop); else appends from `in`, at `used` (advanced),
+  /// what wanted() still needs. True when decide() settled; false when `in` is used up.
+  template <class Decide>
+  constexpr bool fill_and_decide(byte_view in, std::size_t& used, Decide&& decide) noexcept {
+    for (;;) {
+      if (size() >= wanted() && decide()) {
+        return true;
+      }
+      if (used >= in.size()) {
+        return false;
+      }
+      used += append(in.subspan(used), wanted() - size());
+    }
+  }
+
+  /// Drops the first `n` bytes held (n <= size()); wanted() then counts from the front left.
+  constexpr void drop(std::size_t n) noexcept { drop(n, want_); }
+  /// drop(n) and want(next_want) in one step.
+  // inline: the step after every frame and every rejected byte; a call costs more than the body.
+  MOTIONBUS_INLINE constexpr void drop(std::size_t n, std::size_t next_want) noexcept {
+    const auto start = static_cast<index>(start_ + n);
+    if (start == end_) {  // all of it: back to the front
+      restart(next_want);
+      return;
+    }
+    start_ = start;
+    want(next_want);
+  }
+  /// Drops everything held, whose bytes stay readable in view() until the next push (a frame
+  /// handed over), and want(n) from the front.
+  constexpr void restart(std::size_t n) noexcept {
+    start_ = 0;
+    end_ = 0;
+    want_ = static_cast<index>(n);
+    stop_ = static_cast<index>(n - (n != 0U ? 1U : 0U));
+  }
+
+ private:
+  // Appends up to `n` bytes of `in` (as many as fit); returns how many.
   constexpr std::size_t append(byte_view in, std::size_t n) noexcept {
     if (n > in.size()) {
       n = in.size();
@@ -133,50 +152,7 @@ class frame_buffer {
     end_ = static_cast<index>(end_ + n);
     return n;
   }
-  /// The feed loop of a stream object, written once: whenever wanted() bytes are held, asks
-  /// `decide()` (true: something settled, stop); else appends from `in`, at `used` (advanced),
-  /// what wanted() still needs. True when decide() settled; false when `in` is used up.
-  template <class Decide>
-  constexpr bool fill_and_decide(byte_view in, std::size_t& used, Decide&& decide) noexcept {
-    for (;;) {
-      if (size() >= wanted() && decide()) {
-        return true;
-      }
-      if (used >= in.size()) {
-        return false;
-      }
-      used += append(in.subspan(used), wanted() - size());
-    }
-  }
-  /// Drops the first `n` bytes held (n <= size()); wanted() then counts from the front left.
-  constexpr void drop(std::size_t n) noexcept { drop(n, want_); }
-  /// drop(n) and want(next_want) in one step.
-  MOTIONBUS_INLINE constexpr void drop(std::size_t n, std::size_t next_want) noexcept {
-    const auto start = static_cast<index>(start_ + n);
-    if (start == end_) {  // all of it: back to the front
-      restart(next_want);
-      return;
-    }
-    start_ = start;
-    want_ = static_cast<index>(next_want);
-    set_stop();
-  }
-  /// Drops everything held, whose bytes stay readable until the next append (a frame handed
-  /// over), and want(n) from the front.
-  MOTIONBUS_INLINE constexpr void restart(std::size_t n) noexcept {
-    start_ = 0;
-    end_ = 0;
-    want_ = static_cast<index>(n);
-    stop_ = static_cast<index>(n - (n != 0U ? 1U : 0U));
-  }
-  /// Drops everything held; wanted() is kept.
-  constexpr void clear() noexcept {
-    start_ = 0;
-    end_ = 0;
-    set_stop();
-  }
 
- private:
   constexpr bool push_at_capacity(std::uint8_t b) noexcept {
     if (!make_room()) {
       return false;
@@ -186,6 +162,8 @@ class frame_buffer {
     return true;
   }
 
+ protected:
+  // For an owner's own steps on its buffer (the RTU framer's server path, modbus/framer.hpp).
   // Moves the bytes held to the front; false when there is no room to make. Out of line: the
   // rare path (at most once per frame) of the inline steps.
   MOTIONBUS_NOINLINE constexpr bool make_room() noexcept {
@@ -200,17 +178,6 @@ class frame_buffer {
     end_ = static_cast<index>(n);
     stop_ = static_cast<index>(want_ - (want_ != 0U ? 1U : 0U));
     return true;
-  }
-
-  // The end index at which push_before() refuses: where wanted() bytes are held (at most N:
-  // the bytes held are moved to the front first where they would not fit).
-  MOTIONBUS_INLINE constexpr void set_stop() noexcept {
-    const std::size_t stop = static_cast<std::size_t>(start_) + want_;
-    if (stop > N) {
-      make_room();  // sets the stop from the front
-      return;
-    }
-    stop_ = static_cast<index>(stop - (stop != 0U ? 1U : 0U));
   }
 
   std::uint8_t bytes_[N] = {};  // first: see the comment at the top

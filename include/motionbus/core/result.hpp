@@ -82,9 +82,6 @@ struct decode_failure {
 /// The value and the failure's evidence share storage; value() of a result that is not
 /// complete returns a value-initialised T held in read-only storage (never undefined
 /// behaviour, never a copy).
-// The constructors, complete(), complete_value(), set_value() and emplace_result() are forced
-// inline: each is a few stores into the caller's object, which a call would move through the
-// stack (the T-format receiver's meter figures rise 6 to 20 % without).
 template <class T, input_unit Unit = input_unit::bytes>
 class [[nodiscard]] decode_result {
   static_assert(std::is_default_constructible<T>::value,
@@ -101,13 +98,14 @@ class [[nodiscard]] decode_result {
   // and empty, so that making it active writes no bytes (an empty aggregate, value-initialised,
   // would let a compiler clear the whole union).
   struct nothing {
-    MOTIONBUS_INLINE constexpr nothing() noexcept {}  // NOLINT(modernize-use-equals-default)
+    constexpr nothing() noexcept {}  // NOLINT(modernize-use-equals-default)
   };
   union storage {
     nothing none;
     T value;
     evidence failure;
-    MOTIONBUS_INLINE constexpr storage() noexcept : none() {}
+    constexpr storage() noexcept : none() {}
+    // inline (both): a copy of the value or evidence, which a call moves through the stack.
     MOTIONBUS_INLINE constexpr explicit storage(const T& v) noexcept : value(v) {}
     MOTIONBUS_INLINE constexpr explicit storage(const evidence& f) noexcept : failure(f) {}
   };
@@ -116,8 +114,7 @@ class [[nodiscard]] decode_result {
   using value_type = T;
 
   /// A complete value that used `consumed` units of input.
-  MOTIONBUS_INLINE static constexpr decode_result complete(const T& value,
-                                                           std::size_t consumed) noexcept {
+  static constexpr decode_result complete(const T& value, std::size_t consumed) noexcept {
     return decode_result(value, consumed);
   }
   /// Settles a decode_result in place (a stream object's own result, framer.hpp): call one
@@ -162,6 +159,7 @@ class [[nodiscard]] decode_result {
     }
     /// Complete using `consumed` units, with `value` (built whole, e.g. by aggregate
     /// initialisation, so that no field is written twice).
+    // inline: the RTU framer's complete frame, stored in place at its last byte.
     MOTIONBUS_INLINE constexpr void complete_value(std::size_t consumed, const T& value) noexcept {
       r_.set_value(consumed, value);
     }
@@ -171,11 +169,11 @@ class [[nodiscard]] decode_result {
   };
   /// Incomplete, at least 1 unit needed: all zeros, so that an object holding one (a stream
   /// object's last result) can be a `static` in .bss.
-  MOTIONBUS_INLINE constexpr decode_result() noexcept
-      : count_(0), status_(decode_status::incomplete) {}
+  constexpr decode_result() noexcept : count_(0), status_(decode_status::incomplete) {}
   // NOLINTNEXTLINE(google-explicit-constructor): `return need_input{n};` from a decoder
-  MOTIONBUS_INLINE constexpr decode_result(need_input n) noexcept
+  constexpr decode_result(need_input n) noexcept
       : count_(n.at_least == 0 ? 1 : n.at_least), status_(decode_status::incomplete) {}
+  // inline: every decoder's failure, three stores into the caller's result.
   // NOLINTNEXTLINE(google-explicit-constructor): `return decode_failure{...};` likewise
   MOTIONBUS_INLINE constexpr decode_result(decode_failure f) noexcept
       : u_(evidence{f.code == errc::ok ? errc::invalid_argument : f.code, f.expected, f.received}),
@@ -231,6 +229,7 @@ class [[nodiscard]] decode_result {
   }
 
  private:
+  // inline: complete()'s, every decoder's value built in the caller's result.
   MOTIONBUS_INLINE constexpr decode_result(const T& value, std::size_t consumed) noexcept
       : u_(value), count_(consumed), status_(decode_status::complete) {}
 
@@ -245,6 +244,7 @@ class [[nodiscard]] decode_result {
     fill(v);
     set_value(consumed, v);
   }
+  // inline: the stream objects' results, set in place.
   MOTIONBUS_INLINE constexpr void set_value(std::size_t consumed, const T& v) noexcept {
     status_ = decode_status::complete;
     count_ = consumed;
@@ -261,6 +261,7 @@ class [[nodiscard]] decode_result {
 /// Sets `slot` to what `make()` returns, built in the slot itself: C++17's guaranteed copy
 /// elision constructs the returned result there (no temporary, no copy), which an assignment
 /// from a call does not promise. In constant evaluation, an assignment.
+// inline: so that the result is built in the slot (a call would build it on the stack).
 template <class T, class Make>
 MOTIONBUS_INLINE constexpr void emplace_result(decode_result<T>& slot, Make&& make) noexcept {
   if (MOTIONBUS_CONSTANT_EVALUATED()) {

@@ -42,10 +42,10 @@
 //     is sized inline too. An FC01-FC06 request: 24.8 a byte, CRC included (25.2 with the
 //     run-time role of rtu_framer), 96 at its last byte (CRC, address), 56 bytes of stack. An
 //     FC0F, FC10 or FC17 request (its byte count: the length rule reads the bytes held at each
-//     byte until it has it): up to 126.6 a byte (the shortest), 1641 at its last byte at worst
+//     byte until it has it): up to 128.8 a byte (the shortest), 1650 at its last byte at worst
 //     (FC10 of 123 registers: the CRC over 253 bytes). FC08 Return Query Data (no count: one
-//     CRC pass over the bytes held as they arrive finds its end): 73.1 a byte with 4 data
-//     bytes, 122.9 a byte and 1662 at its last byte with 250 (the longest ADU: the worst case
+//     CRC pass over the bytes held as they arrive finds its end): 74.6 a byte with 4 data
+//     bytes, 123.9 a byte and 1671 at its last byte with 250 (the longest ADU: the worst case
 //     of put()). 208 bytes of stack at worst (any request but FC01-FC06).
 //   Interrupts: put() or feed() may run in the UART receive interrupt, idle() in the t3.5
 //     timer's; sent() (client) runs before the request's first byte goes out. None of them may
@@ -81,6 +81,7 @@ namespace detail {
 // basic_rtu_framer::query_data), or no length rule here. 01-06 (8 bytes) first, the common
 // requests: one compare; then one bit per function code 0x00-0x1F for each other size: a few
 // instructions and no table.
+// inline: put()'s function code path, at the caller's receive interrupt.
 MOTIONBUS_INLINE constexpr std::size_t fixed_request_size(std::uint8_t function) noexcept {
   constexpr std::uint32_t size4 = 0x21880U;  // 07, 0B, 0C, 11
   constexpr std::uint32_t size10 = std::uint32_t{1} << 0x16U;
@@ -202,6 +203,32 @@ struct framer_options {
   }
 };
 
+namespace detail {
+// The framer's buffer: frame_buffer and the steps of a server's put() alone. A request's
+// function code sizes it (up to 10 bytes): room for those is made at its first byte, so that
+// its second byte sets the size with no room check, and its last byte is stored at once but
+// counted only where the frame is not handed over.
+class rtu_buffer : public frame_buffer<max_rtu_size> {
+ public:
+  static constexpr std::size_t max_fixed_request = 10;  // fixed_request_size's largest
+  /// Makes room for max_fixed_request bytes from the front: moves the bytes held if needed.
+  constexpr void reserve_fixed() noexcept {
+    if (static_cast<std::size_t>(start_) + max_fixed_request > max_rtu_size) {
+      make_room();
+    }
+  }
+  /// want(n) for n <= max_fixed_request after reserve_fixed(), nothing dropped since.
+  constexpr void want_within(std::size_t n) noexcept {
+    want_ = static_cast<index>(n);
+    const std::size_t stop = static_cast<std::size_t>(start_) + n;
+    stop_ = static_cast<index>(stop - (stop != 0U ? 1U : 0U));
+  }
+  /// put_last() in two steps: the byte stored, then (unless restart() drops it all) counted.
+  constexpr void place_last(std::uint8_t b) noexcept { bytes_[end_] = b; }
+  constexpr void count_last() noexcept { end_ = static_cast<index>(end_ + 1U); }
+};
+}  // namespace detail
+
 /// A framer's role, the template parameter of basic_rtu_framer: fixed by the type, so that a
 /// server links only the request length rule (no client code) and a client only the
 /// response's; or `either`, the one type whose role is chosen at run time (its constructor's
@@ -237,8 +264,7 @@ class basic_rtu_framer {
   constexpr void sent(byte_view request_adu) noexcept {
     slave_ = request_adu.size() > 0U ? request_adu[0] : std::uint8_t{0};
     function_ = request_adu.size() > 1U ? request_adu[1] : std::uint8_t{0};
-    buf_.want(0);
-    buf_.clear();
+    buf_.restart(0);
     waiting_ = 0;
     phase_ = phase::scanning;
   }
@@ -266,6 +292,7 @@ class basic_rtu_framer {
   /// After a failure the bytes held are rescanned by the next put() (which then reports at most
   /// one result: a frame found among the bytes held is reported before the byte's own), by
   /// idle(), or at once by feed() with an empty `in`.
+  // inline: a byte inside a frame costs its store and index at the call site, no call.
   MOTIONBUS_INLINE constexpr bool put(std::uint8_t byte) noexcept {
     if (buf_.push_before(byte)) {
       return false;
@@ -278,7 +305,7 @@ class basic_rtu_framer {
       const std::size_t total = detail::fixed_request_size(byte);
       if (total != 0U) {
         buf_.put_last(byte);      // the second byte of two wanted: it fits
-        buf_.want_within(total);  // room for 10 bytes was made with the first (put_other)
+        buf_.want_within(total);  // room was made with the first (put_other)
         phase_ = phase::framing;
         return false;
       }
@@ -323,7 +350,7 @@ class basic_rtu_framer {
           r = hand_over(whole.value(), buf_.size(), 0);
         } else {
           ++skipped_;
-          buf_.clear();
+          buf_.restart(0);
         }
       }
     }
@@ -349,8 +376,7 @@ class basic_rtu_framer {
     // The silence ends whatever is held: the framer starts the next frame empty (a frame
     // handed over stays readable in the buffer until the next call).
     dropped_ += buf_.size();
-    buf_.want(0);
-    buf_.clear();
+    buf_.restart(0);
     waiting_ = 0;
     phase_ = phase::scanning;
     return r;
@@ -382,7 +408,7 @@ class basic_rtu_framer {
       if (size == 0U) {
         buf_.want(2);
         if (server()) {
-          buf_.reserve(max_fixed_request);  // for put()'s function code path
+          buf_.reserve_fixed();  // for put()'s function code path
           phase_ = phase::function_code;
         }
         return false;
@@ -419,7 +445,7 @@ class basic_rtu_framer {
   // true, and `out` complete, for a frame for this node whose CRC matches; else false.
   constexpr bool end_frame(decode_result<rtu_frame>& out) noexcept {
     const std::size_t total = buf_.wanted();
-    const std::uint8_t* const frame = buf_.data();
+    const std::uint8_t* const frame = buf_.view().data();
     const std::uint16_t received = load_le16(byte_view(frame, total), total - 2U);
     const std::uint8_t slave = frame[0];
     if (crc16_modbus<Table>::compute(byte_view(frame, total - 2U)) != received ||
@@ -483,6 +509,7 @@ class basic_rtu_framer {
                     : predict_response_size(held, function_, options_.fc11);
   }
 
+  // inline: a compare or two in the CRC check of every frame's last byte.
   MOTIONBUS_INLINE constexpr bool for_us(std::uint8_t slave) const noexcept {
     if (listening()) {
       return true;  // coverage: the listener frames in listen(), which never asks
@@ -541,12 +568,13 @@ class basic_rtu_framer {
     hand_over_bytes(total);
     return decode_result<rtu_frame>::complete(frame, used);
   }
+  // inline: the step after every frame handed over, a few stores.
   MOTIONBUS_INLINE constexpr void hand_over_bytes(std::size_t total) noexcept {
     buf_.drop(total, 2);
     waiting_ = 0;
     // a server's next function code takes put()'s inline path when it is the next byte but one
     if (server() && buf_.size() < 2U) {
-      buf_.reserve(max_fixed_request);
+      buf_.reserve_fixed();
       phase_ = phase::function_code;
     } else {
       phase_ = phase::scanning;
@@ -748,7 +776,7 @@ class basic_rtu_framer {
     }
   }
 
-  frame_buffer<max_rtu_size> buf_;  // first: put() stores at the object's address
+  detail::rtu_buffer buf_;  // first: put() stores at the object's address
   framer_options options_;
   // client: the slave of the request sent (options.address until sent(); 0: any); listener:
   // the slave of the request heard
@@ -757,8 +785,6 @@ class basic_rtu_framer {
   // A bool (the length rule failed on the bytes held: only idle() decides), or the CRC's low
   // byte while a Return Query Data is awaited (keep_query_crc())
   std::uint8_t waiting_ = 0;
-  // The largest request the function code alone sizes (fixed_request_size).
-  static constexpr std::size_t max_fixed_request = 10;
   // What put() decides at the next byte push_before() refuses.
   enum class phase : std::uint8_t {
     scanning = 0,       // put_other(): anything

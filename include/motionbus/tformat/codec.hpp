@@ -170,7 +170,7 @@ constexpr decode_result<response> decode_status_frame(byte_view in, data_id id,
 // The ID3 response (the one polled every control cycle), from one 64-bit little-endian
 // load of fields 0..7 plus fields 8..10, the CRC (the XOR of fields 0..9) folded in the same
 // register. Same checks, same order as decode_status_frame, which the tests pin it to.
-// Forced inline: straight-line code (a few dozen instructions) the receiver runs per frame.
+// inline: straight-line code (a few dozen instructions) the receiver runs per frame.
 MOTIONBUS_INLINE constexpr decode_result<response> decode_read_all(
     byte_view in, const decode_options& opt) noexcept {
   const std::uint64_t w = load_le<8>(in, 0);
@@ -225,6 +225,7 @@ constexpr decode_result<response> decode_short_response(byte_view in,
 // the call site stays small enough to inline. Each inline branch checks its own constant size,
 // so that a compiler looking at the caller's buffer sees every read guarded (no
 // -Warray-bounds false positives on short arrays).
+// inline: the polled IDs' straight-line decode in the caller (hosts, -O2).
 MOTIONBUS_INLINE constexpr decode_result<response> decode_response_fast(
     byte_view in, const decode_options& opt) noexcept {
   if (in.empty()) {
@@ -316,6 +317,7 @@ constexpr decode_result<response> decode_short_response(byte_view in,
 // control cycle) through decode_read_all, inline at the call site, every other input through
 // the one table-driven path for the short layouts, out of line. Same checks in the same order
 // as the speed form, which the tests and the response fuzz target pin it to.
+// inline: the ID3 test and decode_read_all in the caller, the rest called.
 MOTIONBUS_INLINE constexpr decode_result<response> decode_response_small(
     byte_view in, const decode_options& opt) noexcept {
   if (in.size() >= max_response_size && in[0] == control_field(data_id::read_all)) {
@@ -332,19 +334,16 @@ MOTIONBUS_INLINE constexpr decode_result<response> decode_response_small(
 /// code, parity or unknown Data ID; crc_mismatch (expected = computed, received = sent);
 /// reserved_bits (SF bits 0..3 set); out_of_range (ABS/ABM bits above the resolution set).
 /// A busy EEPROM is state (response::busy), not an error. MOTIONBUS_SMALL_CODE picks the
-/// form (core/config.hpp); both return the same results. Forced inline, as the two forms it
-/// forwards to: the polled IDs decode in the caller (the meter's ID3 figure is 58, 90 called).
+/// form (core/config.hpp); both return the same results.
+// inline: as the two forms it forwards to, so that the polled IDs decode in the caller.
+MOTIONBUS_INLINE constexpr decode_result<response> decode_response(
+    byte_view in, const decode_options& opt = {}) noexcept {
 #if MOTIONBUS_SMALL_CODE
-MOTIONBUS_INLINE constexpr decode_result<response> decode_response(
-    byte_view in, const decode_options& opt = {}) noexcept {
   return detail::decode_response_small(in, opt);
-}
 #else
-MOTIONBUS_INLINE constexpr decode_result<response> decode_response(
-    byte_view in, const decode_options& opt = {}) noexcept {
   return detail::decode_response_fast(in, opt);
-}
 #endif
+}
 
 /// decode_response on a buffer that must hold exactly one frame (e.g. bytes received up to
 /// the line's idle): fewer bytes are errc::truncated, more are errc::tformat_length.

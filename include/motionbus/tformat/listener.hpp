@@ -69,19 +69,16 @@ class line_listener {
   /// bytes of `in` taken). Failed: a response candidate was rejected (its error and evidence),
   /// the listener rescans from its second byte on the next call. Incomplete: all of `in` taken.
   constexpr decode_result<heard> feed(byte_view in) noexcept {
+    decode_result<heard> r;
     std::size_t used = 0;
-    for (;;) {
-      if (buf_.size() >= buf_.wanted()) {
-        const decode_result<heard> r = scan(used, false);
-        if (!r.is_incomplete()) {
-          return r;
-        }
-      }
-      if (used >= in.size()) {
-        return need_input{buf_.wanted() - buf_.size()};
-      }
-      used += buf_.append(in.subspan(used), buf_.wanted() - buf_.size());
+    const bool settled = buf_.fill_and_decide(in, used, [&] {
+      r = scan(used, false);
+      return !r.is_incomplete();
+    });
+    if (!settled) {
+      r = need_input{buf_.wanted() - buf_.size()};
     }
+    return r;
   }
 
   /// The per-byte step: takes `byte`; true when it settles something, which result() then
@@ -150,7 +147,7 @@ class line_listener {
         }
         decode_result<response> r =
             held < n ? decode_result<response>(decode_failure{errc::truncated, used})
-                     : decode_response(buf_.first(n), opt_.decode);
+                     : decode_response(buf_.view().first(n), opt_.decode);
         if (r.is_complete()) {
           std::uint32_t want = 0;
           std::uint32_t got = 0;
@@ -166,7 +163,7 @@ class line_listener {
             resync_ = false;
             heard h;
             h.is_response = true;
-            h.bytes = buf_.first(n);
+            h.bytes = buf_.view().first(n);
             h.resp = r.value();
             h.id3_reply = b0 == id3_cf && request_[0] != id3_cf;
             buf_.drop(n, 1);
@@ -215,7 +212,7 @@ class line_listener {
           ++dropped_;
           return decode_failure{errc::truncated, used};
         }
-        const decode_result<request> q = decode_request(buf_.first(n));
+        const decode_result<request> q = decode_request(buf_.view().first(n));
         if (q.is_complete()) {
           h.req = q.value();
         } else {
@@ -230,7 +227,7 @@ class line_listener {
       }
       request_error_ = h.request_error;
       expecting_ = true;
-      h.bytes = buf_.first(n);
+      h.bytes = buf_.view().first(n);
       buf_.drop(n, 1);
       return decode_result<heard>::complete(h, used);
     }

@@ -32,8 +32,8 @@
 //     A default-constructed `static` receiver is all zeros: .bss, no start-up code, no flash
 //     copied to RAM.
 //   put(byte): 12 instructions for a byte inside a frame, the call included (inline: the byte
-//     and its index stored, nothing else written). An ID3 response: 26.2 a byte, decode and
-//     check included, 143 at its last byte; an ID0 response (the short layouts' path): 52.5 a
+//     and its index stored, nothing else written). An ID3 response: 26.4 a byte, decode and
+//     check included, 143 at its last byte; an ID0 response (the short layouts' path): 52.8 a
 //     byte, 230 at its last byte; the last byte of a response with a bad CRC (the bytes held
 //     rescanned): 600, the worst measured. 168 bytes of stack at worst (the last byte of an
 //     ID0 response; measured with the receiver alone in its translation unit, as in a receive
@@ -101,7 +101,6 @@ class receiver {
   /// Records the request just sent (up to 4 bytes): its echo is skipped when echo::expected,
   /// and responses are checked against it. Drops any partial frame.
   constexpr void sent(byte_view request_frame) noexcept {
-    buf_.want(0);
     request_size_ = static_cast<std::uint8_t>(
         request_frame.size() < max_request_size ? request_frame.size() : max_request_size);
     for (std::size_t i = 0; i < request_size_; ++i) {
@@ -111,7 +110,7 @@ class receiver {
     echo_missed_ = false;
     check_ = !skip_check_ && detail::valid_request(request_frame);
     framing_ = false;
-    buf_.clear();
+    buf_.restart(0);
   }
 
   /// Processes bytes from `in` until a frame or an error is found.
@@ -136,6 +135,7 @@ class receiver {
   /// After a failure the bytes held are rescanned by the next put() (which then reports at most
   /// one result: a frame found among the bytes held is reported before the byte's own), or at
   /// once by feed() with an empty `in`.
+  // inline: a byte inside a frame costs its store and index at the call site, no call.
   MOTIONBUS_INLINE constexpr bool put(std::uint8_t byte) noexcept {
     if (buf_.push_before(byte)) {
       return false;
@@ -166,8 +166,7 @@ class receiver {
       }
     }
     dropped_ += held;
-    buf_.want(0);
-    buf_.clear();
+    buf_.restart(0);
     framing_ = false;
     echo_pending_ = false;
     if (held > 0U) {
@@ -210,7 +209,8 @@ class receiver {
         return false;
       }
       const std::uint8_t frame_size = response_layouts[code].size;
-      buf_.start_with(byte, frame_size);  // an empty buffer starts at its front
+      buf_.restart(frame_size);  // empty: the frame starts at the front, where it fits
+      buf_.put_last(byte);
       framing_ = true;
       return false;
     }
@@ -283,8 +283,8 @@ class receiver {
     framing_ = false;
     // The default options are constants here (the common case: no options to rebuild).
     emplace_result(r, [&] {
-      return custom_decode_ ? decode_response(buf_.first(n), decode_opts())
-                            : decode_response(buf_.first(n), decode_options{});
+      return custom_decode_ ? decode_response(buf_.view().first(n), decode_opts())
+                            : decode_response(buf_.view().first(n), decode_options{});
     });
     r.set_consumed(used);
     // (n bytes: complete or failed; r is read before the buffer is written, which could alias)
@@ -352,7 +352,7 @@ class receiver {
     const bool eeprom = response_layouts[data_id_code(request_[0])].eeprom();
     const bool fits = eeprom ? ((second ^ request_[1]) & adf_address_mask) == 0U
                              : (second & sf::reserved_mask) == 0U;
-    return fits && crc_of(buf_.first(n - 1U)) == buf_[n - 1U];
+    return fits && crc_of(buf_.view().first(n - 1U)) == buf_[n - 1U];
   }
 
   constexpr decode_options decode_opts() const noexcept {
@@ -366,7 +366,8 @@ class receiver {
   }
 
   frame_buffer<max_response_size> buf_;  // first: put() stores at the object's address
-  // The options, each stored so that its default is 0 (a default receiver is all zeros).
+  // The options, each stored so that its default is 0: a default receiver is all zeros, a
+  // `static` one in .bss (stored as given, it is in .data: its image in flash, copied at boot).
   bool echo_ = false;
   bool skip_check_ = false;
   std::uint8_t single_turn_x_ = 0;  // XOR the default resolution
