@@ -6,7 +6,6 @@
 #include <doctest/doctest.h>
 
 #include <cstdint>
-#include <vector>
 
 #include "../support/prng.hpp"
 #include "motionbus/devices/ts5700n8500.hpp"
@@ -30,19 +29,18 @@ decode_result<response> transact(ts::emulator& enc, data_id id, std::uint32_t no
   if (f == fault::parity) {
     req[0] = static_cast<std::uint8_t>(req[0] ^ 0x80U);  // cc4 wrong: ID3 data with ca0
   }
-  const ts::reply rep = enc.respond(byte_view(req, n), now_us);
-  std::vector<std::uint8_t> bytes(rep.bytes, rep.bytes + rep.size);
-  if (f == fault::crc) {
-    bytes.back() = static_cast<std::uint8_t>(bytes.back() ^ 0x5AU);
+  ts::reply rep = enc.respond(byte_view(req, n), now_us);
+  std::size_t size = rep.size;
+  if (f == fault::crc && size > 0U) {
+    rep.bytes[size - 1U] = static_cast<std::uint8_t>(rep.bytes[size - 1U] ^ 0x5AU);
   } else if (f == fault::silent) {
-    bytes.clear();  // no response by the deadline
+    size = 0;  // no response by the deadline
   } else if (f == fault::cut) {
-    bytes.resize(bytes.size() / 2U);  // the response stops short of its deadline
+    size /= 2U;  // the response stops short of its deadline
   }
   std::uint8_t sent[max_request_size] = {};
   n = encode_request(id, mutable_byte_view(sent, sizeof sent)).value();
-  return check_response(byte_view(sent, n),
-                        decode_response_frame(byte_view(bytes.data(), bytes.size())));
+  return check_response(byte_view(sent, n), decode_response_frame(byte_view(rep.bytes, size)));
 }
 
 }  // namespace
