@@ -132,7 +132,10 @@ class position_tracker {
     }
     const auto signed_magnitude = static_cast<std::int64_t>(magnitude);
     step_ = backward ? -signed_magnitude : signed_magnitude;
-    counts_ += step_;
+    // Added modulo 2^64: hostile readings that keep stepping one way wrap the count (after
+    // 2^63 counts) rather than overflow it.
+    counts_ = static_cast<std::int64_t>(static_cast<std::uint64_t>(counts_) +
+                                        static_cast<std::uint64_t>(step_));
     reading_ = value;
     periods_ = 1;
     bound_ = max_step_;
@@ -168,7 +171,8 @@ class position_tracker {
 
   /// A reading has seeded the position.
   constexpr bool has_position() const noexcept { return seeded_; }
-  /// The continuous position in counts (the first reading, then every accepted step).
+  /// The continuous position in counts (the first reading, then every accepted step; modulo
+  /// 2^64 in two's complement, should it ever pass 2^63).
   constexpr std::int64_t counts() const noexcept { return counts_; }
   /// The last accepted step in counts (0 after seeding): with a fixed read period, the speed.
   constexpr std::int64_t step() const noexcept { return step_; }
@@ -199,10 +203,10 @@ class position_tracker {
   }
   /// The angle in thousandths of a degree, rounded towards minus infinity (integer:
   /// turns() x 360000 + floor(within_turn() x 360000 / counts_per_turn), computed without
-  /// overflow for every counts_per_turn; the sum wraps only past 2^63 / 360000 turns).
+  /// overflow for every counts_per_turn; the sum wraps modulo 2^64 past 2^63 / 360000 turns).
   constexpr std::int64_t millidegrees() const noexcept {
-    return turns() * 360000 +
-           static_cast<std::int64_t>(mul_div(within_turn(), 360000U, counts_per_turn_));
+    return static_cast<std::int64_t>(static_cast<std::uint64_t>(turns()) * 360000U +
+                                     mul_div(within_turn(), 360000U, counts_per_turn_));
   }
   /// The position in revolutions (double: software floating point on cores without an FPU).
   constexpr double revolutions() const noexcept {
