@@ -6,5 +6,6 @@
 #include "motionbus/biss/control.hpp"
 #include "motionbus/biss/eds.hpp"
 #include "motionbus/biss/frame.hpp"
+#include "motionbus/biss/position.hpp"
 
 #endif  // MOTIONBUS_BISS_HPP

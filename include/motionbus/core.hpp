@@ -8,6 +8,8 @@
 #include "motionbus/core/crc.hpp"
 #include "motionbus/core/errc.hpp"
 #include "motionbus/core/frame_buffer.hpp"
+#include "motionbus/core/link_health.hpp"
+#include "motionbus/core/position.hpp"
 #include "motionbus/core/result.hpp"
 #include "motionbus/core/span.hpp"
 #include "motionbus/core/stream.hpp"

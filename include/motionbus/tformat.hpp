@@ -7,6 +7,7 @@
 #include "motionbus/tformat/frame.hpp"
 #include "motionbus/tformat/line.hpp"
 #include "motionbus/tformat/listener.hpp"
+#include "motionbus/tformat/position.hpp"
 #include "motionbus/tformat/receiver.hpp"
 
 #endif  // MOTIONBUS_TFORMAT_HPP

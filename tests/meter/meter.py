@@ -766,8 +766,42 @@ def measure(m):
     expect("devices.sm_unit.serve_fc03_3", list(m.out_bytes()),
            rtu(1, [0x03, 6, 800 >> 8, 800 & 0xFF, 5000 >> 8, 5000 & 0xFF, 0, 10]))
     record("devices.sm_unit.serve_fc03_3", n, s)
-
+    measure_position(m, record)
     return results
+
+
+def measure_position(m, record):
+    """The position tracker (core/position.hpp) per read: an ID3 reading whose step crosses the
+    TS5700N8500's multi-turn counter wrap (65535 -> 0), an ID0 reading crossing the single-turn
+    rollover; the link health (core/link_health.hpp) per transaction."""
+    turn = 1 << 17
+    m.call("op_position_setup", turn - 300, 65535)
+    m.clear_out()
+    _, n, s = m.call("op_position_update_id3", 250, 0)
+    o = m.out(4)
+    counts = ((65535 << 17) + turn - 300) + 550  # +550 across the wrap: past 2^33
+    expect("position.update.id3_wrap", o, [0, counts & 0xFFFFFFFF, counts >> 32, 550])
+    record("position.update.id3_wrap", n, s)
+    m.clear_out()
+    _, n, s = m.call("op_position_update_id0", 250)
+    o = m.out(4)
+    expect("position.update.id0_rollover", o, [0, turn + 250, 0, 550])
+    record("position.update.id0_rollover", n, s)
+    # an impossible step (half a turn) is reported, the position kept
+    m.clear_out()
+    _, n, s = m.call("op_position_update_id0", 250 + turn // 2)
+    expect("position.update.id0_implausible", m.out(4), [2, turn + 250, 0, 550])
+    record("position.update.id0_implausible", n, s)
+    # link health: three failures (crc_error = 2), the third losing a link that was up
+    for outcome in (0, 0, 0):
+        m.call("op_link_health_record", outcome)
+    worst_n, worst_s = 0, 0
+    for k, outcome in enumerate((2, 3, 2)):
+        m.clear_out()
+        _, n, s = m.call("op_link_health_record", outcome)
+        worst_n, worst_s = max(worst_n, n), max(worst_s, s)
+        expect("link_health.record", m.out(3), [1 if k == 2 else 0, k + 1, 4 + k])
+    record("link_health.record", worst_n, worst_s)
 
 
 def self_check(m):

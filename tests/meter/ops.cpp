@@ -7,6 +7,8 @@
 
 #include <motionbus/biss/codec.hpp>
 #include <motionbus/biss/control.hpp>
+#include <motionbus/core/link_health.hpp>
+#include <motionbus/core/position.hpp>
 #include <motionbus/devices/absys_emulator.hpp>
 #include <motionbus/devices/sm_unit_emulator.hpp>
 #include <motionbus/devices/ts5700n8500_emulator.hpp>
@@ -482,6 +484,43 @@ METER_OP void op_report_ascii_framer(unsigned ready) {
     meter_out[4] = r->pdu[0];
     meter_out[5] = r->lrc;
   }
+}
+
+// --- encoder position and link health (issue 27): one update per read period -----------------
+namespace {
+// A TS5700N8500 read with ID3 (2^17 counts x 2^16 turns), and one read with ID0 alone (the
+// single-turn value: 2^17), each at most 700 counts a read (6000 min^-1 read every 50 us).
+mb::position_tracker multi_turn(mb::position_config::from_bits(17, 16, 700));
+mb::position_tracker single_turn(mb::position_config::from_bits(17, 0, 700));
+mb::link_health link({3, 3});
+void put_position(mb::position_status st, const mb::position_tracker& t) {
+  meter_out[0] = static_cast<std::uint32_t>(st);
+  const auto c = static_cast<std::uint64_t>(t.counts());
+  meter_out[1] = static_cast<std::uint32_t>(c);
+  meter_out[2] = static_cast<std::uint32_t>(c >> 32U);
+  meter_out[3] = static_cast<std::uint32_t>(t.step());
+}
+}  // namespace
+// Seeds the trackers (unmeasured): multi_turn with (abs, abm), single_turn with abs.
+METER_OP void op_position_setup(unsigned abs, unsigned abm) {
+  multi_turn.reset();
+  single_turn.reset();
+  (void)multi_turn.update(abs, abm);
+  (void)single_turn.update(abs);
+}
+// The measured calls: an ID3 reading (ABS, ABM) and an ID0 reading (ABS).
+METER_OP void op_position_update_id3(unsigned abs, unsigned abm) {
+  put_position(multi_turn.update(abs, abm), multi_turn);
+}
+METER_OP void op_position_update_id0(unsigned abs) {
+  put_position(single_turn.update(abs), single_turn);
+}
+// One transaction's outcome into the link health: the event and the consecutive failures.
+METER_OP void op_link_health_record(unsigned outcome) {
+  const mb::link_event e = link.record(static_cast<mb::link_outcome>(outcome));
+  meter_out[0] = static_cast<std::uint32_t>(e);
+  meter_out[1] = link.counters().consecutive_failures;
+  meter_out[2] = link.counters().frames;
 }
 
 // The image's entry (never run by the meter: it calls functions one at a time).
