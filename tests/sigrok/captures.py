@@ -3,7 +3,7 @@ motionbus package: a T-format line (one half-duplex UART line) and a BiSS-C MA/S
 raw samples (one byte a sample, bit 0 = channel 0) that sigrok-cli's binary input reads, with
 the values each frame was built from."""
 
-from motionbus import biss, tformat, DataId
+from motionbus import AlmcBit, biss, tformat, DataId
 from motionbus.devices import ts5700n8500
 
 TF_BAUD = 2500000
@@ -49,6 +49,7 @@ def tformat_capture(corrupt=False):
     exchange(tformat.encode_request(DataId.eeprom_read, 0x05))
     exchange(bytes([0x2A]))                             # Data ID 5: unknown, answered with ID3
     exchange(tformat.encode_request(DataId.read_abs), answer=False)
+    enc.set_condition(AlmcBit.be, True)                 # the battery error in the last reply
     exchange(tformat.encode_request(DataId.read_all))
     samples = bytes(b for b in bits for _ in range(TF_OVERSAMPLE))
     return samples, expected

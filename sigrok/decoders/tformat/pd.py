@@ -151,7 +151,7 @@ class Decoder(srd.Decoder):
             self.put_ann(ss, es, ANN_CRC_BAD,
                          ['CRC bad: expected 0x%02X, received 0x%02X' % (err.expected, err.received),
                           'CRC bad', 'CRC!'])
-        self.put_ann(ss, es, ANN_ERROR, ['Response rejected: %s' % err.name, err.name, 'Err'])
+        self.put_ann(ss, es, ANN_ERROR, ['Rejected response: %s' % err.name, err.name, 'Err'])
         self.put_py(ss, es, ['ERROR', err])
         self.request = None  # answered, if badly
         self.held.pop(0)     # the listener rescans from the next byte

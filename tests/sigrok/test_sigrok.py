@@ -1,0 +1,178 @@
+"""sigrok-cli runs the tformat and biss decoders (sigrok/decoders) over captures built here
+from the library's own encoders (captures.py) and turned into .sr files by sigrok-cli's binary
+input; every frame's annotations must match the values the capture was built from, and a
+corrupted capture must give CRC-bad annotations, exit status 0 and no Python error."""
+
+import os
+import re
+import subprocess
+
+import pytest
+
+from motionbus import AlmcBit, biss, tformat
+import captures
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+DECODERS = os.path.join(HERE, '..', '..', 'sigrok', 'decoders')
+SIGROK_CLI = os.environ.get('SIGROK_CLI', 'sigrok-cli')
+
+
+def env():
+    e = dict(os.environ)
+    e['SIGROKDECODE_DIR'] = os.path.abspath(DECODERS)
+    import motionbus
+    pkg = os.path.dirname(os.path.dirname(os.path.abspath(motionbus.__file__)))
+    e['PYTHONPATH'] = pkg + os.pathsep + e.get('PYTHONPATH', '')
+    return e
+
+
+def make_sr(tmp_path, name, samples, channels, rate):
+    raw = tmp_path / (name + '.bin')
+    raw.write_bytes(samples)
+    sr = tmp_path / (name + '.sr')
+    r = subprocess.run([SIGROK_CLI, '-I', 'binary:numchannels=%d:samplerate=%d' % (channels, rate),
+                        '-i', str(raw), '-o', str(sr)], capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    return sr
+
+
+def decode(path, pds, show):
+    r = subprocess.run([SIGROK_CLI, '-i', str(path), '-P', pds, '-A', show,
+                        '--protocol-decoder-samplenum'], capture_output=True, text=True, env=env())
+    assert r.returncode == 0, r.stderr
+    assert 'Traceback' not in r.stderr and 'srd:' not in r.stderr, r.stderr
+    out = []
+    for line in r.stdout.splitlines():
+        m = re.match(r'(\d+)-(\d+) \S+: (.*)$', line)
+        assert m, line
+        out.append((int(m.group(1)), int(m.group(2)), m.group(3)))
+    return out
+
+
+TF_PD = 'uart:rx=0:baudrate=2500000,tformat'
+
+
+def frames_of(anns):
+    """The annotations grouped per frame (a Request / Response line starts one)."""
+    groups = []
+    for ss, es, text in anns:
+        if text.startswith('Request ') or text.startswith('Response '):
+            groups.append([text])
+        elif groups:
+            groups[-1].append(text)
+    return groups
+
+
+def check_response(group, r):
+    did = '%X' % int(r.id)
+    assert group[0].startswith('Response ID' + did)
+    assert 'CF: 0x%02X ID%s' % (r.cf, did) in group
+    assert 'CRC good: 0x%02X' % r.crc in group
+    if int(r.id) in (0, 3, 7, 8, 12):
+        assert 'ABS: %d' % r.abs in group
+    if int(r.id) in (1, 3):
+        assert 'ABM: %d' % r.abm in group
+    if int(r.id) in (2, 3):
+        assert 'ENID: 0x%02X' % r.enid in group
+    if int(r.id) == 3:
+        assert 'ALMC: 0x%02X' % r.almc in group
+        alarms = sorted(t for t in group if t.startswith('ALMC: ') and '(' in t)
+        assert len(alarms) == len(r.alarms)
+        for a in r.alarms:
+            assert any('(%s)' % a.name.upper() in t for t in alarms)
+    if int(r.id) in (6, 13):
+        assert 'ADF: 0x%02X' % r.address in group
+        assert 'EDF: 0x%02X' % r.edf in group
+        assert any(t.startswith('EEPROM ') and 'address 0x%02X data 0x%02X' % (r.address, r.edf)
+                   in t for t in group)
+
+
+@pytest.mark.parametrize('corrupt', [False, True])
+def test_tformat(tmp_path, corrupt):
+    samples, expected = captures.tformat_capture(corrupt=corrupt)
+    sr = make_sr(tmp_path, 'tformat', samples, 1, captures.TF_RATE)
+    groups = frames_of(decode(sr, TF_PD, 'tformat'))
+    g = iter(groups)
+    for e in expected:
+        req = next(g)
+        cf = e['request_bytes'][0]
+        did = [tformat.control_field(i) for i in range(16)].index(cf)
+        assert req[0].startswith('Request ID%X (CF 0x%02X)' % (did, cf)), req
+        if len(e['request_bytes']) > 1:
+            assert 'CRC good: 0x%02X' % e['request_bytes'][-1] in req
+            assert 'ADF: 0x%02X' % e['request_bytes'][1] in req
+        if cf == 0x2A:
+            assert 'Abnormal request: tformat_unknown_data_id' in req
+        if 'reply_bytes' not in e:
+            assert any(t.startswith('Missing response to ID') for t in req), req
+            continue
+        if e['reply'] is None:  # corrupted: rejected with its CRC evidence, inside the request's group
+            assert any(t.startswith('CRC bad: expected 0x') for t in req), req
+            assert 'Rejected response: crc_mismatch' in req
+            continue
+        resp = next(g)
+        check_response(resp, e['reply'])
+        if cf == 0x2A:
+            assert 'ID3 reply to an abnormal request' in resp[0]
+    assert next(g, None) is None
+    if not corrupt:
+        # the capture's last ID3 reply carries the battery alarm set before it
+        assert expected[-1]['reply'].alarms == [AlmcBit.be]
+
+
+def biss_check(anns, layout, frames, bad_frame=None):
+    chain = layout if isinstance(layout, list) else [layout]
+    heads = [i for i, (_, _, t) in enumerate(anns) if t.startswith('Frame: ')]
+    assert len(heads) == len(frames)
+    for k, (values, cds, cdm) in enumerate(frames):
+        end = heads[k + 1] if k + 1 < len(heads) else len(anns)
+        texts = [t for _, _, t in anns[heads[k]:end]]
+        assert 'CDM: %d' % int(cdm) in texts
+        if k == bad_frame:
+            assert texts[0].startswith('Frame: CRC bad'), texts
+            assert any(t.startswith('CRC bad: expected 0x') for t in texts), texts
+            continue
+        assert 'CDS: %d' % int(cds) in texts
+        assert 'Line delay: 2 bits' in texts and 'Ack' in texts and 'Start' in texts
+        for i, (lay, v) in enumerate(zip(chain, values)):
+            assert 'Slave %d single-turn: %d' % (i, v.single_turn) in texts
+            if lay.multi_turn_bits:
+                assert 'Slave %d multi-turn: %d' % (i, v.multi_turn) in texts
+            assert any(t.startswith('Slave %d CRC good: ' % i) for t in texts), texts
+    return [t for _, _, t in anns if t.startswith('Register ')]
+
+
+def test_biss_single_slave(tmp_path):
+    layout = biss.SlaveLayout(single_turn_bits=26)
+    positions = [[biss.SlaveValues(single_turn=v)] for v in (0, 1, 0x2ABCDEF, 0x3FFFFFF, 12345)]
+    samples, frames, _ = captures.biss_capture(layout, positions)
+    sr = make_sr(tmp_path, 'biss', samples, 2, captures.BISS_RATE)
+    biss_check(decode(sr, 'biss:ma=0:slo=1', 'biss'), layout, frames)
+
+
+def test_biss_chain_and_corrupt_frame(tmp_path):
+    crc = biss.crc_from_biss_notation(0x43)
+    chain = [biss.SlaveLayout(multi_turn_bits=12, single_turn_bits=13, crc=crc),
+             biss.SlaveLayout(single_turn_bits=18, crc=crc)]
+    positions = [[biss.SlaveValues(multi_turn=k * 7, single_turn=k * 1000 + 1),
+                  biss.SlaveValues(single_turn=0x3FFFF - k)] for k in range(4)]
+    samples, frames, _ = captures.biss_capture(chain, positions, corrupt_frame=2)
+    sr = make_sr(tmp_path, 'chain', samples, 2, captures.BISS_RATE)
+    anns = decode(sr, 'biss:ma=0:slo=1:chain=12+13/18:crc_poly=0x43', 'biss')
+    biss_check(anns, chain, frames, bad_frame=2)
+
+
+def test_biss_register_read(tmp_path):
+    layout = biss.SlaveLayout(single_turn_bits=26)
+    regs = bytes(range(0x40, 0x80))
+    n = biss.ControlMaster.frames_for(1) + 4
+    positions = [[biss.SlaveValues(single_turn=k)] for k in range(n)]
+    samples, frames, master = captures.biss_capture(layout, positions,
+                                                    register_read=(0, 0x12, regs))
+    assert master.data == bytes([regs[0x12]])
+    sr = make_sr(tmp_path, 'reg', samples, 2, captures.BISS_RATE)
+    reg = biss_check(decode(sr, 'biss:ma=0:slo=1', 'biss'), layout, frames)
+    assert reg == ['Register read slave 0 address 0x12 CRC4 0x%X good, read acknowledged'
+                   % biss.header_crc(0, 0x12),
+                   'Register read address 0x12 data 0x%02X CRC4 0x%X good'
+                   % (regs[0x12], biss.data_crc(regs[0x12]))]
