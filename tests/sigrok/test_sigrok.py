@@ -5,6 +5,7 @@ corrupted capture must give CRC-bad annotations, exit status 0 and no Python err
 
 import os
 import re
+import shutil
 import subprocess
 
 import pytest
@@ -120,7 +121,7 @@ def test_tformat(tmp_path, corrupt):
         assert expected[-1]['reply'].alarms == [AlmcBit.be]
 
 
-def biss_check(anns, layout, frames, bad_frame=None):
+def biss_check(anns, layout, frames, bad_frame=None, line_delay=2):
     chain = layout if isinstance(layout, list) else [layout]
     heads = [i for i, (_, _, t) in enumerate(anns) if t.startswith('Frame: ')]
     assert len(heads) == len(frames)
@@ -133,7 +134,9 @@ def biss_check(anns, layout, frames, bad_frame=None):
             assert any(t.startswith('CRC bad: expected 0x') for t in texts), texts
             continue
         assert 'CDS: %d' % int(cds) in texts
-        assert 'Line delay: 2 bits' in texts and 'Ack' in texts and 'Start' in texts
+        if line_delay:
+            assert 'Line delay: %d bits' % line_delay in texts
+        assert 'Ack' in texts and 'Start' in texts
         for i, (lay, v) in enumerate(zip(chain, values)):
             assert 'Slave %d single-turn: %d' % (i, v.single_turn) in texts
             if lay.multi_turn_bits:
@@ -147,7 +150,7 @@ def test_biss_single_slave(tmp_path):
     positions = [[biss.SlaveValues(single_turn=v)] for v in (0, 1, 0x2ABCDEF, 0x3FFFFFF, 12345)]
     samples, frames, _ = captures.biss_capture(layout, positions)
     sr = make_sr(tmp_path, 'biss', samples, 2, captures.BISS_RATE)
-    biss_check(decode(sr, 'biss:ma=0:slo=1', 'biss'), layout, frames)
+    biss_check(decode(sr, 'biss:ma=0:slo=1:chain=26', 'biss'), layout, frames)
 
 
 def test_biss_chain_and_corrupt_frame(tmp_path):
@@ -171,8 +174,57 @@ def test_biss_register_read(tmp_path):
                                                     register_read=(0, 0x12, regs))
     assert master.data == bytes([regs[0x12]])
     sr = make_sr(tmp_path, 'reg', samples, 2, captures.BISS_RATE)
-    reg = biss_check(decode(sr, 'biss:ma=0:slo=1', 'biss'), layout, frames)
+    reg = biss_check(decode(sr, 'biss:ma=0:slo=1:chain=26', 'biss'), layout, frames)
     assert reg == ['Register read slave 0 address 0x12 CRC4 0x%X good, read acknowledged'
                    % biss.header_crc(0, 0x12),
                    'Register read address 0x12 data 0x%02X CRC4 0x%X good'
                    % (regs[0x12], biss.data_crc(regs[0x12]))]
+
+
+TB = os.path.join(HERE, '..', 'captures', 'tb.v')
+
+
+def vcd_lines_only(src, dst, names):
+    """The testbench's VCD with only its 1-bit lines `names` (libsigrok 0.5's VCD input reads
+    the file's other variables, vectors and reals, as garbage)."""
+    keep, out, header = set(), [], True
+    for line in open(src):
+        s = line.strip()
+        if header:
+            m = re.match(r'\$var \S+ 1 (\S+) (\S+) \$end', s)
+            if s.startswith('$var'):
+                if m and m.group(2) in names:
+                    keep.add(m.group(1))
+                    out.append(s)
+                continue
+            out.append(s)
+            header = '$enddefinitions' not in s
+        elif s and (s[0] == '#' or s[0] == '$' or (s[0] in '01xz' and s[1:] in keep)):
+            out.append(s)
+    with open(dst, 'w') as f:
+        f.write('\n'.join(out) + '\n')
+
+
+@pytest.mark.skipif(not (shutil.which('iverilog') and shutil.which('vvp')),
+                    reason='needs Icarus Verilog')
+def test_icarus_testbench_vcd(tmp_path):
+    subprocess.run(['iverilog', '-g2005', '-o', 'tb.vvp', TB], cwd=tmp_path, check=True)
+    subprocess.run(['vvp', '-n', 'tb.vvp'], cwd=tmp_path, check=True, stdout=subprocess.DEVNULL)
+    vcd = tmp_path / 'lines.vcd'
+    vcd_lines_only(tmp_path / 'capture.vcd', vcd, {'ma', 'slo', 'tf_line', 'mb_line'})
+    sr = tmp_path / 'tb.sr'
+    r = subprocess.run([SIGROK_CLI, '-I', 'vcd:downsample=10000', '-i', str(vcd), '-o', str(sr)],
+                       capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    # The values the testbench built its frames from.
+    source = open(TB).read()
+    positions = [int(v) for v in re.findall(r"biss_frame\(32'd(\d+)\)", source)]
+    reply = bytes.fromhex(re.search(r"88'h([0-9A-Fa-f]{22});\s*fork", source).group(1))
+    assert len(positions) == 2
+    frames = [([biss.SlaveValues(single_turn=p)], False, False) for p in positions]
+    anns = decode(sr, 'biss:ma=ma:slo=slo:chain=32', 'biss')
+    biss_check(anns, biss.SlaveLayout(single_turn_bits=32), frames, line_delay=0)
+    groups = frames_of(decode(sr, 'uart:rx=tf_line:baudrate=2500000,tformat', 'tformat'))
+    assert len(groups) == 2
+    assert groups[0][0] == 'Request ID3 (CF 0x1A)'
+    check_response(groups[1], tformat.decode_response(reply))

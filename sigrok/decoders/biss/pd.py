@@ -54,7 +54,7 @@ class Decoder(srd.Decoder):
     )
     options = (
         {'id': 'chain', 'desc': 'Slaves: [multi-turn+]single-turn bits, / between slaves',
-         'default': '26'},
+         'default': '32'},
         {'id': 'crc_poly', 'desc': 'CRC polynomial, BiSS notation (0x43: CRC6)',
          'default': '0x43'},
         {'id': 'crc_start', 'desc': 'CRC start value', 'default': 0},
