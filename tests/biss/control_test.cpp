@@ -473,3 +473,59 @@ TEST_CASE("observer: a bad header CRC4 is reported; reset() forgets a half-seen 
     CHECK(obs.step(false, ((h >> (17U - i)) & 1U) != 0U).kind == observed_kind::none);
   }
 }
+
+namespace {
+
+// Slots sent (CDM) and the slave's answer to each (CDS, one frame later), through an observer.
+std::vector<observed_access> feed_slots(control_observer& obs, const std::string& cdm,
+                                        const std::string& cds) {
+  std::vector<observed_access> seen;
+  for (std::size_t i = 0; i <= cdm.size(); ++i) {
+    const bool answer = i > 0 && cds[i - 1] == '1';
+    const bool slot = i < cdm.size() && cdm[i] == '1';
+    const observed_access e = obs.step(answer, slot);
+    if (e.kind != observed_kind::none) {
+      seen.push_back(e);
+    }
+  }
+  return seen;
+}
+
+std::string header_slots(std::uint8_t id, std::uint8_t address, const char* rw) {
+  return bits(header_bits(id, address, false) >> 2U, 16) + rw;  // S, CTS, ID, ADR, CRC4, R, W
+}
+
+}  // namespace
+
+TEST_CASE("observer: an invalid R/W pair, a master ending in a wait state, P sent as 1") {
+  const std::string quiet(preamble_frames, '0');
+  control_observer obs;
+  // R = W = 1 from the master: reported, and the access ends (the slave's 1s are no data)
+  std::string cdm = header_slots(2, 0x11, "11") + std::string(13, '1');
+  std::string cds = std::string(16, '0') + "11" + std::string(13, '1');
+  auto seen = feed_slots(obs, cdm, cds);
+  REQUIRE(seen.size() == 1);
+  CHECK(seen[0].echo == 0x3);
+  CHECK(seen[0].address == 0x11);
+  CHECK(seen[0].slave_id == 2);
+  CHECK(seen[0].crc_ok);
+  CHECK_FALSE(seen[0].write);
+  // a read, the slave busy in the S slot, then the master gives up (CDM 0): nothing more
+  cdm = quiet + header_slots(2, 0x11, "10") + "1" + "0" + std::string(12, '1') + "0";
+  cds = quiet + std::string(16, '0') + "10" + "0" + std::string(14, '1');
+  seen = feed_slots(obs, cdm, cds);
+  REQUIRE(seen.size() == 1);
+  CHECK(seen[0].kind == observed_kind::header);
+  CHECK(seen[0].echo == 0x2);
+  // a read byte whose P slot the master sends as 1: the byte is reported, the access ends
+  const std::string byte_bits = bits(0xA7, 8) + bits(data_crc(0xA7), 4);
+  cdm = quiet + header_slots(2, 0x12, "10") + "1" + std::string(12, '0') + "1" + "1" +
+        std::string(12, '0') + "0";
+  cds = quiet + std::string(16, '0') + "10" + "1" + byte_bits + "0" + "1" + byte_bits + "0";
+  seen = feed_slots(obs, cdm, cds);
+  REQUIRE(seen.size() == 2);
+  CHECK(seen[1].kind == observed_kind::byte);
+  CHECK(seen[1].address == 0x12);
+  CHECK(seen[1].data == 0xA7);
+  CHECK(seen[1].crc_ok);
+}
