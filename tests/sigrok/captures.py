@@ -11,6 +11,12 @@ TF_OVERSAMPLE = 8                   # samples per bit
 TF_RATE = TF_BAUD * TF_OVERSAMPLE   # 20 MHz
 
 
+def _span(first_bit, size):
+    """The samples uart's DATA covers for a frame of `size` bytes whose first start bit is bit
+    `first_bit` (8N1: 10 bits a byte): from the first data bit to the end of the last."""
+    return ((first_bit + 1) * TF_OVERSAMPLE, (first_bit + 10 * (size - 1) + 9) * TF_OVERSAMPLE)
+
+
 def _tf_bits(frame, idle_bits):
     return tformat.encode_line(frame, idle_bits)
 
@@ -29,12 +35,14 @@ def tformat_capture(corrupt=False):
         nonlocal now
         reply = enc.respond(request, now_us=now) if answer else b''
         now += 100
+        entry = {'request_bytes': bytes(request), 'reply': None,
+                 'request_span': _span(len(bits), len(request))}
         bits.extend(_tf_bits(request, 0))
-        entry = {'request_bytes': bytes(request), 'reply': None}
         if reply:
             data = bytearray(reply)
             if flip is not None:
                 data[flip] ^= 0x01
+            entry['reply_span'] = _span(len(bits) + 8, len(data))
             bits.extend(_tf_bits(bytes(data), 8))      # the encoder answers about 3 us later
             entry['reply_bytes'] = bytes(data)
             entry['reply'] = None if flip is not None else tformat.decode_response(reply)
@@ -61,7 +69,8 @@ BISS_TIMEOUT = 20                   # the slave's timeout, in clock periods
 
 
 def biss_capture(layout, positions, register_read=None, corrupt_frame=None, extra_clocks=4):
-    """(raw samples, per frame [(values, cds, cdm)]): sensor data frames of `layout` (one
+    """(raw samples, per frame [(values, cds, cdm, (first sample, end of the clocks))], the
+    control master): sensor data frames of `layout` (one
     SlaveLayout or a chain) with `positions` (per frame, a list of SlaveValues), MA on channel
     0 and SLO on channel 1. `register_read` (slave_id, address, registers: bytes of the
     emulated register file) runs a control master and slave over the frames' CDM/CDS bits.
@@ -90,6 +99,7 @@ def biss_capture(layout, positions, register_read=None, corrupt_frame=None, extr
             start = bits.index(1, line_delay + 1)       # the Start bit after the Ack
             bits[start + 2 + 3] ^= 1                    # a data bit of the first slave
         cdm = master.step(cds) if master is not None else False
+        first = len(out)                # MA's first falling edge
         # SLO changes with MA's falling edge, the master samples at the rising edge.
         for b in bits + [0] * extra_clocks:
             out.extend([0 | (b << 1)] * BISS_HALF)
@@ -98,7 +108,8 @@ def biss_capture(layout, positions, register_read=None, corrupt_frame=None, extr
         ma = 0 if cdm else 1
         out.extend([ma | 0] * (BISS_TIMEOUT * 2 * BISS_HALF))
         out.extend([1 | 2] * (10 * 2 * BISS_HALF))
-        frames.append((values, cds, cdm))
+        frames.append((values, cds, cdm, (first, first + len(bits + [0] * extra_clocks) * 2 *
+                                          BISS_HALF)))
         if slave is not None:
             cds = slave.step(cdm)
     return bytes(out), frames, master

@@ -58,10 +58,17 @@ def frames_of(anns):
     groups = []
     for ss, es, text in anns:
         if text.startswith('Request ') or text.startswith('Response '):
-            groups.append([text])
+            groups.append(Group([text], (ss, es)))
         elif groups:
             groups[-1].append(text)
     return groups
+
+
+class Group(list):
+    """A frame's annotation texts, with the frame's sample range."""
+    def __init__(self, texts, span):
+        super().__init__(texts)
+        self.span = span
 
 
 def check_response(group, r):
@@ -99,6 +106,7 @@ def test_tformat(tmp_path, corrupt):
         cf = e['request_bytes'][0]
         did = [tformat.control_field(i) for i in range(16)].index(cf)
         assert req[0].startswith('Request ID%X (CF 0x%02X)' % (did, cf)), req
+        assert req.span == e['request_span']
         if len(e['request_bytes']) > 1:
             assert 'CRC good: 0x%02X' % e['request_bytes'][-1] in req
             assert 'ADF: 0x%02X' % e['request_bytes'][1] in req
@@ -112,6 +120,7 @@ def test_tformat(tmp_path, corrupt):
             assert 'Rejected response: crc_mismatch' in req
             continue
         resp = next(g)
+        assert resp.span == e['reply_span']
         check_response(resp, e['reply'])
         if cf == 0x2A:
             assert 'ID3 reply to an abnormal request' in resp[0]
@@ -125,9 +134,11 @@ def biss_check(anns, layout, frames, bad_frame=None, line_delay=2):
     chain = layout if isinstance(layout, list) else [layout]
     heads = [i for i, (_, _, t) in enumerate(anns) if t.startswith('Frame: ')]
     assert len(heads) == len(frames)
-    for k, (values, cds, cdm) in enumerate(frames):
+    for k, (values, cds, cdm, *span) in enumerate(frames):
         end = heads[k + 1] if k + 1 < len(heads) else len(anns)
         texts = [t for _, _, t in anns[heads[k]:end]]
+        if span:  # the frame's samples: from MA's first falling edge to the last clock's end
+            assert anns[heads[k]][:2] == span[0], (anns[heads[k]], span)
         assert 'CDM: %d' % int(cdm) in texts
         if k == bad_frame:
             assert texts[0].startswith('Frame: CRC bad'), texts
@@ -150,7 +161,15 @@ def test_biss_single_slave(tmp_path):
     positions = [[biss.SlaveValues(single_turn=v)] for v in (0, 1, 0x2ABCDEF, 0x3FFFFFF, 12345)]
     samples, frames, _ = captures.biss_capture(layout, positions)
     sr = make_sr(tmp_path, 'biss', samples, 2, captures.BISS_RATE)
-    biss_check(decode(sr, 'biss:ma=0:slo=1:chain=26', 'biss'), layout, frames)
+    anns = decode(sr, 'biss:ma=0:slo=1:chain=26', 'biss')
+    biss_check(anns, layout, frames)
+    # each field over its bits: line delay 2, Ack 1, Start, CDS, then 26 data bits, nE, nW, CRC
+    clock = 2 * captures.BISS_HALF
+    for (values, _, _, (first, _)) in frames:
+        pos = {t.split(':')[0]: (a, b) for a, b, t in anns if first <= a < first + 50 * clock}
+        assert pos['Slave 0 single-turn'] == (first + 5 * clock, first + 31 * clock)
+        assert pos['Slave 0 CRC good'] == (first + 33 * clock, first + 39 * clock)
+        assert pos['Start'] == (first + 3 * clock, first + 4 * clock)
 
 
 def test_biss_chain_and_corrupt_frame(tmp_path):
