@@ -31,13 +31,16 @@ def tformat_capture(corrupt=False):
     expected = []
     now = 0
 
-    def exchange(request, answer=True, flip=None):
+    def exchange(request, answer=True, flip=None, delimiter_error=False):
         nonlocal now
-        reply = enc.respond(request, now_us=now) if answer else b''
+        reply = enc.respond(request, now_us=now, delimiter_error=delimiter_error) if answer else b''
         now += 100
-        entry = {'request_bytes': bytes(request), 'reply': None,
+        entry = {'request_bytes': bytes(request), 'reply': None, 'delimiter_error': delimiter_error,
                  'request_span': _span(len(bits), len(request))}
-        bits.extend(_tf_bits(request, 0))
+        line = _tf_bits(request, 0)
+        if delimiter_error:
+            line[9] = 0                                 # the first byte's stop bit
+        bits.extend(line)
         if reply:
             data = bytearray(reply)
             if flip is not None:
@@ -56,6 +59,7 @@ def tformat_capture(corrupt=False):
     exchange(tformat.encode_request(DataId.eeprom_write, 0x05, 0x5A))
     exchange(tformat.encode_request(DataId.eeprom_read, 0x05))
     exchange(bytes([0x2A]))                             # Data ID 5: unknown, answered with ID3
+    exchange(tformat.encode_request(DataId.read_abm), delimiter_error=True)   # ID3 data, SF CA1
     exchange(tformat.encode_request(DataId.read_abs), answer=False)
     enc.set_condition(AlmcBit.be, True)                 # the battery error in the last reply
     exchange(tformat.encode_request(DataId.read_all))

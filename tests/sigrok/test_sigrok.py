@@ -112,6 +112,7 @@ def test_tformat(tmp_path, corrupt):
             assert 'ADF: 0x%02X' % e['request_bytes'][1] in req
         if cf == 0x2A:
             assert 'Abnormal request: tformat_unknown_data_id' in req
+        assert ('Delimiter error (stop bit 0)' in req) == e['delimiter_error'], req
         if 'reply_bytes' not in e:
             assert any(t.startswith('Missing response to ID') for t in req), req
             continue
@@ -122,8 +123,10 @@ def test_tformat(tmp_path, corrupt):
         resp = next(g)
         assert resp.span == e['reply_span']
         check_response(resp, e['reply'])
-        if cf == 0x2A:
+        if cf == 0x2A or e['delimiter_error']:
             assert 'ID3 reply to an abnormal request' in resp[0]
+        if e['delimiter_error']:
+            assert e['reply'].ca1 and 'SF: CA1 request delimiter error' in resp
     assert next(g, None) is None
     if not corrupt:
         # the capture's last ID3 reply carries the battery alarm set before it

@@ -112,6 +112,11 @@ class Decoder(srd.Decoder):
 
     def decode(self, ss, es, data):
         ptype, rxtx, pdata = data
+        if ptype == 'INVALID STOPBIT':
+            # A delimiter error (T-format spec §8.4 Table 5): the UART's to see; the byte still
+            # goes to the listener as read, and the encoder answers it with ID3 data (SF CA1).
+            self.put_ann(ss, es, ANN_ERROR, ['Delimiter error (stop bit 0)', 'Delimiter', 'D!'])
+            return
         if ptype != 'DATA':
             return
         gap = self.gap_samples()
