@@ -7,6 +7,7 @@ import os
 import re
 import shutil
 import subprocess
+import sys
 
 import pytest
 
@@ -250,3 +251,48 @@ def test_icarus_testbench_vcd(tmp_path):
     assert len(groups) == 2
     assert groups[0][0] == 'Request ID3 (CF 0x1A)'
     check_response(groups[1], tformat.decode_response(reply))
+
+
+def probe_dir(tmp_path):
+    """The decoders and the test probe stacked on them, in one SIGROKDECODE_DIR."""
+    d = tmp_path / 'decoders'
+    shutil.copytree(DECODERS, d)
+    shutil.copytree(os.path.join(HERE, 'probe'), d / 'mbprobe',
+                    ignore=shutil.ignore_patterns('__pycache__'))
+    return d
+
+
+def test_python_output_for_stacked_decoders(tmp_path, monkeypatch):
+    monkeypatch.setattr(sys.modules[__name__], 'DECODERS', str(probe_dir(tmp_path)))
+    samples, expected = captures.tformat_capture(corrupt=True)
+    sr = make_sr(tmp_path, 'tformat', samples, 1, captures.TF_RATE)
+    got = [t for _, _, t in decode(sr, TF_PD + ',mbprobe', 'mbprobe')]
+    want = []
+    for e in expected:
+        q = e['request_bytes']
+        err = 'tformat_unknown_data_id' if q[0] == 0x2A else None
+        want.append('REQUEST cf=0x%02X error=%s' % (q[0], err))
+        if 'reply_bytes' not in e:
+            want.append('MISSING cf=0x%02X' % q[0])
+        elif e['reply'] is None:
+            want.append('ERROR crc_mismatch')
+        else:
+            r = e['reply']
+            want.append('RESPONSE id=%d abs=%d abm=%d id3_reply=%s' % (
+                int(r.id), r.abs, r.abm, int(r.id) == 3 and q[0] != 0x1A))
+    assert got == want
+
+    layout = biss.SlaveLayout(single_turn_bits=26)
+    regs = bytes(range(0x40, 0x80))
+    n = biss.ControlMaster.frames_for(1) + 2
+    positions = [[biss.SlaveValues(single_turn=k * 3)] for k in range(n)]
+    samples, frames, _ = captures.biss_capture(layout, positions, register_read=(0, 0x12, regs))
+    sr = make_sr(tmp_path, 'biss', samples, 2, captures.BISS_RATE)
+    got = [t for _, _, t in decode(sr, 'biss:ma=0:slo=1:chain=26,mbprobe', 'mbprobe')]
+    want = ['FRAME st=%d cds=%d cdm=%d' % (v[0].single_turn, int(cds), int(cdm))
+            for v, cds, cdm, _ in frames]
+    frames_only = [t for t in got if t.startswith('FRAME')]
+    assert frames_only == want
+    assert [t for t in got if not t.startswith('FRAME')] == [
+        'REGISTER header address=0x12 data=0x00',
+        'REGISTER byte address=0x12 data=0x%02X' % regs[0x12]]
