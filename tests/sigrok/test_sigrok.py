@@ -296,3 +296,28 @@ def test_python_output_for_stacked_decoders(tmp_path, monkeypatch):
     assert [t for t in got if not t.startswith('FRAME')] == [
         'REGISTER header address=0x12 data=0x00',
         'REGISTER byte address=0x12 data=0x%02X' % regs[0x12]]
+
+
+def test_noise_gives_annotations_not_exceptions(tmp_path):
+    """Random bytes on a T-format line (in valid UART framing, random gaps) and random SLO bits
+    under a regular MA clock: both decoders annotate what they find, sigrok-cli exits 0 and no
+    Python error reaches stderr (decode() checks both)."""
+    import random
+    rnd = random.Random(26)
+    bits = [1] * 40
+    for _ in range(3000):
+        bits.extend(tformat.encode_line(bytes([rnd.randrange(256)]), rnd.choice((0, 0, 0, 2, 40))))
+    sr = make_sr(tmp_path, 'tf_noise', bytes(b for b in bits for _ in range(8)), 1, captures.TF_RATE)
+    texts = [t for _, _, t in decode(sr, TF_PD, 'tformat')]
+    assert sum(t.startswith('Request ') for t in texts) > 100
+    assert any(t.startswith('Rejected response: ') for t in texts)
+
+    out = bytearray([3] * 40)
+    for _ in range(200):
+        for _ in range(rnd.randrange(4, 90)):
+            b = rnd.randrange(2) << 1
+            out.extend([b] * captures.BISS_HALF + [b | 1] * captures.BISS_HALF)
+        out.extend([rnd.randrange(2)] * 200 + [3] * 80)
+    sr = make_sr(tmp_path, 'biss_noise', bytes(out), 2, captures.BISS_RATE)
+    texts = [t for _, _, t in decode(sr, 'biss:ma=0:slo=1:chain=12+13/18', 'biss')]
+    assert sum(t.startswith('Frame: ') or t.startswith('No frame: ') for t in texts) == 200
