@@ -163,3 +163,19 @@ if(TARGET motionbus_python AND NOT TEST python_pytest)
             "${PROJECT_SOURCE_DIR}" "${PROJECT_BINARY_DIR}/python-install")
   set_tests_properties(python_install PROPERTIES LABELS "python" TIMEOUT 900)
 endif()
+# --- the sigrok decoders (sigrok/decoders, docs/sigrok.md) ----------------------------------
+# sigrok_decoders: sigrok-cli runs tformat (on uart) and biss over captures the tests build
+# from the package's encoders (tests/sigrok), against the build tree's package.
+if(TARGET motionbus_python AND NOT TEST sigrok_decoders)
+  find_program(MOTIONBUS_SIGROK_CLI sigrok-cli)
+  if(MOTIONBUS_SIGROK_CLI)
+    add_test(NAME sigrok_decoders
+      COMMAND ${CMAKE_COMMAND} -E env
+              "PYTHONPATH=${PROJECT_BINARY_DIR}/python:${CMAKE_CURRENT_SOURCE_DIR}/sigrok"
+              "SIGROK_CLI=${MOTIONBUS_SIGROK_CLI}"
+              /usr/bin/python3 -m pytest -q -p no:cacheprovider "${CMAKE_CURRENT_SOURCE_DIR}/sigrok")
+    set_tests_properties(sigrok_decoders PROPERTIES LABELS "sigrok;python" TIMEOUT 300)
+  elseif(MOTIONBUS_REQUIRE_ALL_CHECKS)
+    message(FATAL_ERROR "the sigrok decoder tests need sigrok-cli")
+  endif()
+endif()

@@ -1,7 +1,9 @@
 // BiSS-C control communication state machines fed arbitrary bits. Oracles: the master fed
 // random CDS bits ends every access (done or failed) within its bound in frames, and a done
 // read/write moved exactly the bytes asked for; the slave fed random CDM bits recovers: after
-// 14 zero frames a real master reads and writes through it correctly.
+// 14 zero frames a real master reads and writes through it correctly; the observer fed random
+// CDS/CDM pairs recovers too: after the preamble it reports exactly the headers and bytes of
+// that exchange.
 #include <motionbus/biss/control.hpp>
 
 #include <array>
@@ -98,11 +100,22 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       regs.mem[a] = static_cast<std::uint8_t>(a ^ 0x5AU);
     }
     bs::control_slave<registers> s(regs, {id, false});
+    bs::control_observer obs;
     bits in(data + 4, size - 4);
     while (in.more()) {
-      (void)s.step(in.next());
+      const bool cdm = in.next();
+      (void)obs.step(s.step(cdm), in.next());
       regs.tick();
     }
+    std::array<bs::observed_access, 8> seen{};
+    std::size_t n_seen = 0;
+    const auto tap = [&](bool frame_cds, bool cdm) {
+      const bs::observed_access e = obs.step(frame_cds, cdm);
+      if (e.kind != bs::observed_kind::none) {
+        MOTIONBUS_FUZZ_CHECK(n_seen < seen.size());
+        seen[n_seen++] = e;
+      }
+    };
     bs::control_master m;  // default bound: enough for the write delays here
     const auto base = static_cast<std::uint8_t>(0x58U + address % 0x20U);  // writable, not 0x50
     const std::uint8_t to_write[2] = {static_cast<std::uint8_t>(data[2]),
@@ -110,24 +123,43 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     MOTIONBUS_FUZZ_CHECK(m.start_write(id, base, mb::byte_view(to_write, 2)) == mb::errc::ok);
     bool cds = false;
     for (std::size_t k = 0; k < 14; ++k) {  // the master's own preamble is only counted by it
+      tap(cds, false);
       cds = s.step(false);
       regs.tick();
     }
-    while (m.busy()) {
-      cds = s.step(m.step(cds));
-      regs.tick();
-    }
+    n_seen = 0;  // what the random bits left half-seen may complete during the preamble
+    const auto exchange = [&]() {
+      while (m.busy()) {
+        const bool cdm = m.step(cds);
+        tap(cds, cdm);
+        cds = s.step(cdm);
+        regs.tick();
+      }
+    };
+    const auto check_access = [&](bool write_access, const std::uint8_t* bytes, std::size_t n) {
+      MOTIONBUS_FUZZ_CHECK(n_seen == n + 1U);
+      const bs::observed_access& h = seen[0];
+      MOTIONBUS_FUZZ_CHECK(h.kind == bs::observed_kind::header && h.slave_id == id &&
+                           h.address == base && h.write == write_access && h.crc_ok &&
+                           h.echo == (write_access ? 1U : 2U));
+      for (std::size_t i = 0; i < n; ++i) {
+        const bs::observed_access& b = seen[i + 1U];
+        MOTIONBUS_FUZZ_CHECK(b.kind == bs::observed_kind::byte && b.address == base + i &&
+                             b.data == bytes[i] && b.crc_ok && !b.stop);
+      }
+      n_seen = 0;
+    };
+    exchange();
     MOTIONBUS_FUZZ_CHECK(m.state() == bs::control_state::done);
     MOTIONBUS_FUZZ_CHECK(regs.mem[base] == to_write[0] && regs.mem[base + 1U] == to_write[1]);
+    check_access(true, to_write, 2);
     std::uint8_t back[3] = {};
     MOTIONBUS_FUZZ_CHECK(m.start_read(id, base, mb::mutable_byte_view(back, 3)) == mb::errc::ok);
-    while (m.busy()) {
-      cds = s.step(m.step(cds));
-      regs.tick();
-    }
+    exchange();
     MOTIONBUS_FUZZ_CHECK(m.state() == bs::control_state::done);
     MOTIONBUS_FUZZ_CHECK(back[0] == to_write[0] && back[1] == to_write[1] &&
                          back[2] == regs.mem[base + 2U]);
+    check_access(false, back, 3);
   }
   return 0;
 }

@@ -111,6 +111,27 @@ class ControlSlave:
     rejected_writes: int
     refused_busy: int
 
+class ObservedAccess:
+    @property
+    def kind(self) -> str: ...
+    slave_id: int
+    address: int
+    write: bool
+    cts: bool
+    crc: int
+    crc_ok: bool
+    echo: int
+    data: int
+    answer: int
+    answer_crc: int
+    stop: bool
+    waits: int
+
+class ControlObserver:
+    def __init__(self) -> None: ...
+    def step(self, cds: bool, cdm: bool) -> Optional[ObservedAccess]: ...
+    def reset(self) -> None: ...
+
 class EdsCommon:
     version: int
     length: int

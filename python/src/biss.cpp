@@ -579,6 +579,49 @@ void bind_biss(py::module_& root) {
       .def_property_readonly("refused_busy",
                              [](const slave_box& b) { return b.slave.refused_busy(); });
 
+  // A passive observer's events: kind "header" or "byte" (None for frames completing nothing).
+  py::class_<bs::observed_access> seen(
+      m, "ObservedAccess",
+      "A register access part the observer saw complete: kind 'header' (slave_id, address, "
+      "write, cts, crc, crc_ok, echo: the slave's R/W answer, R in bit 1) or 'byte' (address, "
+      "write, data, crc and crc_ok of the sending side, answer and answer_crc: the slave's, "
+      "stop: its P answer, waits: its wait states).");
+  seen.def_property_readonly("kind",
+                             [](const bs::observed_access& a) {
+                               return a.kind == bs::observed_kind::header ? "header" : "byte";
+                             })
+      .def_readonly("slave_id", &bs::observed_access::slave_id)
+      .def_readonly("address", &bs::observed_access::address)
+      .def_readonly("write", &bs::observed_access::write)
+      .def_readonly("cts", &bs::observed_access::cts)
+      .def_readonly("crc", &bs::observed_access::crc)
+      .def_readonly("crc_ok", &bs::observed_access::crc_ok)
+      .def_readonly("echo", &bs::observed_access::echo)
+      .def_readonly("data", &bs::observed_access::data)
+      .def_readonly("answer", &bs::observed_access::answer)
+      .def_readonly("answer_crc", &bs::observed_access::answer_crc)
+      .def_readonly("stop", &bs::observed_access::stop)
+      .def_readonly("waits", &bs::observed_access::waits);
+  add_repr(seen, {"kind", "slave_id", "address", "write", "crc", "crc_ok", "echo", "data", "answer",
+                  "stop", "waits"});
+  py::class_<bs::control_observer>(
+      m, "ControlObserver",
+      "Register access as a bus monitor sees it: step(cds, cdm) once per frame with the frame's "
+      "CDS bit and the CDM bit sent after it; returns an ObservedAccess when a header or a byte "
+      "completes (the answer to a slot comes one frame later), else None.")
+      .def(py::init<>())
+      .def(
+          "step",
+          [](bs::control_observer& o, bool cds, bool cdm) -> py::object {
+            const bs::observed_access a = o.step(cds, cdm);
+            if (a.kind == bs::observed_kind::none) {
+              return py::none();
+            }
+            return py::cast(a);
+          },
+          py::arg("cds"), py::arg("cdm"))
+      .def("reset", &bs::control_observer::reset, "Forgets a half-seen access (a capture gap).");
+
   // --- EDS ----------------------------------------------------------------------------------
   py::class_<bs::eds_common> common(m, "EdsCommon", "EDS common part (one 64-byte bank).");
   common.def(py::init<>())

@@ -338,3 +338,194 @@ TEST_CASE("after a complete access the master's 0 ends it at the slave") {
   CHECK(m.state() == control_state::done);
   CHECK(out[0] == 0x5A);
 }
+
+namespace {
+
+// The master and slave talking, an observer tapping each frame's CDS and the CDM sent after it;
+// the events it reports (kind none left out). `cds_fault` flips the CDS of a given frame.
+std::vector<observed_access> observe(
+    control_master& m, control_slave<test_registers>& s, test_registers& regs,
+    std::size_t extra_frames,
+    const std::function<bool(std::size_t, bool)>& cds_fault = [](std::size_t, bool b) {
+      return b;
+    }) {
+  control_observer obs;
+  std::vector<observed_access> seen;
+  bool cds = false;
+  std::size_t tail = 0;
+  for (std::size_t k = 0; k < 100000 && tail < extra_frames; ++k) {
+    tail += m.busy() ? 0U : 1U;
+    const bool cdm = m.step(cds);
+    const observed_access e = obs.step(cds, cdm);
+    if (e.kind != observed_kind::none) {
+      seen.push_back(e);
+    }
+    cds = cds_fault(k, s.step(cdm));
+    regs.tick();
+  }
+  return seen;
+}
+
+}  // namespace
+
+TEST_CASE("observer: a read, its header and byte with the slave's CRC4") {
+  test_registers regs;
+  regs.mem[0x42] = 0x63;
+  control_master m;
+  control_slave<test_registers> s(regs, {5});
+  std::uint8_t out[1] = {};
+  REQUIRE(m.start_read(5, 0x42, mutable_byte_view(out, 1)) == errc::ok);
+  const auto seen = observe(m, s, regs, 3);
+  REQUIRE(seen.size() == 2);
+  CHECK(seen[0].kind == observed_kind::header);
+  CHECK(seen[0].slave_id == 5);
+  CHECK(seen[0].address == 0x42);
+  CHECK(seen[0].cts);
+  CHECK_FALSE(seen[0].write);
+  CHECK(seen[0].crc == header_crc(5, 0x42));
+  CHECK(seen[0].crc_ok);
+  CHECK(seen[0].echo == 0x2);
+  CHECK(seen[1].kind == observed_kind::byte);
+  CHECK(seen[1].address == 0x42);
+  CHECK(seen[1].data == 0x63);
+  CHECK(seen[1].crc == data_crc(0x63));
+  CHECK(seen[1].crc_ok);
+  CHECK_FALSE(seen[1].stop);
+  CHECK(seen[1].waits == 0);
+}
+
+TEST_CASE("observer: a sequential write with wait states, the echo and P per byte") {
+  test_registers regs;
+  regs.write_delay = 3;
+  control_master m;
+  control_slave<test_registers> s(regs, {2});
+  const std::uint8_t data[2] = {0xA5, 0x3C};
+  REQUIRE(m.start_write(2, 0x10, byte_view(data, 2)) == errc::ok);
+  const auto seen = observe(m, s, regs, 3);
+  CHECK(m.state() == control_state::done);
+  REQUIRE(seen.size() == 3);
+  CHECK(seen[0].write);
+  CHECK(seen[0].echo == 0x1);
+  for (std::size_t i = 0; i < 2; ++i) {
+    CAPTURE(i);
+    CHECK(seen[i + 1].kind == observed_kind::byte);
+    CHECK(seen[i + 1].write);
+    CHECK(seen[i + 1].address == 0x10 + i);
+    CHECK(seen[i + 1].data == data[i]);
+    CHECK(seen[i + 1].answer == data[i]);
+    CHECK(seen[i + 1].answer_crc == data_crc(data[i]));
+    CHECK(seen[i + 1].crc_ok);
+    CHECK_FALSE(seen[i + 1].stop);
+  }
+  CHECK(seen[1].waits == 0);
+  // the first write keeps the slave busy 3 frames from its last CRC4 slot: that slot and P
+  // pass before the next S, one wait state is left
+  CHECK(seen[2].waits == 1);
+}
+
+TEST_CASE("observer: a corrupted read byte is CRC-bad; a refused header ends the access") {
+  test_registers regs;
+  regs.mem[0x20] = 0xC3;
+  regs.hidden[0x30] = true;
+  control_master m;
+  control_slave<test_registers> s(regs, {0});
+  std::uint8_t out[1] = {};
+  REQUIRE(m.start_read(0, 0x20, mutable_byte_view(out, 1)) == errc::ok);
+  // frame 20 carries the answer to slot 19 (D7 after S at 18)
+  auto seen = observe(m, s, regs, 3, [](std::size_t f, bool b) { return f == 19 ? !b : b; });
+  REQUIRE(seen.size() == 2);
+  CHECK(seen[1].data == (0xC3 ^ 0x80));
+  CHECK(seen[1].crc == data_crc(0xC3));
+  CHECK_FALSE(seen[1].crc_ok);
+  CHECK(m.error() == errc::crc_mismatch);
+
+  REQUIRE(m.start_read(0, 0x30, mutable_byte_view(out, 1)) == errc::ok);
+  seen = observe(m, s, regs, preamble_frames + 3);
+  REQUIRE(seen.size() == 1);  // no byte after "11"
+  CHECK(seen[0].echo == 0x3);
+  CHECK(seen[0].address == 0x30);
+
+  REQUIRE(m.start_read(3, 0x20, mutable_byte_view(out, 1)) == errc::ok);  // nobody is ID 3
+  seen = observe(m, s, regs, preamble_frames + 3);
+  REQUIRE(seen.size() == 1);
+  CHECK(seen[0].echo == 0x0);
+  CHECK(seen[0].slave_id == 3);
+}
+
+TEST_CASE("observer: a bad header CRC4 is reported; reset() forgets a half-seen access") {
+  control_observer obs;
+  // preamble seen (a fresh observer counts as after one), then a header with its CRC flipped
+  const std::uint32_t h = header_bits(1, 0x05, false) ^ (1U << 2U);
+  observed_access last{};
+  for (unsigned i = 0; i < 18; ++i) {
+    const observed_access e = obs.step(i >= 17U, ((h >> (17U - i)) & 1U) != 0U);  // echo "10"
+    if (e.kind != observed_kind::none) {
+      last = e;
+    }
+  }
+  CHECK(last.kind == observed_kind::none);  // W's answer not yet seen
+  last = obs.step(false, false);
+  CHECK(last.kind == observed_kind::header);
+  CHECK_FALSE(last.crc_ok);
+  CHECK(last.crc == (header_crc(1, 0x05) ^ 0x1U));
+  obs.reset();
+  for (unsigned i = 0; i < 18; ++i) {
+    CHECK(obs.step(false, ((h >> (17U - i)) & 1U) != 0U).kind == observed_kind::none);
+  }
+}
+
+namespace {
+
+// Slots sent (CDM) and the slave's answer to each (CDS, one frame later), through an observer.
+std::vector<observed_access> feed_slots(control_observer& obs, const std::string& cdm,
+                                        const std::string& cds) {
+  std::vector<observed_access> seen;
+  for (std::size_t i = 0; i <= cdm.size(); ++i) {
+    const bool answer = i > 0 && cds[i - 1] == '1';
+    const bool slot = i < cdm.size() && cdm[i] == '1';
+    const observed_access e = obs.step(answer, slot);
+    if (e.kind != observed_kind::none) {
+      seen.push_back(e);
+    }
+  }
+  return seen;
+}
+
+std::string header_slots(std::uint8_t id, std::uint8_t address, const char* rw) {
+  return bits(header_bits(id, address, false) >> 2U, 16) + rw;  // S, CTS, ID, ADR, CRC4, R, W
+}
+
+}  // namespace
+
+TEST_CASE("observer: an invalid R/W pair, a master ending in a wait state, P sent as 1") {
+  const std::string quiet(preamble_frames, '0');
+  control_observer obs;
+  // R = W = 1 from the master: reported, and the access ends (the slave's 1s are no data)
+  std::string cdm = header_slots(2, 0x11, "11") + std::string(13, '1');
+  std::string cds = std::string(16, '0') + "11" + std::string(13, '1');
+  auto seen = feed_slots(obs, cdm, cds);
+  REQUIRE(seen.size() == 1);
+  CHECK(seen[0].echo == 0x3);
+  CHECK(seen[0].address == 0x11);
+  CHECK(seen[0].slave_id == 2);
+  CHECK(seen[0].crc_ok);
+  CHECK_FALSE(seen[0].write);
+  // a read, the slave busy in the S slot, then the master gives up (CDM 0): nothing more
+  cdm = quiet + header_slots(2, 0x11, "10") + "1" + "0" + std::string(12, '1') + "0";
+  cds = quiet + std::string(16, '0') + "10" + "0" + std::string(14, '1');
+  seen = feed_slots(obs, cdm, cds);
+  REQUIRE(seen.size() == 1);
+  CHECK(seen[0].kind == observed_kind::header);
+  CHECK(seen[0].echo == 0x2);
+  // a read byte whose P slot the master sends as 1: the byte is reported, the access ends
+  const std::string byte_bits = bits(0xA7, 8) + bits(data_crc(0xA7), 4);
+  cdm = quiet + header_slots(2, 0x12, "10") + "1" + std::string(12, '0') + "1" + "1" +
+        std::string(12, '0') + "0";
+  cds = quiet + std::string(16, '0') + "10" + "1" + byte_bits + "0" + "1" + byte_bits + "0";
+  seen = feed_slots(obs, cdm, cds);
+  REQUIRE(seen.size() == 2);
+  CHECK(seen[1].kind == observed_kind::byte);
+  CHECK(seen[1].address == 0x12);
+  CHECK(seen[1].data == 0xA7);
+  CHECK(seen[1].crc_ok);
+}

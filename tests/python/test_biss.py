@@ -172,6 +172,38 @@ def test_control_master_and_slave(slave_id: int, address: int, data: bytes) -> N
     assert wrong.error == motionbus.Errc.biss_not_acknowledged
 
 
+@given(st.integers(0, 7), st.integers(0x40, 0x7E), st.binary(min_size=1, max_size=2))
+def test_control_observer_sees_what_master_and_slave_do(slave_id: int, address: int,
+                                                        data: bytes) -> None:
+    regs = RegisterFile()
+    slave = biss.ControlSlave(regs, slave_id=slave_id)
+    m = biss.ControlMaster()
+    m.start_write(slave_id, address, data)
+    obs = biss.ControlObserver()
+    seen: List[biss.ObservedAccess] = []
+    cds = False
+    for _ in range(2000):
+        busy = m.busy
+        cdm = m.step(cds)
+        e = obs.step(cds, cdm)
+        if e is not None:
+            seen.append(e)
+        if not busy:
+            break
+        cds = slave.step(cdm)
+    head, *rest = seen
+    assert (head.kind, head.slave_id, head.address, head.write, head.cts) == (
+        "header", slave_id, address, True, True)
+    assert head.crc == biss.header_crc(slave_id, address) and head.crc_ok and head.echo == 1
+    assert [(b.kind, b.address, b.data, b.answer, b.crc_ok, b.stop) for b in rest] == [
+        ("byte", address + i, v, v, True, False) for i, v in enumerate(data)]
+    # wait states: none before the first byte, some while the previous write keeps it busy
+    assert [b.waits > 0 for b in rest] == [i > 0 for i in range(len(data))]
+    assert all(b.answer_crc == biss.data_crc(b.data) for b in rest)
+    obs.reset()
+    assert obs.step(True, True) is None
+
+
 def test_control_master_refusals_and_crcs() -> None:
     m = biss.ControlMaster()
     with pytest.raises(EncodeError):

@@ -523,6 +523,186 @@ class control_slave {
   bool refuse_while_busy_;
 };
 
+/// What the observer saw complete in one frame's step.
+enum class observed_kind : std::uint8_t {
+  none,    ///< nothing completed
+  header,  ///< an access header and the slave's R/W answer
+  byte,    ///< a register byte and its P answer
+};
+
+/// One completed part of a register access, as a bus monitor sees it.
+struct observed_access {
+  observed_kind kind = observed_kind::none;
+  std::uint8_t slave_id = 0;
+  std::uint8_t address = 0;  ///< header: the first address; byte: this byte's address
+  bool write = false;        ///< the master's W bit (header), the access's direction (byte)
+  bool cts = false;
+  std::uint8_t crc = 0;     ///< header: the master's CRC4; byte: the CRC4 of the side sending data
+  bool crc_ok = false;      ///< that CRC4 matches header_crc() / data_crc()
+  std::uint8_t echo = 0;    ///< header: the slave's R, W answers (R in bit 1); see the top
+  std::uint8_t data = 0;    ///< byte: the master's byte (write) or the slave's (read)
+  std::uint8_t answer = 0;  ///< byte, write: the slave's echoed byte; read: equals data
+  std::uint8_t answer_crc = 0;  ///< byte, write: the slave's CRC4 of its echo
+  bool stop = false;            ///< byte: the slave's P answer
+  std::size_t waits = 0;        ///< byte: the slave's wait states before it
+};
+
+/// A passive observer of register access (a bus monitor, a capture decoder): fed once a frame
+/// with the frame's CDS bit and the CDM bit the master sends after it, it pairs each CDM slot
+/// with its CDS answer one frame later and reports headers and bytes as they complete. It
+/// follows the master's slots as control_slave parses them (the 14-frame preamble, S, header,
+/// S / data / CRC4 / P per byte, sequential access) for any slave ID, and does not judge: a
+/// bad CRC4 or a refused header ("11", "00") is reported as seen; after a refused header or
+/// a P followed by CDM 0 the access is over. Choice: a header whose R and W are both 0 or both
+/// 1 is reported and ends the access. No heap, no I/O.
+template <crc_table_size Table = default_crc_table>
+class basic_control_observer {
+ public:
+  /// One frame: `cds` is the frame's CDS bit (the answer to the previous CDM slot), `cdm` the
+  /// CDM bit the master sends after it. Returns what the previous slot completed.
+  constexpr observed_access step(bool cds, bool cdm) noexcept {
+    observed_access out{};
+    if (have_slot_) {
+      out = pair(slot_, cds);
+    }
+    slot_ = cdm;
+    have_slot_ = true;
+    return out;
+  }
+
+  /// Forgets everything (a gap in the capture): the next access starts after a preamble.
+  constexpr void reset() noexcept { *this = basic_control_observer{}; }
+
+ private:
+  enum class state : std::uint8_t { idle, header, start, data, stop, after_stop, ignore };
+
+  constexpr observed_access pair(bool m, bool s) noexcept {
+    observed_access out{};
+    const std::size_t prior_zeros = zeros_;
+    zeros_ = m ? 0 : (zeros_ < preamble_frames ? zeros_ + 1U : zeros_);
+    if (!m && zeros_ >= preamble_frames) {
+      state_ = state::idle;
+      return out;
+    }
+    const unsigned mb = m ? 1U : 0U;
+    const unsigned sb = s ? 1U : 0U;
+    switch (state_) {
+      case state::idle:
+        if (m && prior_zeros >= preamble_frames) {
+          state_ = state::header;
+          index_ = 0;
+          header_ = 1;
+          echo_ = 0;
+        }
+        break;
+      case state::header:
+        header_ = (header_ << 1U) | mb;
+        if (++index_ >= 16U) {
+          echo_ = (echo_ << 1U) | sb;
+        }
+        if (index_ == 17U) {
+          out = header();
+        }
+        break;
+      case state::after_stop:
+        if (!m) {
+          state_ = state::ignore;
+          break;
+        }
+        ++address_;
+        state_ = state::start;
+        start(s);
+        break;
+      case state::start:
+        if (!m) {
+          state_ = state::ignore;
+          break;
+        }
+        start(s);
+        break;
+      case state::data:
+        master_ = (master_ << 1U) | mb;
+        slave_ = (slave_ << 1U) | sb;
+        if (++index_ == 12U) {
+          state_ = state::stop;
+        }
+        break;
+      case state::stop:
+        out = byte(s);
+        state_ = m ? state::ignore : state::after_stop;
+        break;
+      case state::ignore: break;
+    }
+    return out;
+  }
+
+  constexpr observed_access header() noexcept {
+    observed_access out{};
+    out.kind = observed_kind::header;
+    out.cts = ((header_ >> 16U) & 1U) != 0U;
+    out.slave_id = static_cast<std::uint8_t>((header_ >> 13U) & 0x7U);
+    out.address = static_cast<std::uint8_t>((header_ >> 6U) & max_register_address);
+    out.crc = static_cast<std::uint8_t>((header_ >> 2U) & 0xFU);
+    out.crc_ok = out.crc == header_crc<Table>(out.slave_id, out.address, out.cts);
+    const unsigned rw = header_ & 0x3U;
+    out.write = rw == 0x1U;
+    out.echo = static_cast<std::uint8_t>(echo_ & 0x3U);
+    address_ = out.address;
+    id_ = out.slave_id;
+    write_ = out.write;
+    const bool valid = rw == 0x1U || rw == 0x2U;
+    state_ = valid && out.echo == rw ? state::start : state::ignore;
+    waits_ = 0;
+    return out;
+  }
+
+  constexpr void start(bool s) noexcept {
+    if (s) {
+      state_ = state::data;
+      index_ = 0;
+      master_ = 0;
+      slave_ = 0;
+    } else {
+      ++waits_;
+    }
+  }
+
+  constexpr observed_access byte(bool p) noexcept {
+    observed_access out{};
+    out.kind = observed_kind::byte;
+    out.slave_id = id_;
+    out.address = address_;
+    out.write = write_;
+    const unsigned sent = write_ ? master_ : slave_;
+    out.data = static_cast<std::uint8_t>(sent >> 4U);
+    out.crc = static_cast<std::uint8_t>(sent & 0xFU);
+    out.crc_ok = out.crc == data_crc<Table>(out.data);
+    out.answer = static_cast<std::uint8_t>(slave_ >> 4U);
+    out.answer_crc = static_cast<std::uint8_t>(slave_ & 0xFU);
+    out.stop = p;
+    out.waits = waits_;
+    waits_ = 0;
+    return out;
+  }
+
+  std::size_t zeros_ = preamble_frames;
+  std::size_t waits_ = 0;
+  std::uint32_t header_ = 0;
+  unsigned echo_ = 0;
+  unsigned master_ = 0;
+  unsigned slave_ = 0;
+  unsigned index_ = 0;
+  state state_ = state::idle;
+  std::uint8_t address_ = 0;
+  std::uint8_t id_ = 0;
+  bool write_ = false;
+  bool slot_ = false;
+  bool have_slot_ = false;
+};
+
+/// The observer with the default CRC table.
+using control_observer = basic_control_observer<>;
+
 }  // namespace biss
 }  // namespace motionbus
 
