@@ -309,7 +309,7 @@ class basic_gateway {
         return a;
       }
     }
-    if (quiet_len_ != 0U && now_us - quiet_from_ >= quiet_len_) {
+    if (quiet_len_ != 0U && quiet_left(now_us) == 0U) {
       quiet_len_ = 0;  // over: it cannot come back on a clock that wraps
     }
     if (count_ == 0U || quiet_len_ != 0U) {
@@ -335,8 +335,7 @@ class basic_gateway {
     if (count_ == 0U) {
       return ~std::uint32_t{0};
     }
-    const std::uint32_t quiet_for = now_us - quiet_from_;
-    return quiet_for < quiet_len_ ? quiet_len_ - quiet_for : 0U;
+    return quiet_left(now_us);
   }
 
   /// Requests queued (not yet on the line); whether one is on the line awaiting its response.
@@ -566,13 +565,22 @@ class basic_gateway {
   }
 
   // The line takes no request for `len_us` from `now_us` (or longer, if it was so already).
-  // The quiet period is kept as its start and its length, so it cannot go stale on a
-  // wrapping clock however long the gateway is idle.
   constexpr void quiet(std::uint32_t now_us, std::uint32_t len_us) noexcept {
-    const std::uint32_t quiet_for = now_us - quiet_from_;
-    const std::uint32_t left = quiet_for < quiet_len_ ? quiet_len_ - quiet_for : 0U;
+    const std::uint32_t left = quiet_left(now_us);
     quiet_from_ = now_us;
     quiet_len_ = left > len_us ? left : len_us;
+  }
+
+  // The quiet period's time left at `now_us`. It is kept as its start and its length, not as
+  // a deadline, so that it does not go stale while the gateway is idle: a time is inside it
+  // from its start to its end, or before its start by one transaction's time at most (the
+  // I/O's clock read before the bytes it reports: poll_all's `now_us`); any other is past it.
+  constexpr std::uint32_t quiet_left(std::uint32_t now_us) const noexcept {
+    const std::uint32_t left = quiet_len_ - (now_us - quiet_from_);  // its end - now
+    const std::uint64_t slack = std::uint64_t{options_.response_timeout_us} +
+                                options_.turnaround_us +
+                                2U * std::uint64_t{max_rtu_size} * options_.line.char_us;
+    return left <= quiet_len_ + slack ? left : 0U;
   }
 
   gateway_options options_;
