@@ -746,3 +746,21 @@ TEST_CASE("gateway: a response timeout too long for the clock is clamped; connec
   CHECK(s.connection == 255);
   CHECK(s.error == errc::invalid_argument);
 }
+
+TEST_CASE("gateway: bytes during a broadcast's turnaround keep it, near its end extend it") {
+  gateway_options o;
+  o.turnaround_us = 100000;
+  harness<1, 2> h(o);
+  h.client(0, mbap(1, 0, {0x06, 0, 1, 0, 2}), false);
+  h.client(0, mbap(2, 1, fc03(0, 1)), false);
+  REQUIRE(h.gw.poll(0).action == gateway_action::to_line);
+  const std::uint32_t end = 8U * o.line.char_us + o.turnaround_us;  // of the turnaround
+  const bytes noise{0x55, 0xAA};
+  CHECK(h.gw.from_line(view(noise), 10000).action == gateway_action::none);
+  CHECK(h.gw.wait_us(10000) == end - 10000U);  // not shortened to t3.5
+  CHECK(h.gw.from_line(view(noise), end - 10U).action == gateway_action::none);
+  CHECK(h.gw.wait_us(end - 10U) == o.line.t35_us);  // t3.5 after the last byte heard
+  CHECK(h.gw.poll(end).action == gateway_action::none);
+  CHECK(h.gw.poll(end - 10U + o.line.t35_us).action == gateway_action::to_line);
+  CHECK(h.gw.discarded() == 2);
+}
