@@ -60,6 +60,7 @@
 #include "motionbus/core/errc.hpp"
 #include "motionbus/core/result.hpp"
 #include "motionbus/core/span.hpp"
+#include "motionbus/modbus/file_record.hpp"
 #include "motionbus/modbus/framer.hpp"
 #include "motionbus/modbus/pdu.hpp"
 #include "motionbus/modbus/pdu_server.hpp"
