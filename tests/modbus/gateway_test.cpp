@@ -579,8 +579,10 @@ TEST_CASE("gateway: line bytes nobody asked for, and garbage while a response is
   CHECK(h.gw.discarded() == 1);
   CHECK(h.gw.wait_us(0) == ~std::uint32_t{0});  // nothing due, ever
   h.client(0, mbap(1, 1, fc03(0, 1)), false);
-  CHECK(h.gw.wait_us(0) == 0);  // the line is free: now
-  REQUIRE(h.gw.poll(0).action == gateway_action::to_line);
+  const std::uint32_t t35 = h.options.line.t35_us;
+  CHECK(h.gw.wait_us(0) == t35);  // the line is free t3.5 after the stray bytes
+  CHECK(h.gw.poll(t35 - 1U).action == gateway_action::none);
+  REQUIRE(h.gw.poll(t35).action == gateway_action::to_line);
   // from the slave asked, an FC03 whose byte count wants more than an RTU frame can hold, and
   // more: held to a full buffer, resynchronised, and no response
   bytes garbage(300, 0x00);
@@ -589,12 +591,13 @@ TEST_CASE("gateway: line bytes nobody asked for, and garbage while a response is
   garbage[2] = 0xFF;
   std::size_t at = 0;
   while (at < garbage.size()) {
-    const gateway_step s = h.gw.from_line(byte_view(garbage.data() + at, garbage.size() - at), 9);
+    const gateway_step s =
+        h.gw.from_line(byte_view(garbage.data() + at, garbage.size() - at), t35 + 9U);
     CHECK(s.action == gateway_action::none);
     at += s.consumed;
   }
   CHECK(h.gw.awaiting());
-  h.now = 9;
+  h.now = t35 + 9U;
   h.drain();  // the silence fails what is held (discarded), then the timeout answers
   REQUIRE(h.replies[0].size() == 1);
   CHECK(h.replies[0][0].exception == 0x0B);
@@ -613,10 +616,12 @@ TEST_CASE("gateway: a line that never falls silent does not hold the gateway") {
   const std::uint8_t babble[1] = {0x55};
   std::uint32_t t = 0;
   for (; t < last_call + 10U * o.line.char_us; t += o.line.char_us) {
-    const gateway_step b = h.gw.from_line(byte_view(babble, 1), t);
-    CHECK(b.action == gateway_action::none);
-    CHECK(h.gw.wait_us(t) <= o.line.t35_us);
-    const gateway_step s = h.gw.poll(t);
+    // from_line itself answers 0B once its time is past the last call (the deadline wins)
+    gateway_step s = h.gw.from_line(byte_view(babble, 1), t);
+    if (s.action == gateway_action::none) {
+      CHECK(h.gw.wait_us(t) <= o.line.t35_us);
+      s = h.gw.poll(t);
+    }
     if (s.action != gateway_action::none) {
       CHECK(s.exception == 0x0B);
       break;
@@ -626,4 +631,136 @@ TEST_CASE("gateway: a line that never falls silent does not hold the gateway") {
   CHECK(t < last_call + o.line.char_us);
   CHECK(h.gw.timeouts() == 1);
   CHECK(!h.gw.awaiting());
+}
+
+TEST_CASE("gateway: idle for 2^31..2^32 us, the next request still goes on the line at once") {
+  harness<1, 2> h;
+  h.client(0, mbap(1, 1, fc03(0, 1)));  // answered: the line is quiet for t3.5 after it
+  REQUIRE(h.replies[0].size() == 1);
+  CHECK(h.gw.wait_us(h.now) == ~std::uint32_t{0});
+  for (const std::uint32_t idle : {0x80000000U, 2400000000U, 0xC0000000U}) {
+    CAPTURE(idle);
+    h.now += idle;
+    h.earliest = h.now;
+    h.client(0, mbap(2, 1, fc03(0, 1)), false);
+    CHECK(h.gw.wait_us(h.now) == 0);  // (was up to 35.8 min: a deadline gone stale)
+    const gateway_step s = h.gw.poll(h.now);
+    REQUIRE(s.action == gateway_action::to_line);
+    h.answer(bytes(s.bytes.begin(), s.bytes.end()));
+  }
+  CHECK(h.replies[0].size() == 4);
+  // idle for all but a moment of 2^32 us: the time looks a little before the quiet period
+  // (as a clock read before the bytes it reports): a wait of one transaction's time at most
+  h.now += 0xFFFFFF00U;
+  h.client(0, mbap(3, 1, fc03(0, 1)), false);
+  const std::uint32_t transaction = h.options.response_timeout_us + h.options.turnaround_us +
+                                    2U * 256U * h.options.line.char_us + h.options.line.t35_us;
+  CHECK(h.gw.wait_us(h.now) <= transaction);
+}
+
+TEST_CASE("gateway: a broadcast's answer is its own, whatever is answered before it is due") {
+  gateway_options o;
+  o.answer_broadcasts = true;
+  harness<2, 4> h(o);
+  h.client(0, mbap(0x1111, 0, {0x06, 0, 1, 0x12, 0x34}), false);
+  REQUIRE(h.gw.poll(0).action == gateway_action::to_line);
+  h.client(1, mbap(0x2222, 250, fc03(0, 1)), false);  // 0A to connection 1 in between
+  REQUIRE(h.replies[1].size() == 1);
+  CHECK(h.replies[1][0].pdu == bytes{0x83, 0x0A});
+  h.record(h.gw.poll(0));
+  REQUIRE(h.replies[0].size() == 1);
+  CHECK(h.replies[0][0].transaction == 0x1111);
+  CHECK(h.replies[0][0].unit == 0);
+  CHECK(h.replies[0][0].pdu == bytes{0x06, 0, 1, 0x12, 0x34});
+}
+
+TEST_CASE("gateway: after a 0B a late response is discarded, not taken for the next request") {
+  gateway_options o;
+  o.response_timeout_us = 100000;
+  harness<2, 4> h(o);
+  h.client(0, mbap(0xA, 1, fc03(0, 1)), false);
+  h.client(1, mbap(0xB, 1, fc03(0, 1)), false);
+  gateway_step s = h.gw.poll(0);
+  REQUIRE(s.action == gateway_action::to_line);
+  const bytes a_answer = rtu(1, {0x03, 0x02, 0xAA, 0xAA});  // the slave's answer to A...
+  const std::uint32_t deadline = 8U * o.line.char_us + o.response_timeout_us;
+  s = h.gw.poll(deadline);
+  CHECK(s.exception == 0x0B);
+  CHECK(s.connection == 0);
+  CHECK(h.gw.poll(deadline).action == gateway_action::none);  // t3.5 of silence first
+  CHECK(h.gw.wait_us(deadline) == o.line.t35_us);
+  // ...sent late, within that t3.5: discarded, and the line is quiet t3.5 after it again
+  const std::uint32_t late = deadline + 2000U;
+  s = h.gw.from_line(view(a_answer), late);
+  CHECK(s.action == gateway_action::none);
+  CHECK(h.gw.discarded() == 1);
+  CHECK(h.gw.poll(late + o.line.t35_us - 1U).action == gateway_action::none);
+  s = h.gw.poll(late + o.line.t35_us);
+  REQUIRE(s.action == gateway_action::to_line);
+  CHECK(s.connection == 1);
+  // the deadline wins: a response that begins after it is not taken, though poll() has not
+  // run since; from_line answers the 0B
+  const std::uint32_t b_deadline = late + o.line.t35_us + 8U * o.line.char_us + 100000U;
+  s = h.gw.from_line(view(rtu(1, fc03_answer(1, 0, 1))), b_deadline + 10U);
+  CHECK(s.action == gateway_action::to_client);
+  CHECK(s.connection == 1);
+  CHECK(s.exception == 0x0B);
+  CHECK(h.gw.timeouts() == 2);
+  CHECK(h.gw.discarded() == 2);
+  CHECK(!h.gw.awaiting());
+}
+
+TEST_CASE("gateway: FC14/15 requests are checked as a server checks them before the line") {
+  harness<1, 4> h;
+  h.client(0, mbap(1, 1, {0x14}), false);                          // no byte count: 03
+  h.client(0, mbap(2, 1, {0x14, 7, 5, 0, 1, 0, 0, 0, 1}), false);  // reference type 5: 02
+  h.client(0, mbap(3, 1, {0x14, 7, 6, 0, 0, 0, 0, 0, 1}), false);  // file 0: 02
+  h.client(0, mbap(4, 1, {0x15, 9, 6, 0, 1, 0, 0, 0, 2, 0x12, 0x34}), false);  // cut: 03
+  REQUIRE(h.replies[0].size() == 4);
+  CHECK(h.replies[0][0].pdu == bytes{0x94, 0x03});
+  CHECK(h.replies[0][1].pdu == bytes{0x94, 0x02});
+  CHECK(h.replies[0][2].pdu == bytes{0x94, 0x02});
+  CHECK(h.replies[0][3].pdu == bytes{0x95, 0x03});
+  CHECK(h.gw.queued() == 0);
+  h.client(0, mbap(5, 1, {0x14, 7, 6, 0, 1, 0, 0, 0, 1}), false);  // a good one goes on
+  CHECK(h.gw.queued() == 1);
+  h.drain();
+  CHECK(h.line.size() == 1);
+}
+
+TEST_CASE("gateway: a response timeout too long for the clock is clamped; connection 256") {
+  gateway_options o;
+  o.response_timeout_us = 0xFFFFFFFFU;  // (was an immediate 0B: its deadline wrapped)
+  harness<1, 2> h(o);
+  h.client(0, mbap(1, 9, fc03(0, 1)), false);
+  REQUIRE(h.gw.poll(0).action == gateway_action::to_line);
+  const std::uint32_t deadline = 8U * o.line.char_us + (std::uint32_t{1} << 30U);  // the clamp
+  CHECK(h.gw.poll(1000).action == gateway_action::none);
+  CHECK(h.gw.wait_us(0) == deadline);
+  CHECK(h.gw.poll(deadline - 1U).action == gateway_action::none);
+  CHECK(h.gw.poll(deadline).exception == 0x0B);
+  // a slot past 255 is named 255 (none), not its low byte (a live connection)
+  const bytes a = mbap(2, 1, fc03(0, 1));
+  const gateway_step s = h.gw.from_client(256, view(a));
+  CHECK(s.action == gateway_action::close);
+  CHECK(s.connection == 255);
+  CHECK(s.error == errc::invalid_argument);
+}
+
+TEST_CASE("gateway: bytes during a broadcast's turnaround keep it, near its end extend it") {
+  gateway_options o;
+  o.turnaround_us = 100000;
+  harness<1, 2> h(o);
+  h.client(0, mbap(1, 0, {0x06, 0, 1, 0, 2}), false);
+  h.client(0, mbap(2, 1, fc03(0, 1)), false);
+  REQUIRE(h.gw.poll(0).action == gateway_action::to_line);
+  const std::uint32_t end = 8U * o.line.char_us + o.turnaround_us;  // of the turnaround
+  const bytes noise{0x55, 0xAA};
+  CHECK(h.gw.from_line(view(noise), 10000).action == gateway_action::none);
+  CHECK(h.gw.wait_us(10000) == end - 10000U);  // not shortened to t3.5
+  CHECK(h.gw.from_line(view(noise), end - 10U).action == gateway_action::none);
+  CHECK(h.gw.wait_us(end - 10U) == o.line.t35_us);  // t3.5 after the last byte heard
+  CHECK(h.gw.poll(end).action == gateway_action::none);
+  CHECK(h.gw.poll(end - 10U + o.line.t35_us).action == gateway_action::to_line);
+  CHECK(h.gw.discarded() == 2);
 }

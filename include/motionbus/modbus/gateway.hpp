@@ -43,9 +43,14 @@
 // Responses: the first CRC-valid frame from the addressed slave with the request's function
 // (or its exception) is the response, forwarded as it is (the gateway is transparent: the
 // client checks the response against its request); other frames on the line are discarded
-// (discarded()). A response after the timeout is discarded as well. No response by the
-// timeout: exception 0B to the client. A response for a connection closed meanwhile is
-// dropped (a connection slot reused after close() is a new connection).
+// (discarded()). No response by the timeout: exception 0B to the client; the deadline wins
+// (a response that begins after it is not taken, even if poll() has not run yet: from_line
+// answers the 0B then). After a 0B the line takes the next request only once t3.5 of
+// silence has followed it (bytes heard on a free line start that t3.5 again), so that a slow
+// slave's late response is discarded, not taken for the next request's; a slave that stays
+// silent for longer than t3.5 past the timeout and then answers cannot be told from a
+// response to the next request. A response for a connection closed meanwhile is dropped (a
+// connection slot reused after close() is a new connection).
 #ifndef MOTIONBUS_MODBUS_GATEWAY_HPP
 #define MOTIONBUS_MODBUS_GATEWAY_HPP
 
@@ -55,6 +60,7 @@
 #include "motionbus/core/errc.hpp"
 #include "motionbus/core/result.hpp"
 #include "motionbus/core/span.hpp"
+#include "motionbus/modbus/file_record.hpp"
 #include "motionbus/modbus/framer.hpp"
 #include "motionbus/modbus/pdu.hpp"
 #include "motionbus/modbus/pdu_server.hpp"
@@ -93,11 +99,15 @@ constexpr line_timing serial_line_timing(std::uint32_t baud, parity p = parity::
   return line_timing{character_time_us(baud, p, stop_bits), t35_us(baud, p, stop_bits)};
 }
 
+/// The longest response timeout the gateway keeps: 2^30 us (about 17.9 min).
+constexpr std::uint32_t max_response_timeout_us = std::uint32_t{1} << 30U;
+
 /// What the gateway is given: its policy and its timing (microseconds).
 struct gateway_options {
   /// From the end of a request on the line (its last byte written, at line.char_us a byte)
   /// to its response; a response still arriving then (a byte within t3.5) is waited for, up
-  /// to the time of the longest RTU frame more.
+  /// to the time of the longest RTU frame more. At most max_response_timeout_us (larger
+  /// values are taken as that: the deadlines live on a wrapping clock's half range).
   std::uint32_t response_timeout_us = 1000000;
   /// After a broadcast is on the line, before the next request (Serial Line §2.4.1).
   std::uint32_t turnaround_us = 100000;
@@ -149,17 +159,22 @@ class basic_gateway {
 
  public:
   constexpr explicit basic_gateway(const gateway_options& options = {}) noexcept
-      : options_(options) {}
+      : options_(options) {
+    if (options_.response_timeout_us > max_response_timeout_us) {
+      options_.response_timeout_us = max_response_timeout_us;
+    }
+  }
 
   /// Takes bytes of connection `c`'s stream, up to the end of one MBAP ADU: queued (a request
   /// for the line), to_client (the gateway's own exception to it), close (its MBAP framing
   /// broke; the rest of `in` is taken too), or none (all of `in` taken, an ADU not yet whole:
-  /// a half header is kept until more comes or close()). `c` out of range: close.
+  /// a half header is kept until more comes or close()). `c` out of range: close, with
+  /// connection 255 when `c` is above it (no slot is 255: the step names no connection).
   constexpr gateway_step from_client(std::size_t c, byte_view in) noexcept {
     gateway_step s;
     if (c >= Connections) {
       s.action = gateway_action::close;
-      s.connection = static_cast<std::uint8_t>(c);
+      s.connection = static_cast<std::uint8_t>(c < 255U ? c : 255U);
       s.error = errc::invalid_argument;
       s.consumed = in.size();
       return s;
@@ -221,13 +236,24 @@ class basic_gateway {
   }
 
   /// Bytes from the serial line, received at `now_us`. to_client: the response to the request
-  /// on the line, for its connection; none: bytes taken (`consumed`), nothing settled. Bytes
-  /// while no response is awaited are discarded.
+  /// on the line, for its connection, or its 0B when `now_us` is past the response timeout
+  /// (the deadline wins over bytes that began after it); none: bytes taken (`consumed`),
+  /// nothing settled. Bytes while no response is awaited are discarded, and the line takes
+  /// the next request t3.5 after them at the earliest.
   constexpr gateway_step from_line(byte_view in, std::uint32_t now_us) noexcept {
     gateway_step s;
     s.consumed = in.size();
+    if (state_ == line_state::awaiting &&
+        (reached(now_us, last_call_us()) ||
+         (framer_.pending() == 0U && reached(now_us, deadline_us_)))) {
+      s = expire(now_us);
+      s.consumed = in.size();
+    }
     if (state_ != line_state::awaiting) {
-      discarded_ += in.empty() ? 0U : 1U;
+      if (!in.empty()) {
+        ++discarded_;
+        quiet(now_us, options_.line.t35_us);  // a busy line: not yet free for a request
+      }
       return s;
     }
     last_byte_us_ = now_us;
@@ -252,7 +278,14 @@ class basic_gateway {
     gateway_step s;
     if (broadcast_answer_ != 0U) {
       broadcast_answer_ = 0;
-      if (current(on_line_)) {  // its connection may have gone since
+      // built now, from the request still in line_: reply_ is another answer's until here
+      const decode_result<request> q = decode_request(byte_view(line_ + 1, line_size_ - 3U));
+      std::uint8_t answer[8] = {};  // a write's normal response: 5 or 7 bytes
+      const std::size_t size = encode_write_response(q.value(), answer).value_or(0);
+      reply_size_ =
+          encode_tcp(on_line_.transaction, 0, byte_view(answer, size), reply_).value_or(0);
+      // its connection may have gone since; FC15's answer: none the codec builds
+      if (current(on_line_) && size != 0U) {
         return to_client_step(on_line_, reply_size_, 0);
       }
     }
@@ -273,17 +306,16 @@ class basic_gateway {
       if (!reached(now_us, deadline_us_) || framer_.pending() != 0U) {
         return s;
       }
-      ++timeouts_;
-      free_line(now_us);
-      if (current(on_line_)) {
-        return own_answer(on_line_,
-                          static_cast<std::uint8_t>(exception_code::gateway_target_failed));
+      if (const gateway_step a = expire(now_us); a.action != gateway_action::none) {
+        return a;
       }
     }
-    if (count_ == 0U || (gap_ && !reached(now_us, free_us_))) {
+    if (quiet_len_ != 0U && quiet_left(now_us) == 0U) {
+      quiet_len_ = 0;  // over: it cannot come back on a clock that wraps
+    }
+    if (count_ == 0U || quiet_len_ != 0U) {
       return s;
     }
-    gap_ = false;
     return send(now_us);
   }
 
@@ -301,7 +333,10 @@ class basic_gateway {
       const std::uint32_t last = until(now_us, last_call_us());
       return silence < last ? silence : last;
     }
-    return count_ == 0U ? ~std::uint32_t{0} : gap_ ? until(now_us, free_us_) : 0U;
+    if (count_ == 0U) {
+      return ~std::uint32_t{0};
+    }
+    return quiet_left(now_us);
   }
 
   /// Requests queued (not yet on the line); whether one is on the line awaiting its response.
@@ -426,8 +461,14 @@ class basic_gateway {
       code = static_cast<std::uint8_t>(exception_code::illegal_function);
     } else {
       const decode_result<request> q = decode_request(pdu);
+      // FC14/15: decode_request leaves their sub-requests to decode_file_record_request
+      const errc fr = f == read_file_record_function || f == write_file_record_function
+                          ? decode_file_record_request(pdu).error()
+                          : errc::ok;
       if (!q.is_complete()) {
         code = static_cast<std::uint8_t>(exception_for(q.error()));
+      } else if (fr != errc::ok) {
+        code = static_cast<std::uint8_t>(exception_for(fr));
       } else if ((t.unit == broadcast_address && !broadcast_write(f)) || count_ == Queue) {
         code = static_cast<std::uint8_t>(exception_code::gateway_path_unavailable);
       }
@@ -457,20 +498,15 @@ class basic_gateway {
     head_ = (head_ + 1U) % Queue;
     --count_;
     const std::size_t n = encode_rtu<Table>(on_line_.unit, pdu, line_).value_or(0);
+    line_size_ = n;
     framer_.sent(byte_view(line_, n));
-    const std::uint32_t end = now_us + static_cast<std::uint32_t>(n) * options_.line.char_us;
+    const std::uint32_t sending = static_cast<std::uint32_t>(n) * options_.line.char_us;
+    const std::uint32_t end = now_us + sending;
     last_byte_us_ = end;
     if (on_line_.unit == broadcast_address) {
-      free_us_ = end + options_.turnaround_us;
-      gap_ = true;
-      if (options_.answer_broadcasts) {  // (its connection is checked when it is due)
-        const decode_result<request> q = decode_request(pdu);
-        std::uint8_t answer[8] = {};  // a write's normal response: 5 or 7 bytes
-        const std::size_t size = encode_write_response(q.value(), answer).value_or(0);
-        reply_size_ =
-            encode_tcp(on_line_.transaction, 0, byte_view(answer, size), reply_).value_or(0);
-        broadcast_answer_ = reply_size_ != 0U ? 1U : 0U;  // FC15's: none the codec builds
-      }
+      quiet(now_us, sending + options_.turnaround_us);
+      // its answer is built and its connection checked in poll() (answer_broadcasts)
+      broadcast_answer_ = options_.answer_broadcasts ? 1U : 0U;
     } else {
       state_ = line_state::awaiting;
       deadline_us_ = end + options_.response_timeout_us;
@@ -507,9 +543,45 @@ class basic_gateway {
   // The wait is over: the next request t3.5 after the last byte heard (or now).
   constexpr void free_line(std::uint32_t now_us) noexcept {
     state_ = line_state::free;
-    const std::uint32_t quiet = last_byte_us_ + options_.line.t35_us;
-    free_us_ = quiet;
-    gap_ = !reached(now_us, quiet);
+    const std::uint32_t quiet_for = now_us - last_byte_us_;  // (last_byte_us_: at or before)
+    if (quiet_for < options_.line.t35_us) {
+      quiet(now_us, options_.line.t35_us - quiet_for);
+    }
+  }
+
+  // The response timeout is over: 0B to the request's connection (none: it has gone), and
+  // the line is quiet for t3.5 from now, so that a late response is not the next request's.
+  constexpr gateway_step expire(std::uint32_t now_us) noexcept {
+    ++timeouts_;
+    if (framer_.pending() != 0U) {  // from_line past the last call: too late
+      (void)framer_.idle();
+      ++discarded_;
+    }
+    state_ = line_state::free;
+    quiet(now_us, options_.line.t35_us);
+    if (!current(on_line_)) {
+      return gateway_step{};
+    }
+    return own_answer(on_line_, static_cast<std::uint8_t>(exception_code::gateway_target_failed));
+  }
+
+  // The line takes no request for `len_us` from `now_us` (or longer, if it was so already).
+  constexpr void quiet(std::uint32_t now_us, std::uint32_t len_us) noexcept {
+    const std::uint32_t left = quiet_left(now_us);
+    quiet_from_ = now_us;
+    quiet_len_ = left > len_us ? left : len_us;
+  }
+
+  // The quiet period's time left at `now_us`. It is kept as its start and its length, not as
+  // a deadline, so that it does not go stale while the gateway is idle: a time is inside it
+  // from its start to its end, or before its start by one transaction's time at most (the
+  // I/O's clock read before the bytes it reports: poll_all's `now_us`); any other is past it.
+  constexpr std::uint32_t quiet_left(std::uint32_t now_us) const noexcept {
+    const std::uint32_t left = quiet_len_ - (now_us - quiet_from_);  // its end - now
+    const std::uint64_t slack = std::uint64_t{options_.response_timeout_us} +
+                                options_.turnaround_us +
+                                2U * std::uint64_t{max_rtu_size} * options_.line.char_us;
+    return left <= quiet_len_ + slack ? left : 0U;
   }
 
   gateway_options options_;
@@ -520,12 +592,13 @@ class basic_gateway {
   ticket on_line_{};  // the request on the line (or the last one)
   basic_rtu_framer<Table, framer_role::client> framer_{};
   std::uint8_t line_[max_rtu_size] = {};
+  std::size_t line_size_ = 0;  // of the request in line_ (the last one sent)
   std::uint8_t reply_[max_tcp_size] = {};
   std::size_t reply_size_ = 0;
   line_state state_ = line_state::free;
   std::uint8_t broadcast_answer_ = 0;  // a broadcast's answer is due (answer_broadcasts)
-  bool gap_ = false;                   // the line is quiet until free_us_ (else free now)
-  std::uint32_t free_us_ = 0;          // the line takes the next request from then on
+  std::uint32_t quiet_from_ = 0;       // the line takes no request for quiet_len_ from then
+  std::uint32_t quiet_len_ = 0;        // (0: the line is free as far as its silence goes)
   std::uint32_t deadline_us_ = 0;      // the response timeout's end
   std::uint32_t last_byte_us_ = 0;     // the last byte on the line (heard, or sent)
   std::size_t timeouts_ = 0;
