@@ -54,6 +54,12 @@ class Errc(IntEnum):
     modbus_mismatch = 69
     modbus_slave_address = 70
     modbus_pdu_length = 71
+    modbus_ascii_character = 80
+    modbus_ascii_odd_digits = 81
+    modbus_ascii_end = 82
+    modbus_reference_type = 96
+    modbus_file_number = 97
+    modbus_record_number = 98
     biss_no_ack = 128
     biss_no_start = 129
     biss_not_acknowledged = 130

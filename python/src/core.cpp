@@ -17,7 +17,9 @@ namespace {
   X(tformat_address_mismatch) X(tformat_communication_alarm) X(tformat_start_bit) \
   X(tformat_delimiter) X(tformat_data_mismatch) X(modbus_illegal_function) X(modbus_quantity) \
   X(modbus_byte_count) X(modbus_address_overflow) X(modbus_coil_value) X(modbus_mismatch) \
-  X(modbus_slave_address) X(modbus_pdu_length) X(biss_no_ack) X(biss_no_start) \
+  X(modbus_slave_address) X(modbus_pdu_length) X(modbus_ascii_character) \
+  X(modbus_ascii_odd_digits) X(modbus_ascii_end) X(modbus_reference_type) X(modbus_file_number) \
+  X(modbus_record_number) X(biss_no_ack) X(biss_no_start) \
   X(biss_not_acknowledged) X(biss_access_denied) X(biss_echo_mismatch) X(biss_timeout) \
   X(biss_write_not_confirmed) X(biss_aborted) X(biss_busy) X(biss_layout) X(biss_eds)
 // clang-format on
