@@ -39,14 +39,14 @@
 //     is all zeros: .bss, no start-up code, no flash copied to RAM.
 //   put(byte), rtu_server_framer: 12 instructions for a byte inside a frame, the call included
 //     (inline: the byte and its index stored, nothing else written); a server's function code
-//     is sized inline too. An FC01-FC06 request: 24.8 a byte, CRC included (25.2 with the
-//     run-time role of rtu_framer), 96 at its last byte (CRC, address), 56 bytes of stack. An
+//     is sized inline too. An FC01-FC06 request: 24.9 a byte, CRC included (25.2 with the
+//     run-time role of rtu_framer), 97 at its last byte (CRC, address), 56 bytes of stack. An
 //     FC0F, FC10 or FC17 request (its byte count: the length rule reads the bytes held at each
-//     byte until it has it): up to 128.8 a byte (the shortest), 1650 at its last byte at worst
+//     byte until it has it): up to 128.0 a byte (the shortest), 1648 at its last byte at worst
 //     (FC10 of 123 registers: the CRC over 253 bytes). FC08 Return Query Data (no count: one
-//     CRC pass over the bytes held as they arrive finds its end): 74.6 a byte with 4 data
-//     bytes, 123.9 a byte and 1671 at its last byte with 250 (the longest ADU: the worst case
-//     of put()). 208 bytes of stack at worst (any request but FC01-FC06).
+//     CRC pass over the bytes held as they arrive finds its end): 74.1 a byte with 4 data
+//     bytes, 122.4 a byte and 1668 at its last byte with 250 (the longest ADU: the worst case
+//     of put()). 200 bytes of stack at worst (any request but FC01-FC06).
 //   Interrupts: put() or feed() may run in the UART receive interrupt, idle() in the t3.5
 //     timer's; sent() (client) runs before the request's first byte goes out. None of them may
 //     run while another runs on the same framer. A frame handed over (rtu_frame::pdu) points
