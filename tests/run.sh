@@ -24,7 +24,7 @@ bash tools/scripts/ensure-packages.sh \
   cmake ninja-build gcc g++ git clang llvm libclang-rt-14-dev clang-format doctest-dev \
   libbenchmark-dev gcc-arm-none-eabi libstdc++-arm-none-eabi-newlib binutils-riscv64-unknown-elf \
   g++-s390x-linux-gnu g++-arm-linux-gnueabihf qemu-user \
-  socat pkg-config libmodbus-dev python3-pymodbus python3-serial python3-serial-asyncio gcovr \
+  socat pkg-config libasio-dev libmodbus-dev python3-pymodbus python3-serial python3-serial-asyncio gcovr \
   python3-unicorn clang-tidy qemu-system-arm qemu-system-misc \
   libcli11-dev nlohmann-json3-dev libserialport-dev libzip-dev sigrok-cli iverilog
 

@@ -196,6 +196,7 @@ protocol_entries biss_entries();
 protocol_entries crc_entries();
 protocol_entries monitor_entries();
 protocol_entries capture_entries();
+protocol_entries gateway_entries();
 
 const std::vector<decoder>& decoders();
 const std::vector<typed_command>& typed_commands();

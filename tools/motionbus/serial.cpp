@@ -126,6 +126,14 @@ bool port::open(const std::string& path, const settings& s, std::string& warning
 #endif
 }
 
+int port::native_handle() const {
+  if (sp_ != nullptr) {
+    int fd = -1;
+    return sp_get_port_handle(sp_, &fd) == SP_OK ? fd : -1;
+  }
+  return pty_fd_;
+}
+
 bool port::write_all(const std::uint8_t* data, std::size_t size) {
   if (sp_ != nullptr) {
     // timeout 0: until every byte is handed to the driver; then until it has left
