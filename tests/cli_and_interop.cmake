@@ -82,6 +82,22 @@ if(TARGET motionbus_cli)
       COMMAND bash "${CMAKE_CURRENT_SOURCE_DIR}/interop/run_client_interop.sh"
               "$<TARGET_FILE:motionbus_cli>" "$<TARGET_FILE:motionbus_libmodbus_server>")
     set_tests_properties(interop.client PROPERTIES LABELS "interop" TIMEOUT 180)
+    # libmodbus's and pymodbus's TCP clients through `motionbus gateway` to the SM unit
+    # emulator (tests/interop/run_gateway_interop.sh): timed (0B, the idle timeout), so alone.
+    add_executable(motionbus_libmodbus_tcp_client interop/libmodbus_tcp_client.c)
+    target_include_directories(motionbus_libmodbus_tcp_client SYSTEM PRIVATE
+      ${MOTIONBUS_LIBMODBUS_INCLUDE_DIRS})
+    target_include_directories(motionbus_libmodbus_tcp_client PRIVATE
+      "${CMAKE_CURRENT_SOURCE_DIR}/support")
+    target_link_libraries(motionbus_libmodbus_tcp_client PRIVATE
+      ${MOTIONBUS_LIBMODBUS_LINK_LIBRARIES})
+    target_compile_options(motionbus_libmodbus_tcp_client PRIVATE -Wall -Wextra -Werror
+      -Wno-unused-function)  # libmodbus_peer.h's serial open_master
+    add_test(NAME interop.gateway
+      COMMAND bash "${CMAKE_CURRENT_SOURCE_DIR}/interop/run_gateway_interop.sh"
+              "$<TARGET_FILE:motionbus_cli>" "$<TARGET_FILE:motionbus_libmodbus_tcp_client>")
+    set_tests_properties(interop.gateway PROPERTIES LABELS "interop" TIMEOUT 180
+      RUN_SERIAL TRUE)
   elseif(MOTIONBUS_REQUIRE_ALL_CHECKS)
     message(FATAL_ERROR "interop tests need libmodbus-dev, socat, python3-pymodbus, python3-serial and python3-serial-asyncio")
   endif()
