@@ -33,8 +33,9 @@ namespace {
 
 const std::vector<protocol_entries>& all_protocols() {
   static const std::vector<protocol_entries> list = {
-      crc_entries(),  tformat_entries(), modbus_entries(),  sm_unit_entries(),
-      biss_entries(), monitor_entries(), capture_entries(), gateway_entries()};
+      crc_entries(),     tformat_entries(), modbus_entries(),
+      sm_unit_entries(), biss_entries(),    monitor_entries(),
+      capture_entries(), gateway_entries(), serve_modbus_entries()};
   return list;
 }
 
@@ -132,7 +133,16 @@ const std::map<std::string, option_info>& catalogue() {
        {"MS", "a client connection silent this long is closed (with any half request)", {}}},
       {"turnaround-ms", {"MS", "the line's silence after a broadcast, in milliseconds", {}}},
       {"units",
-       {"LIST", "the unit addresses allowed, e.g. 1-4,7 (default: all; others get 0A)", {}}},
+       {"LIST",
+        "unit addresses, e.g. 1-4,7: gateway: those forwarded (default: all; others get 0A); "
+        "serve modbus: those served, one device each (default: 1)",
+        {}}},
+      {"tcp-listen",
+       {"ADDR:PORT",
+        "serve Modbus TCP (MBAP) there instead of --device (PORT alone: 127.0.0.1)",
+        {}}},
+      {"points",
+       {"N", "serve modbus: coils, inputs and registers of each unit, at 0..N-1 (1..65536)", {}}},
       {"functions",
        {"LIST", "the function codes forwarded, e.g. 1-4,6,16 (default: all; others get 01)", {}}},
       {"read-only", {"", "forward reads only: every write is refused with exception 01", {}}},
