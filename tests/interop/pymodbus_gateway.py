@@ -4,6 +4,8 @@ sm-unit` on a pty (tests/interop/run_gateway_interop.sh starts them).
 Usage: pymodbus_gateway.py full PORT TIMEOUT_MS IDLE_MS   every function, 0B, 8 clients, bad input
        pymodbus_gateway.py policy PORT                    --read-only --units 1 --functions 3,4,6
        pymodbus_gateway.py rtu PORT                       --rtu-over-tcp, pymodbus's RTU framer
+       pymodbus_gateway.py generic PORT [gateway]         `serve modbus --units 1-4` (through the
+                                                          gateway, or alone with --tcp-listen)
 Exit 0 when every check holds. Run with Debian's python3 (python3-pymodbus).
 """
 import os
@@ -213,6 +215,56 @@ def rtu(port):
     client.close()
 
 
+def generic(port, through_gateway):
+    """serve modbus --units 1-4 --points 100: every function it serves, its exceptions."""
+    client = ModbusTcpClient("127.0.0.1", port=port, timeout=3)
+    check("pymodbus connects", client.connect())
+    for u in range(1, 5):
+        r = client.read_input_registers(0, 2, slave=u)
+        check("unit %d is its own device: FC04 reads %d, %d" % (u, 1000 * u, 1000 * u + 1),
+              not r.isError() and r.registers == [1000 * u, 1000 * u + 1])
+    check("FC10 unit 2", not client.write_registers(5, [1, 2, 3], slave=2).isError())
+    r = client.read_holding_registers(5, 3, slave=2)
+    check("FC03 unit 2 reads it back", not r.isError() and r.registers == [1, 2, 3])
+    r = client.read_holding_registers(5, 3, slave=1)
+    check("FC03 unit 1 is untouched", not r.isError() and r.registers == [0, 0, 0])
+    check("FC06", not client.write_register(7, 0x1234, slave=3).isError())
+    r = client.read_holding_registers(7, 1, slave=3)
+    check("FC06 read back", not r.isError() and r.registers == [0x1234])
+    check("FC0F", not client.write_coils(0, [True, False, True], slave=3).isError())
+    r = client.read_coils(0, 3, slave=3)
+    check("FC01 reads them back", not r.isError() and r.bits[:3] == [True, False, True])
+    check("FC05", not client.write_coil(1, True, slave=3).isError())
+    r = client.read_coils(0, 3, slave=3)
+    check("FC01 after FC05", not r.isError() and r.bits[:3] == [True, True, True])
+    r = client.read_discrete_inputs(0, 4, slave=3)
+    check("FC02: input i on when i % 3 == 0",
+          not r.isError() and r.bits[:4] == [True, False, False, True])
+    r = client.read_holding_registers(99, 2, slave=1)
+    check("past the points: exception 02", r.isError() and r.exception_code == 2)
+    r = client.read_holding_registers(0, 126, slave=1)
+    check("126 registers: exception 03", r.isError() and r.exception_code == 3)
+    client.close()
+    s = connect(port)
+    # FC16 (raw: pymodbus 3.0's mask_write_register and readwrite_registers drop the slave)
+    s.sendall(mbap(40, 4, b"\x16\x00\x07\x00\xFF\x00\x01"))
+    check("FC16 mask write answered", recv_adu(s) == mbap(40, 4, b"\x16\x00\x07\x00\xFF\x00\x01"))
+    # FC17 (raw too): read 7..8 after writing 0x0055 to 8
+    s.sendall(mbap(44, 3, b"\x17\x00\x07\x00\x02\x00\x08\x00\x01\x02\x00\x55"))
+    check("FC17 reads after its write",
+          recv_adu(s) == mbap(44, 3, b"\x17\x04\x12\x34\x00\x55"))
+    s.sendall(mbap(41, 1, b"\x07"))
+    check("FC07 (not served): exception 01", recv_adu(s) == mbap(41, 1, b"\x87\x01"))
+    s.sendall(mbap(42, 2, b"\x11"))
+    a = recv_adu(s)
+    check("FC11 reports unit 2", a[:2] == b"\x00\x2a" and a[7:8] == b"\x11" and
+          a.endswith(b"motionbus unit 2"))
+    if through_gateway:
+        s.sendall(mbap(43, 5, b"\x03\x00\x00\x00\x01"))
+        check("unit 5 (not served): 0B from the gateway", recv_adu(s) == mbap(43, 5, b"\x83\x0B"))
+    s.close()
+
+
 def main():
     mode, port = sys.argv[1], int(sys.argv[2])
     if mode == "full":
@@ -222,6 +274,8 @@ def main():
         bad_input(port, int(sys.argv[4]))
     elif mode == "policy":
         policy(port)
+    elif mode == "generic":
+        generic(port, len(sys.argv) > 3)
     else:
         rtu(port)
     return 1 if check.failures else 0

@@ -2,7 +2,8 @@
 # libmodbus's and pymodbus's TCP clients through `motionbus gateway` to `motionbus serve
 # sm-unit`, over a pseudo-terminal pair made by socat: every served function and its
 # exceptions, 0A and 0B, 8 concurrent clients, bad MBAP input; then the gateway again with
-# --read-only --units 1 --functions 3,4,6, and with --rtu-over-tcp (pymodbus's RTU framer).
+# --read-only --units 1 --functions 3,4,6, and with --rtu-over-tcp (pymodbus's RTU framer);
+# then `serve modbus --units 1-4` behind it, and alone with --tcp-listen.
 # Usage: run_gateway_interop.sh MOTIONBUS_CLI LIBMODBUS_TCP_CLIENT
 set -euo pipefail
 cli="$1"
@@ -74,4 +75,23 @@ echo "== the gateway's allow-lists (port $port)"
 gateway --rtu-over-tcp
 echo "== RTU over TCP (port $port)"
 /usr/bin/python3 "$here/pymodbus_gateway.py" rtu "$port" || status=1
+echo "== serve modbus --units 1-4 behind the gateway"
+kill "$serve_pid" 2>/dev/null; wait "$serve_pid" 2>/dev/null || true
+"$cli" serve modbus --device "$dir/unit" --units 1-4 >/dev/null 2>&1 &
+serve_pid=$!
+gateway
+/usr/bin/python3 "$here/pymodbus_gateway.py" generic "$port" gateway || status=1
+echo "== serve modbus --tcp-listen --units 1-4"
+kill "$gateway_pid" 2>/dev/null; wait "$gateway_pid" 2>/dev/null || true
+gateway_pid=""
+"$cli" serve modbus --tcp-listen 127.0.0.1:0 --units 1-4 --json >"$dir/serve.log" 2>&1 &
+tcp_serve_pid=$!
+port=""
+for _ in $(seq 50); do
+  port="$(sed -n 's/^{"listening":"127\.0\.0\.1:\([0-9]*\)".*/\1/p' "$dir/serve.log")"
+  [ -n "$port" ] && break
+  sleep 0.1
+done
+/usr/bin/python3 "$here/pymodbus_gateway.py" generic "$port" || status=1
+kill "$tcp_serve_pid" 2>/dev/null || true
 exit "$status"
