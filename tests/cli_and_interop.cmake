@@ -98,6 +98,11 @@ if(TARGET motionbus_cli)
               "$<TARGET_FILE:motionbus_cli>" "$<TARGET_FILE:motionbus_libmodbus_tcp_client>")
     set_tests_properties(interop.gateway PROPERTIES LABELS "interop" TIMEOUT 180
       RUN_SERIAL TRUE)
+    # read modbus --ascii against pymodbus's ASCII server (tests/interop/run_ascii_interop.sh)
+    add_test(NAME interop.ascii
+      COMMAND bash "${CMAKE_CURRENT_SOURCE_DIR}/interop/run_ascii_interop.sh"
+              "$<TARGET_FILE:motionbus_cli>")
+    set_tests_properties(interop.ascii PROPERTIES LABELS "interop" TIMEOUT 120)
   elseif(MOTIONBUS_REQUIRE_ALL_CHECKS)
     message(FATAL_ERROR "interop tests need libmodbus-dev, socat, python3-pymodbus, python3-serial and python3-serial-asyncio")
   endif()

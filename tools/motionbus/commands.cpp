@@ -149,6 +149,8 @@ const std::map<std::string, option_info>& catalogue() {
       {"answer-broadcasts",
        {"", "answer a broadcast write (unit 0) once it is on the line (default: never)", {}}},
       {"tcp", {"HOST:PORT", "a Modbus TCP server (MBAP) instead of --device", {}}},
+      {"ascii",
+       {"", "Modbus ASCII on the line (':' hex LRC CR LF) instead of RTU; 8 data bits", {}}},
       // Monitors
       {"count", {"N", "stop after N frames (0: no limit)", {}}},
       {"duration", {"S", "stop after S seconds (0: no limit; Ctrl-C stops too)", {}}},
