@@ -191,7 +191,9 @@ std::vector<std::uint8_t> number_list(const std::string& name, const std::string
     const std::uint64_t last =
         dash == std::string::npos ? first : number_in_range(name, item.substr(dash + 1), min, max);
     if (last < first) {
-      throw usage_error{"--" + name + ": the range " + item + " is empty"};
+      std::string message = "--" + name;
+      message += ": the range " + item + " is empty";
+      throw usage_error{message};
     }
     for (std::uint64_t v = first; v <= last; ++v) {
       in[v] = true;
