@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# `motionbus read modbus --ascii` against pymodbus's ASCII server (ModbusAsciiFramer) on a
+# `motionbus read modbus --ascii` against pymodbus's ASCII server (ModbusAsciiFramer), then
+# pymodbus's ASCII client against `motionbus serve modbus --ascii --units 1-4`, on a
 # pseudo-terminal pair made by socat. Usage: run_ascii_interop.sh MOTIONBUS_CLI
 set -euo pipefail
 cli="$1"
@@ -42,4 +43,9 @@ expect "FC03 past the data: exception 02" '*"ok":false,"error":"exception"*"exce
   --function 3 --slave 1 --address 99 --quantity 5
 expect "slave 9 does not answer: timeout" '*"ok":false,"error":"timeout"*' \
   --function 3 --slave 9 --address 0 --quantity 1 --timeout-ms 300
+kill "$server_pid" 2>/dev/null; wait "$server_pid" 2>/dev/null || true
+"$cli" serve modbus --device "$dir/server" --ascii --parity N --units 1-4 >/dev/null 2>&1 &
+server_pid=$!
+sleep 0.3
+/usr/bin/python3 "$here/pymodbus_ascii_client.py" "$dir/client" || status=1
 exit "$status"

@@ -1,7 +1,7 @@
-// motionbus serve modbus (--device PATH [line options] | --tcp-listen ADDR:PORT) [--units LIST]
-// [--points N]: a generic Modbus server, one device per unit address, through the library's
-// dispatch (modbus/server.hpp: serve_units on an RTU line, serve_pdu over Modbus TCP). Each
-// unit u has --points coils, discrete inputs, holding and input registers at 0..points-1:
+// motionbus serve modbus (--device PATH [line options] [--ascii] | --tcp-listen ADDR:PORT)
+// [--units LIST] [--points N]: a generic Modbus server, one device per unit address, through the
+// library's dispatch (modbus/server.hpp: serve_units on an RTU line, serve_pdu over Modbus TCP).
+// Each unit u has --points coils, discrete inputs, holding and input registers at 0..points-1:
 // coils and holding registers as written (0 at start), discrete input i on when i % 3 == 0,
 // input register i reading 1000 * u + i (modulo 65536), so that units answer as different
 // devices; FC11 reports server id 0x4D, run 0xFF, "motionbus" and the unit. Functions 01-06,
@@ -106,7 +106,9 @@ struct serve_modbus_options {
   std::optional<std::string> tcp_listen;
   std::string units = "1";
   std::uint32_t points = 100;
+  bool ascii = false;  // Modbus ASCII on the serial line
   void bind(CLI::App& app) {
+    cli::flag(app, "ascii", ascii);
     cli::text(app, "device", line.device);  // required unless --tcp-listen
     line.bind_settings(app);
     cli::text(app, "tcp-listen", tcp_listen);
@@ -141,12 +143,60 @@ void log_served(std::uint8_t unit, mb::byte_view request, mb::byte_view response
   std::cout.flush();
 }
 
+// Modbus ASCII (Serial Line §2.5.2): every frame on the line, by the ASCII framer as a listener
+// (its server role takes one address), served by the unit's device if there is one; a
+// broadcast is executed by every unit's device and not answered.
+int serve_ascii(serial::port& port, devices& units) {
+  mo::ascii_framer rx(mo::framer_role::listener);
+  std::uint8_t buffer[256];
+  while (!serial::stop_requested()) {
+    const long n = port.read_some(buffer, sizeof buffer, 100);
+    if (n < 0) {
+      std::cerr << "motionbus: read error\n";
+      return 1;
+    }
+    bool ok = true;
+    (void)mb::feed_all(rx, mb::byte_view(buffer, static_cast<std::size_t>(n)), [&](const auto& r) {
+      if (!r.is_complete()) {
+        return true;  // a bad frame (LRC, a character): no answer, as the spec has it
+      }
+      const mo::ascii_frame f = r.value();
+      std::uint8_t pdu[mo::max_pdu_size] = {};
+      std::size_t size = 0;
+      if (f.broadcast()) {
+        for (auto& u : units) {
+          (void)mo::serve_pdu(u.second, f.pdu, pdu);
+        }
+      } else if (generic_device* dev = device_of(units, f.slave)) {
+        size = mo::serve_pdu(*dev, f.pdu, pdu).value_or(0);
+      }
+      std::uint8_t out[mo::max_ascii_size] = {};
+      const std::size_t k =
+          size > 0 ? mo::encode_ascii(f.slave, mb::byte_view(pdu, size), out).value_or(0) : 0;
+      if (k > 0 && !port.write_all(out, k)) {
+        std::cerr << "motionbus: write error\n";
+        ok = false;
+        return false;
+      }
+      log_served(f.slave, f.pdu, mb::byte_view(pdu, size), "");
+      return true;
+    });
+    if (!ok) {
+      return 1;
+    }
+  }
+  return 0;
+}
+
 int serve_line(const serve_modbus_options& opts, devices& units) {
   serial::port port;
   if (!opts.line.open(port)) {
     return 1;
   }
   serial::install_stop_handler();
+  if (opts.ascii) {
+    return serve_ascii(port, units);
+  }
   mo::framer_options f;
   f.address = units.begin()->first;
   f.last_address = units.rbegin()->first;  // the range; serve_units answers the units it has
@@ -298,8 +348,8 @@ int serve_modbus(const serve_modbus_options& opts) {
     units.emplace(u, generic_device(u, opts.points));
   }
   if (opts.tcp_listen) {
-    if (!opts.line.device.empty()) {
-      throw cli::usage_error{"--tcp-listen and --device: one or the other"};
+    if (!opts.line.device.empty() || opts.ascii) {
+      throw cli::usage_error{"--tcp-listen is instead of --device (and --ascii)"};
     }
     const cli::endpoint at = cli::endpoint_of("tcp-listen", *opts.tcp_listen);
     return tcp_server(units).run(at);
