@@ -14,8 +14,10 @@
 
 #include <asio.hpp>
 
+#ifndef _WIN32  // the serial port joins the loop as a POSIX descriptor
 #include <termios.h>
 #include <unistd.h>
+#endif
 
 #include <array>
 #include <chrono>
@@ -64,6 +66,7 @@ mo::gateway_options core_options(const cli::gateway_options& o) {
   return g;
 }
 
+#ifndef _WIN32
 class gateway_loop {
  public:
   gateway_loop(const cli::gateway_options& o, int line_fd)
@@ -397,6 +400,13 @@ int run_gateway(const cli::gateway_options& opts) {
   loop->run();
   return loop->status();
 }
+#else
+int run_gateway(const cli::gateway_options& opts) {
+  (void)core_options(opts);
+  std::cerr << "motionbus: gateway needs a POSIX host (its serial port in the event loop)\n";
+  return 1;
+}
+#endif
 
 }  // namespace
 
