@@ -21,6 +21,11 @@ if(TARGET motionbus_cli)
     set_tests_properties(cli.monitor.${protocol} PROPERTIES LABELS "cli" TIMEOUT 120
       RUN_SERIAL TRUE)
   endforeach()
+  # monitor modbus --ascii on a pty pair (tests/cli/monitor_ascii_checks.py): timed, alone.
+  add_test(NAME cli.monitor.ascii
+    COMMAND /usr/bin/python3 "${CMAKE_CURRENT_SOURCE_DIR}/cli/monitor_ascii_checks.py"
+            "$<TARGET_FILE:motionbus_cli>")
+  set_tests_properties(cli.monitor.ascii PROPERTIES LABELS "cli" TIMEOUT 60 RUN_SERIAL TRUE)
   # The sample recordings shipped in examples/captures/, decoded to the frames they hold.
   add_test(NAME cli.sample_captures
     COMMAND /usr/bin/python3 "${CMAKE_CURRENT_SOURCE_DIR}/cli/sample_captures_check.py"

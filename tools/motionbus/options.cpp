@@ -144,6 +144,9 @@ void monitor_options::bind(CLI::App& app) {
   number(app, "count", count, 0, ~std::uint64_t{0});
   number(app, "duration", duration_s, 0, 4000000);
   number(app, "response-ms", response_ms, 0, 60000);
+  if (watched.line.line_kind == serial_line::kind::modbus) {
+    flag(app, "ascii", ascii);
+  }
 }
 
 uart_capture_options uart_capture_options::modbus() {

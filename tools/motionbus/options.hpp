@@ -118,6 +118,7 @@ struct monitor_options {
   std::uint64_t count = 0;
   std::uint32_t duration_s = 0;
   std::uint32_t response_ms = 1000;
+  bool ascii = false;  ///< Modbus: the line speaks Modbus ASCII
 
   static monitor_options modbus();
   void bind(CLI::App& app);
