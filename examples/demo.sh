@@ -10,7 +10,7 @@ set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$root"
 build="${MOTIONBUS_BUILD_DIR:-$root/build}/demo"
-bash tools/scripts/ensure-packages.sh cmake ninja-build g++ socat pkg-config libcli11-dev \
+bash tools/scripts/ensure-packages.sh cmake ninja-build g++ socat pkg-config libcli11-dev libasio-dev \
   nlohmann-json3-dev libserialport-dev libzip-dev
 cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DMOTIONBUS_BUILD_TESTS=OFF \
   -DMOTIONBUS_BUILD_BENCH=OFF -DMOTIONBUS_BUILD_FUZZ=OFF >/dev/null

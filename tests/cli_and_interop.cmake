@@ -21,6 +21,11 @@ if(TARGET motionbus_cli)
     set_tests_properties(cli.monitor.${protocol} PROPERTIES LABELS "cli" TIMEOUT 120
       RUN_SERIAL TRUE)
   endforeach()
+  # monitor modbus --ascii on a pty pair (tests/cli/monitor_ascii_checks.py): timed, alone.
+  add_test(NAME cli.monitor.ascii
+    COMMAND /usr/bin/python3 "${CMAKE_CURRENT_SOURCE_DIR}/cli/monitor_ascii_checks.py"
+            "$<TARGET_FILE:motionbus_cli>")
+  set_tests_properties(cli.monitor.ascii PROPERTIES LABELS "cli" TIMEOUT 60 RUN_SERIAL TRUE)
   # The sample recordings shipped in examples/captures/, decoded to the frames they hold.
   add_test(NAME cli.sample_captures
     COMMAND /usr/bin/python3 "${CMAKE_CURRENT_SOURCE_DIR}/cli/sample_captures_check.py"
@@ -82,6 +87,27 @@ if(TARGET motionbus_cli)
       COMMAND bash "${CMAKE_CURRENT_SOURCE_DIR}/interop/run_client_interop.sh"
               "$<TARGET_FILE:motionbus_cli>" "$<TARGET_FILE:motionbus_libmodbus_server>")
     set_tests_properties(interop.client PROPERTIES LABELS "interop" TIMEOUT 180)
+    # libmodbus's and pymodbus's TCP clients through `motionbus gateway` to the SM unit
+    # emulator (tests/interop/run_gateway_interop.sh): timed (0B, the idle timeout), so alone.
+    add_executable(motionbus_libmodbus_tcp_client interop/libmodbus_tcp_client.c)
+    target_include_directories(motionbus_libmodbus_tcp_client SYSTEM PRIVATE
+      ${MOTIONBUS_LIBMODBUS_INCLUDE_DIRS})
+    target_include_directories(motionbus_libmodbus_tcp_client PRIVATE
+      "${CMAKE_CURRENT_SOURCE_DIR}/support")
+    target_link_libraries(motionbus_libmodbus_tcp_client PRIVATE
+      ${MOTIONBUS_LIBMODBUS_LINK_LIBRARIES})
+    target_compile_options(motionbus_libmodbus_tcp_client PRIVATE -Wall -Wextra -Werror
+      -Wno-unused-function)  # libmodbus_peer.h's serial open_master
+    add_test(NAME interop.gateway
+      COMMAND bash "${CMAKE_CURRENT_SOURCE_DIR}/interop/run_gateway_interop.sh"
+              "$<TARGET_FILE:motionbus_cli>" "$<TARGET_FILE:motionbus_libmodbus_tcp_client>")
+    set_tests_properties(interop.gateway PROPERTIES LABELS "interop" TIMEOUT 180
+      RUN_SERIAL TRUE)
+    # read modbus --ascii against pymodbus's ASCII server (tests/interop/run_ascii_interop.sh)
+    add_test(NAME interop.ascii
+      COMMAND bash "${CMAKE_CURRENT_SOURCE_DIR}/interop/run_ascii_interop.sh"
+              "$<TARGET_FILE:motionbus_cli>")
+    set_tests_properties(interop.ascii PROPERTIES LABELS "interop" TIMEOUT 120)
   elseif(MOTIONBUS_REQUIRE_ALL_CHECKS)
     message(FATAL_ERROR "interop tests need libmodbus-dev, socat, python3-pymodbus, python3-serial and python3-serial-asyncio")
   endif()

@@ -24,7 +24,7 @@ bash tools/scripts/ensure-packages.sh \
   cmake ninja-build gcc g++ git clang llvm libclang-rt-14-dev clang-format doctest-dev \
   libbenchmark-dev gcc-arm-none-eabi libstdc++-arm-none-eabi-newlib binutils-riscv64-unknown-elf \
   g++-s390x-linux-gnu g++-arm-linux-gnueabihf qemu-user \
-  socat pkg-config libmodbus-dev python3-pymodbus python3-serial python3-serial-asyncio gcovr \
+  socat pkg-config libasio-dev libmodbus-dev python3-pymodbus python3-serial python3-serial-asyncio gcovr \
   python3-dev pybind11-dev python3-pybind11 python3-pytest python3-hypothesis python3-mypy \
   python3-pip python3-setuptools python3-wheel \
   python3-unicorn clang-tidy qemu-system-arm qemu-system-misc \

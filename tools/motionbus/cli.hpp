@@ -196,6 +196,8 @@ protocol_entries biss_entries();
 protocol_entries crc_entries();
 protocol_entries monitor_entries();
 protocol_entries capture_entries();
+protocol_entries gateway_entries();
+protocol_entries serve_modbus_entries();
 
 const std::vector<decoder>& decoders();
 const std::vector<typed_command>& typed_commands();

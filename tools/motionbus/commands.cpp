@@ -33,8 +33,9 @@ namespace {
 
 const std::vector<protocol_entries>& all_protocols() {
   static const std::vector<protocol_entries> list = {
-      crc_entries(),  tformat_entries(), modbus_entries(), sm_unit_entries(),
-      biss_entries(), monitor_entries(), capture_entries()};
+      crc_entries(),     tformat_entries(), modbus_entries(),
+      sm_unit_entries(), biss_entries(),    monitor_entries(),
+      capture_entries(), gateway_entries(), serve_modbus_entries()};
   return list;
 }
 
@@ -119,6 +120,37 @@ const std::map<std::string, option_info>& catalogue() {
       {"clock", {"CHANNEL", "the channel holding BiSS-C MA (as the recording names it)", {}}},
       {"vcd",
        {"FILE", "also write the frame as a waveform (VCD: the UART line, or MA and SLO)", {}}},
+      // The gateway and TCP
+      {"listen",
+       {"ADDR:PORT",
+        "where to accept Modbus TCP clients: ADDR:PORT, or PORT alone on 127.0.0.1 (0: any free "
+        "port, printed at start)",
+        {}}},
+      {"rtu-over-tcp",
+       {"", "the clients speak RTU over TCP (the RTU ADU with its CRC, no MBAP header)", {}}},
+      {"max-clients", {"N", "client connections at once, 1..8; one more is closed at once", {}}},
+      {"idle-timeout-ms",
+       {"MS", "a client connection silent this long is closed (with any half request)", {}}},
+      {"turnaround-ms", {"MS", "the line's silence after a broadcast, in milliseconds", {}}},
+      {"units",
+       {"LIST",
+        "unit addresses, e.g. 1-4,7: gateway: those forwarded (default: all; others get 0A); "
+        "serve modbus: those served, one device each (default: 1)",
+        {}}},
+      {"tcp-listen",
+       {"ADDR:PORT",
+        "serve Modbus TCP (MBAP) there instead of --device (PORT alone: 127.0.0.1)",
+        {}}},
+      {"points",
+       {"N", "serve modbus: coils, inputs and registers of each unit, at 0..N-1 (1..65536)", {}}},
+      {"functions",
+       {"LIST", "the function codes forwarded, e.g. 1-4,6,16 (default: all; others get 01)", {}}},
+      {"read-only", {"", "forward reads only: every write is refused with exception 01", {}}},
+      {"answer-broadcasts",
+       {"", "answer a broadcast write (unit 0) once it is on the line (default: never)", {}}},
+      {"tcp", {"HOST:PORT", "a Modbus TCP server (MBAP) instead of --device", {}}},
+      {"ascii",
+       {"", "Modbus ASCII on the line (':' hex LRC CR LF) instead of RTU; 8 data bits", {}}},
       // Monitors
       {"count", {"N", "stop after N frames (0: no limit)", {}}},
       {"duration", {"S", "stop after S seconds (0: no limit; Ctrl-C stops too)", {}}},
@@ -186,8 +218,8 @@ std::string listing() {
            (d.input ? " <input|->" : "") + "\n";
   }
   for (const typed_command& c : typed_commands()) {
-    out += std::string("  ") + c.group + " " + c.protocol + (*c.kind ? " " : "") + c.kind +
-           (*c.arguments ? " " : "") + c.arguments + "\n";
+    out += std::string("  ") + c.group + (*c.protocol ? " " : "") + c.protocol +
+           (*c.kind ? " " : "") + c.kind + (*c.arguments ? " " : "") + c.arguments + "\n";
   }
   return out + "Run `motionbus <command> ... --help` for a command's options.";
 }
@@ -245,9 +277,13 @@ int main_of(int argc, char** argv) {
   // a leaf at group / protocol [/ kind]
   auto add_leaf = [&](const char* group, const char* protocol, const char* kind,
                       const char* help) -> leaf& {
+    leaf& l = leaves.emplace_back();
+    if (!*protocol) {  // a command of its own (gateway)
+      l.app = app.add_subcommand(group, help);
+      return l;
+    }
     CLI::App* parent = child(&app, group, "");
     CLI::App* at = *kind ? child(parent, protocol, protocol_help(protocol)) : parent;
-    leaf& l = leaves.emplace_back();
     l.app = at->add_subcommand(*kind ? kind : protocol, help);
     return l;
   };

@@ -8,6 +8,8 @@
 //                         [--values a,b,...] [--write-address N] [--data HEX]
 //   read modbus --device PATH --function FC --slave N [...] [--baud N] [--parity E|O|N]
 //               [--type u32|i32|f32|u64|i64|f64 [--word-order abcd|cdab|badc|dcba]]
+//   read modbus --tcp HOST:PORT --function FC --slave N [...]   the same over Modbus TCP
+//   read modbus --device PATH --ascii [...]                     in Modbus ASCII
 #include <motionbus/core/errc.hpp>
 #include <motionbus/modbus.hpp>
 #include <motionbus/modbus/framer.hpp>
@@ -30,6 +32,7 @@
 #include "modbus_io.hpp"
 #include "options.hpp"
 #include "serial.hpp"
+#include "tcp_io.hpp"
 
 namespace mb = motionbus;
 namespace mo = motionbus::modbus;
@@ -458,8 +461,13 @@ struct read_options {
   std::string fc11 = "standard";
   std::optional<std::string> type;
   std::optional<std::string> word_order;
+  std::optional<std::string> tcp;  // HOST:PORT: Modbus TCP instead of the serial line
+  bool ascii = false;              // Modbus ASCII on the serial line
   void bind(CLI::App& app) {
-    line.bind(app);
+    cli::text(app, "device", line.device);  // required unless --tcp
+    line.bind_settings(app);
+    cli::text(app, "tcp", tcp);
+    cli::flag(app, "ascii", ascii);
     request.bind(app);
     cli::number(app, "timeout-ms", timeout_ms, 0, 60000);
     cli::text(app, "fc11", fc11);
@@ -507,12 +515,24 @@ int read_modbus(const read_options& opts) {
   if (adu[0] == 0) {
     throw cli::usage_error{"read modbus needs a unicast --slave (1..247)"};
   }
-  serial::port port;
-  if (!opts.line.open(port)) {
-    return 1;
-  }
   const mo::report_id_format fc11 = modbus_io::fc11_of(opts.fc11);
-  const auto e = modbus_io::transact(port, adu[0], adu.data(), adu.size(), fc11, opts.timeout_ms);
+  modbus_io::exchange e;
+  const mb::byte_view request_pdu(adu.data() + 1, adu.size() - 3U);  // the RTU ADU's
+  if (opts.tcp) {  // the RTU request's PDU in an MBAP ADU, the unit its address
+    if (!opts.line.device.empty() || opts.ascii) {
+      throw cli::usage_error{"--tcp is instead of --device (and --ascii)"};
+    }
+    const cli::endpoint to = cli::endpoint_of("tcp", *opts.tcp);
+    e = tcp_io::transact(to, adu[0], request_pdu, 1, opts.timeout_ms);
+  } else {
+    serial::port port;
+    if (!opts.line.open(port)) {
+      return 1;
+    }
+    e = opts.ascii
+            ? modbus_io::transact_ascii(port, adu[0], request_pdu, opts.timeout_ms)
+            : modbus_io::transact(port, adu[0], adu.data(), adu.size(), fc11, opts.timeout_ms);
+  }
   if (!e.error.empty()) {
     cli::print(cli::outcome::failure(e.error));
     return 1;

@@ -34,16 +34,13 @@ std::vector<std::int64_t> bits_of(mb::byte_view packed, std::size_t count) {
 
 namespace modbus_io {
 
-exchange transact(serial::port& port, std::uint8_t slave, const std::uint8_t* adu, std::size_t size,
-                  mo::report_id_format fc11, int timeout_ms) {
-  port.flush_input();
-  if (!port.write_all(adu, size)) {
-    return {{}, "write_error"};
-  }
-  mo::framer_options options{slave};
-  options.fc11 = fc11;
-  mo::rtu_client_framer rx(options);
-  rx.sent(mb::byte_view(adu, size));
+namespace {
+
+// The response `rx` frames from what the port delivers within `timeout_ms`. `silence_ends`:
+// 20 ms of silence ends what the framer holds (RTU: far more than t3.5); ASCII frames carry
+// their own end, and a pause inside one is no error (Serial Line §2.5.2.2: up to 1 s).
+template <class Framer>
+exchange await_response(serial::port& port, Framer& rx, int timeout_ms, bool silence_ends) {
   const std::uint32_t deadline = serial::now_us() + static_cast<std::uint32_t>(timeout_ms) * 1000U;
   std::uint8_t buffer[256];
   std::string failure;
@@ -52,7 +49,7 @@ exchange transact(serial::port& port, std::uint8_t slave, const std::uint8_t* ad
     if (n < 0) {
       return {{}, "read_error"};
     }
-    if (n == 0 && rx.pending() > 0) {  // 20 ms of silence: far more than t3.5
+    if (n == 0 && silence_ends && rx.pending() > 0) {
       const auto r = rx.idle();
       if (r.is_complete()) {
         return {std::vector<std::uint8_t>(r->pdu.begin(), r->pdu.end()), {}};
@@ -79,6 +76,36 @@ exchange transact(serial::port& port, std::uint8_t slave, const std::uint8_t* ad
   }
   // nothing valid in time: what was wrong with what came, else nothing came
   return {{}, failure.empty() ? "timeout" : failure};
+}
+
+}  // namespace
+
+exchange transact(serial::port& port, std::uint8_t slave, const std::uint8_t* adu, std::size_t size,
+                  mo::report_id_format fc11, int timeout_ms) {
+  port.flush_input();
+  if (!port.write_all(adu, size)) {
+    return {{}, "write_error"};
+  }
+  mo::framer_options options{slave};
+  options.fc11 = fc11;
+  mo::rtu_client_framer rx(options);
+  rx.sent(mb::byte_view(adu, size));
+  return await_response(port, rx, timeout_ms, true);
+}
+
+exchange transact_ascii(serial::port& port, std::uint8_t slave, mb::byte_view pdu, int timeout_ms) {
+  std::uint8_t adu[mo::max_ascii_size] = {};
+  const mb::result<std::size_t> n = mo::encode_ascii(slave, pdu, adu);
+  if (!n) {
+    return {{}, mb::to_string(n.error())};
+  }
+  port.flush_input();
+  if (!port.write_all(adu, n.value())) {
+    return {{}, "write_error"};
+  }
+  mo::ascii_framer rx(mo::framer_role::client, mo::ascii_options{slave, '\n'});
+  rx.sent(mb::byte_view(adu, n.value()));
+  return await_response(port, rx, timeout_ms, false);
 }
 
 mo::report_id_format fc11_of(const std::string& name) {

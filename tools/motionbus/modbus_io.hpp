@@ -26,6 +26,13 @@ struct exchange {
 exchange transact(serial::port& port, std::uint8_t slave, const std::uint8_t* adu, std::size_t size,
                   motionbus::modbus::report_id_format fc11, int timeout_ms);
 
+/// The same in Modbus ASCII (Serial Line §2.5.2): the request PDU `pdu` to `slave` as an
+/// ASCII ADU (':' hex LRC CR LF), the response framed by the ASCII framer; the errors of
+/// transact, and the ASCII framer's (non_hex_character, odd_digit_count, missing_crlf,
+/// crc_mismatch for a bad LRC).
+exchange transact_ascii(serial::port& port, std::uint8_t slave, motionbus::byte_view pdu,
+                        int timeout_ms);
+
 /// The FC11 response layout named "standard" or "sm" (a usage error otherwise).
 motionbus::modbus::report_id_format fc11_of(const std::string& name);
 const char* fc11_name(motionbus::modbus::report_id_format f);

@@ -1,5 +1,6 @@
 // Passive bus monitors (a port that listens to a tapped line and never sends):
 //   monitor modbus --device PATH [--baud N] [--parity E|O|N] [--stop-bits N] [--fc11 sm]
+//   monitor modbus --ascii ...                  a Modbus ASCII line (ascii_monitor below)
 //   monitor tformat --device PATH [--baud N]
 //   both: [--gap-us N] [--count N] [--duration S] [--response-ms N] [--json]
 // Every frame seen, with the microseconds since the monitor started (at its first byte's
@@ -28,6 +29,7 @@
 #include "options.hpp"
 #include "serial.hpp"
 
+namespace mb = motionbus;
 namespace mo = motionbus::modbus;
 
 namespace {
@@ -69,11 +71,116 @@ int watch(serial::port& port, const cli::monitor_options& l, Monitor& m, const c
   return status;
 }
 
+// A Modbus ASCII line: its frames carry their own ends (':' ... CR LF), so the library's ASCII
+// framer as a listener frames them (a bad LRC is crc_mismatch, a non-hex character
+// non_hex_character: one failure each, with the error of the framer); the direction is the
+// pairing's, as ASCII frames have no length rule to tell it: after a request, a frame from its
+// slave with its function (or its exception) is its response, any other a request. Each frame
+// is described as its RTU form would be (the same fields; `crc` is that form's) with `lrc`,
+// the frame's own. The silence (--gap-us) is not used: a pause inside an ASCII frame is
+// allowed (Serial Line §2.5.2.2: up to 1 s).
+class ascii_monitor {
+ public:
+  ascii_monitor(mo::report_id_format fc11, std::uint32_t response_us)
+      : fc11_(fc11), response_us_(response_us) {}
+
+  void bytes(const std::uint8_t* data, std::size_t n, std::uint32_t time_us) {
+    (void)mb::feed_all(rx_, mb::byte_view(data, n), [&](const auto& r) {
+      ++t_.frames;
+      if (!r.is_complete()) {
+        ++(r.error() == mb::errc::crc_mismatch ? t_.crc_errors : t_.other_errors);
+        cli::print(cli::outcome::failure(mb::to_string(r.error())), bus_monitor::at(time_us, "?"));
+        return true;
+      }
+      frame(r.value(), time_us);
+      return true;
+    });
+  }
+  void tick(std::uint32_t time_us, std::uint32_t /*silent_us*/) {
+    if (pending_ && time_us - pending_time_ >= response_us_) {
+      missing(time_us);
+    }
+  }
+  void end(std::uint32_t time_us) {
+    if (pending_) {
+      missing(time_us);
+    }
+  }
+  const bus_monitor::tally& counts() const { return t_; }
+
+ private:
+  void frame(const mo::ascii_frame& f, std::uint32_t time) {
+    std::vector<std::uint8_t> rtu(mo::max_rtu_size);
+    rtu.resize(
+        mo::encode_rtu(f.slave, f.pdu, mb::mutable_byte_view(rtu.data(), rtu.size())).value_or(0));
+    const auto as_rtu = mo::decode_rtu(mb::byte_view(rtu.data(), rtu.size()));
+    if (!as_rtu.is_complete()) {  // an address of 248..255 or a PDU of no function
+      ++t_.other_errors;
+      cli::print(cli::outcome::failure(mb::to_string(as_rtu.error())), bus_monitor::at(time, "?"));
+      return;
+    }
+    const bool response =
+        pending_ && f.slave == request_[0] && !f.pdu.empty() &&
+        (f.pdu[0] & static_cast<std::uint8_t>(~mo::exception_flag)) == request_[1];
+    cli::record p = bus_monitor::at(time, response ? "response" : "request");
+    if (response) {
+      const auto request = mo::decode_rtu(mb::byte_view(request_.data(), request_.size()));
+      cli::outcome o = modbus_io::describe_response(as_rtu.value(), &request.value(), fc11_);
+      ++t_.responses;
+      ++t_.by_key[f.slave].responses;
+      if (!o.ok) {
+        ++t_.other_errors;
+        ++t_.by_key[f.slave].errors;
+      } else if (f.pdu[0] >= mo::exception_flag) {
+        ++t_.exceptions;
+        ++t_.by_key[f.slave].errors;
+      }
+      p.add("latency_us", time - pending_time_).hex("lrc", f.lrc);
+      cli::print(o, p);
+      pending_ = false;
+      return;
+    }
+    if (pending_) {
+      missing(time);  // a request follows a request
+    }
+    ++t_.requests;
+    ++t_.by_key[f.slave].requests;
+    p.hex("lrc", f.lrc);
+    cli::print(modbus_io::describe_request(as_rtu.value()), p);
+    if (!f.broadcast()) {  // a broadcast is never answered
+      request_ = rtu;
+      pending_ = true;
+      pending_time_ = time;
+    }
+  }
+  void missing(std::uint32_t time) {
+    ++t_.missing;
+    ++t_.by_key[request_[0]].errors;
+    cli::record e;
+    e.add("slave", request_[0]).hex("function", request_[1]);
+    e.add("request_time_us", pending_time_);
+    cli::print(cli::outcome::failure("no_response", e), bus_monitor::at(time, "response"));
+    pending_ = false;
+  }
+
+  mo::ascii_framer rx_{mo::framer_role::listener};
+  mo::report_id_format fc11_;
+  std::uint32_t response_us_;
+  std::vector<std::uint8_t> request_;  // the pending request in its RTU form
+  bool pending_ = false;
+  std::uint32_t pending_time_ = 0;
+  bus_monitor::tally t_;
+};
+
 int monitor_modbus(const cli::monitor_options& opts) {
   const mo::report_id_format fc11 = modbus_io::fc11_of(opts.watched.fc11);
   serial::port port;
   if (!opts.watched.line.open(port)) {
     return 1;
+  }
+  if (opts.ascii) {
+    ascii_monitor m(fc11, opts.response_ms * 1000U);
+    return watch(port, opts, m, "slave");
   }
   const serial::settings s = opts.watched.line.settings();
   const mo::parity p = modbus_io::parity_of(s);

@@ -144,6 +144,9 @@ void monitor_options::bind(CLI::App& app) {
   number(app, "count", count, 0, ~std::uint64_t{0});
   number(app, "duration", duration_s, 0, 4000000);
   number(app, "response-ms", response_ms, 0, 60000);
+  if (watched.line.line_kind == serial_line::kind::modbus) {
+    flag(app, "ascii", ascii);
+  }
 }
 
 uart_capture_options uart_capture_options::modbus() {
@@ -156,6 +159,71 @@ void uart_capture_options::bind(CLI::App& app) {
   recording(app, file);
   channel(app, "line", line_channel);
   watched.bind(app, false);
+}
+
+endpoint endpoint_of(const std::string& name, const std::string& text) {
+  endpoint e;
+  std::string port = text;
+  const std::size_t colon = text.rfind(':');
+  if (colon != std::string::npos) {
+    e.host = text.substr(0, colon);
+    port = text.substr(colon + 1);
+    if (e.host.size() >= 2 && e.host.front() == '[' && e.host.back() == ']') {
+      e.host = e.host.substr(1, e.host.size() - 2);
+    }
+    if (e.host.empty()) {
+      throw usage_error{"--" + name + " takes HOST:PORT (or PORT), not \"" + text + "\""};
+    }
+  }
+  e.port = static_cast<std::uint16_t>(number_in_range(name, port, 0, 65535));
+  return e;
+}
+
+std::vector<std::uint8_t> number_list(const std::string& name, const std::string& text,
+                                      std::uint64_t min, std::uint64_t max) {
+  std::vector<bool> in(max + 1, false);
+  std::string item;
+  for (std::size_t i = 0; i <= text.size(); ++i) {
+    if (i < text.size() && text[i] != ',') {
+      item += text[i];
+      continue;
+    }
+    const std::size_t dash = item.find('-');
+    const std::uint64_t first =
+        number_in_range(name, dash == std::string::npos ? item : item.substr(0, dash), min, max);
+    const std::uint64_t last =
+        dash == std::string::npos ? first : number_in_range(name, item.substr(dash + 1), min, max);
+    if (last < first) {
+      std::string message = "--" + name;
+      message += ": the range " + item + " is empty";
+      throw usage_error{message};
+    }
+    for (std::uint64_t v = first; v <= last; ++v) {
+      in[v] = true;
+    }
+    item.clear();
+  }
+  std::vector<std::uint8_t> out;
+  for (std::uint64_t v = 0; v <= max; ++v) {
+    if (in[v]) {
+      out.push_back(static_cast<std::uint8_t>(v));
+    }
+  }
+  return out;
+}
+
+void gateway_options::bind(CLI::App& app) {
+  text(app, "listen", listen);
+  line.bind(app);
+  flag(app, "rtu-over-tcp", rtu_over_tcp);
+  number(app, "max-clients", max_clients, 1, 8);
+  number(app, "idle-timeout-ms", idle_timeout_ms, 1, 86400000);
+  number(app, "timeout-ms", timeout_ms, 1, 60000);
+  number(app, "turnaround-ms", turnaround_ms, 0, 60000);
+  text(app, "units", units);
+  text(app, "functions", functions);
+  flag(app, "read-only", read_only);
+  flag(app, "answer-broadcasts", answer_broadcasts);
 }
 
 CLI::Option* recording(CLI::App& app, std::string& file) {

@@ -118,6 +118,7 @@ struct monitor_options {
   std::uint64_t count = 0;
   std::uint32_t duration_s = 0;
   std::uint32_t response_ms = 1000;
+  bool ascii = false;  ///< Modbus: the line speaks Modbus ASCII
 
   static monitor_options modbus();
   void bind(CLI::App& app);
@@ -131,6 +132,38 @@ struct uart_capture_options {
   monitored_line watched = monitored_line::tformat();
 
   static uart_capture_options modbus();
+  void bind(CLI::App& app);
+};
+
+/// A TCP endpoint, ADDR:PORT (or PORT alone: 127.0.0.1).
+struct endpoint {
+  std::string host = "127.0.0.1";
+  std::uint16_t port = 0;
+  std::string text() const { return host + ":" + std::to_string(port); }
+};
+/// `text` as --name takes an endpoint (HOST:PORT, [v6]:PORT, or PORT), else a usage error.
+endpoint endpoint_of(const std::string& name, const std::string& text);
+/// A list of numbers and ranges, "1-4,7", each from `min` to `max`, else a usage error: the
+/// numbers in it (each once, ascending).
+std::vector<std::uint8_t> number_list(const std::string& name, const std::string& text,
+                                      std::uint64_t min, std::uint64_t max);
+
+/// gateway: Modbus TCP clients (MBAP, or RTU over TCP) to one Modbus RTU serial line, through
+/// modbus/gateway.hpp: --listen, the line, the client limit, the idle and response timeouts,
+/// the allow-list of units and functions, --read-only.
+struct gateway_options {
+  std::string listen = "127.0.0.1:502";
+  serial_line line = serial_line::modbus();
+  bool rtu_over_tcp = false;
+  unsigned max_clients = 8;  ///< 1..8, the core's connections
+  std::uint32_t idle_timeout_ms = 60000;
+  std::uint32_t timeout_ms = 1000;  ///< the response timeout on the line
+  std::uint32_t turnaround_ms = 100;
+  std::optional<std::string> units;      ///< "1-4,7"; empty: 0..247
+  std::optional<std::string> functions;  ///< "3,4,6"; empty: every function
+  bool read_only = false;
+  bool answer_broadcasts = false;
+
   void bind(CLI::App& app);
 };
 

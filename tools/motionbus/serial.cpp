@@ -126,6 +126,18 @@ bool port::open(const std::string& path, const settings& s, std::string& warning
 #endif
 }
 
+int port::native_handle() const {
+#ifndef _WIN32
+  if (sp_ != nullptr) {
+    int fd = -1;
+    return sp_get_port_handle(sp_, &fd) == SP_OK ? fd : -1;
+  }
+  return pty_fd_;
+#else
+  return -1;  // a HANDLE, not a descriptor: the gateway needs a POSIX host
+#endif
+}
+
 bool port::write_all(const std::uint8_t* data, std::size_t size) {
   if (sp_ != nullptr) {
     // timeout 0: until every byte is handed to the driver; then until it has left

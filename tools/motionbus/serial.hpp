@@ -36,6 +36,8 @@ class port {
   /// Discards unread input.
   void flush_input();
   void close();
+  /// The open port's file descriptor (POSIX), for an event loop to wait on; -1 when closed.
+  int native_handle() const;
 
  private:
   sp_port* sp_ = nullptr;
