@@ -102,9 +102,8 @@ struct checked_value {
 };
 
 template <class To, class From>
-MOTIONBUS_INLINE
 #if MOTIONBUS_CONSTEXPR_FLOAT_VALUES
-    constexpr
+constexpr
 #endif
     To
     bit_copy(const From& from) noexcept {
