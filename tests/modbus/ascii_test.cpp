@@ -307,13 +307,14 @@ TEST_CASE("ascii framer put(): byte by byte, the results of feed() in chunks (ra
     bytes stream;
     for (int part = 0; part < 6; ++part) {
       const std::uint64_t kind = rng.below(6);
-      bytes frame = ascii(static_cast<std::uint8_t>(rng.below(3) + 0x10U), pdus[rng.below(4)]);
+      bytes frame = ascii(static_cast<std::uint8_t>(rng.below(3) + 0x10U),
+                          pdus[static_cast<std::size_t>(rng.below(4))]);
       if (kind == 0) {  // a character changed
-        frame[rng.below(frame.size())] = rng.byte();
+        frame[static_cast<std::size_t>(rng.below(frame.size()))] = rng.byte();
       } else if (kind == 1) {  // cut short
-        frame.resize(rng.below(frame.size()));
+        frame.resize(static_cast<std::size_t>(rng.below(frame.size())));
       } else if (kind == 2) {  // noise
-        frame.assign(rng.below(12), 0);
+        frame.assign(static_cast<std::size_t>(rng.below(12)), 0);
         for (auto& c : frame) {
           c = rng.byte();
         }
@@ -327,7 +328,8 @@ TEST_CASE("ascii framer put(): byte by byte, the results of feed() in chunks (ra
     const framer_role role = rng.below(2) == 0 ? framer_role::server : framer_role::listener;
     ascii_framer by_feed(role, {0x11});
     ascii_framer by_put(role, {0x11});
-    const auto fed = fed_notes(by_feed, view(stream), 1 + rng.below(40), note_frame);
+    const auto fed =
+        fed_notes(by_feed, view(stream), static_cast<std::size_t>(1 + rng.below(40)), note_frame);
     CHECK(put_notes(by_put, view(stream), note_frame) == fed);
     CHECK(by_feed.pending() == by_put.pending());
     CHECK(by_feed.dropped() == by_put.dropped());

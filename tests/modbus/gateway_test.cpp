@@ -174,7 +174,8 @@ TEST_CASE("gateway: 8 clients interleaved on one line, each gets its own transac
         continue;
       }
       left = true;
-      const std::size_t n = std::min<std::size_t>(rest, 1U + rng.below(9));
+      const std::size_t n =
+          std::min<std::size_t>(rest, static_cast<std::size_t>(1U + rng.below(9)));
       h.now += static_cast<std::uint32_t>(rng.below(4000));  // the chunks arrive over time
       h.client(c, bytes(streams[c].begin() + static_cast<std::ptrdiff_t>(at[c]),
                         streams[c].begin() + static_cast<std::ptrdiff_t>(at[c] + n)));
