@@ -231,3 +231,13 @@ TEST_CASE("frame timing: from the clock, the measured line delay, the Ack and th
     CHECK(bs::frame_timing_for(ab::layout, 2500000, 0, 1, huge).error() == errc::out_of_range);
   }
 }
+
+TEST_CASE("a given turn with multi-turn bits from a layout made at run time") {
+  volatile unsigned mt = 12;  // not a constant: the configuration is made at run time
+  bs::slave_layout l = ab::layout;
+  l.multi_turn_bits = mt;
+  const auto c = bs::position_config_for(l, 360000, 7);
+  CHECK(c.counts_per_turn == 360000U);
+  CHECK(c.turns == 4096U);
+  CHECK(c.max_step == 7U);
+}

@@ -236,3 +236,13 @@ TEST_CASE("response deadlines at 2.5 and 5 Mbps from the frame lengths") {
   }
   CHECK(transaction_timeout_ns(data_id::read_all, ts::standard_bit_rate) == 54000);
 }
+
+TEST_CASE("ID1 polled: the turns alone, one count a turn; a run-time resolution") {
+  volatile unsigned mt_bits = 16;  // not a constant: the configuration is made at run time
+  const resolution res{17, static_cast<std::uint8_t>(mt_bits)};
+  const auto c = position_config_for(res, data_id::read_abm, 3);
+  CHECK(c.counts_per_turn == 1U);
+  CHECK(c.turns == 65536U);
+  CHECK(c.max_step == 3U);
+  CHECK(position_config_for(res, data_id::read_all).range() == (std::uint64_t{1} << 33U));
+}

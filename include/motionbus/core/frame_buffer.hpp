@@ -141,10 +141,12 @@ class frame_buffer {
       n = in.size();
     }
     if (end_ + n > N) {
+      // coverage-begin: want() and drop() keep start + wanted() <= N, so what fill_and_decide asks
       make_room();
       if (end_ + n > N) {
         n = N - end_;
       }
+      // coverage-end
     }
     for (std::size_t i = 0; i < n; ++i) {
       bytes_[end_ + i] = in[i];

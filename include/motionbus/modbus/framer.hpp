@@ -214,6 +214,7 @@ class rtu_buffer : public frame_buffer<max_rtu_size> {
   /// Makes room for max_fixed_request bytes from the front: moves the bytes held if needed.
   constexpr void reserve_fixed() noexcept {
     if (static_cast<std::size_t>(start_) + max_fixed_request > max_rtu_size) {
+      // coverage: a frame handed over 247+ bytes into the buffer; no test holds that many yet
       make_room();
     }
   }

@@ -440,8 +440,8 @@ constexpr std::size_t serve_file_records(Device& dev, std::uint8_t f, byte_view 
   }
   constexpr bool reads = has_read_file_record<Device>::value;
   constexpr bool writes = has_write_file_record<Device>::value;
-  // coverage: serve_frame answers a function without its accessor with 01 before this
   if (f == read_file_record_function ? !reads : !writes) {
+    // coverage: serve_frame answers a function without its accessor with 01 before this
     code = illegal_function_code;
   }
   const file_records& q = d.value();
