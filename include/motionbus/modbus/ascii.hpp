@@ -119,7 +119,7 @@ enum class ascii_event : std::uint8_t {
   more = 0,     // taken: inside a frame, or its start
   garbage = 1,  // outside a frame, dropped
   frame = 2,    // the end of a frame whose digits, length, LRC and address are valid
-  failed = 3,   // a failure (ascii_reader::failure()); a ':' that ends it starts a new frame
+  failed = 3,   // a failure (ascii_reader::failure()); a ':' that ends it starts the next frame
 };
 
 // The character-by-character reading of an ASCII ADU into its bytes, shared by decode_ascii()

@@ -50,7 +50,7 @@
 // slave's late response is discarded, not taken for the next request's; a slave that stays
 // silent for longer than t3.5 past the timeout and then answers cannot be told from a
 // response to the next request. A response for a connection closed meanwhile is dropped (a
-// connection slot reused after close() is a new connection).
+// connection slot reused after close() is another connection).
 #ifndef MOTIONBUS_MODBUS_GATEWAY_HPP
 #define MOTIONBUS_MODBUS_GATEWAY_HPP
 

@@ -193,7 +193,7 @@ class line_listener {
       h.req.cf = b0;
       std::size_t n = 1;
       // A parity error in an EEPROM request's CF (Table 6 No. 4): its Data ID as read still
-      // sizes it (its address, data and CRC bytes come next), so they are not new requests.
+      // sizes it (its address, data and CRC bytes come next), none starts a request.
       // Choice: an EEPROM ID read with a parity error is taken as that request (one bit flipped
       // in cc4); any other CF with a parity error is one byte.
       const bool eeprom = id == data_id::eeprom_write || id == data_id::eeprom_read;
