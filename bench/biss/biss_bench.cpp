@@ -139,8 +139,7 @@ void bm_chain(benchmark::State& state) {
   std::size_t i = 0;
   for (auto _ : state) {
     const std::uint32_t* w = input.data() + (i++ & 63U) * 5U;
-    const auto r = bs::decode_frame(mb::span<const std::uint32_t>(w, 5), 160,
-                                    mb::span<const bs::slave_layout>(chain, 3));
+    const auto r = bs::decode_frame(mb::span<const std::uint32_t>(w, 5), 160, chain);
     for (const auto& s : r.value()) {
       publish(r.is_complete(), s.single_turn, s.ne, s.nw);
     }

@@ -419,6 +419,51 @@ TEST_CASE("chains of 1 to 3 slaves with different layouts") {
   }
 }
 
+TEST_CASE("a chain given as an array of N layouts gives a chain_frame<N> equal to the span form") {
+  const slave_layout chain[3] = {absys_layout, mt_layout, plain_layout};
+  testutil::splitmix64 rng(7);
+  for (int rep = 0; rep < 50; ++rep) {
+    std::vector<slave_bits> vals;
+    for (const slave_layout& l : chain) {
+      vals.push_back({rng.next() & ((std::uint64_t{1} << l.multi_turn_bits) - 1U),
+                      rng.next() & ((std::uint64_t{1} << l.single_turn_bits) - 1U),
+                      !l.has_error || rng.below(2) == 0U, !l.has_warning || rng.below(2) == 0U});
+    }
+    std::string s = frame_string(static_cast<std::size_t>(rng.below(10)),
+                                 static_cast<std::size_t>(1U + rng.below(5)), rep % 2 == 0,
+                                 std::vector<slave_layout>(chain, chain + 3), vals);
+    if (rep % 3 == 2) {  // a bad CRC somewhere, or a frame cut short
+      char& c = s[s.size() - 1U - static_cast<std::size_t>(rng.below(20))];
+      c = c == '1' ? '0' : '1';
+    } else if (rep % 5 == 4) {
+      s.resize(s.size() - 1U - static_cast<std::size_t>(rng.below(30)));
+    }
+    const std::vector<std::uint32_t> words = pack<std::uint32_t>(s);
+    const span<const std::uint32_t> w(words.data(), words.size());
+    const frame_result<3> a = decode_frame(w, s.size(), chain);
+    const frame_result<max_chain> b = decode_frame(w, s.size(), span<const slave_layout>(chain, 3));
+    CAPTURE(rep);
+    REQUIRE(a.status() == b.status());
+    CHECK(a.error() == b.error());
+    if (a.is_complete()) {
+      CHECK(a.consumed_bits() == b.consumed_bits());
+      CHECK(a->size() == 3U);
+      CHECK(a->start == b->start);
+      CHECK(a->cds == b->cds);
+      for (std::size_t k = 0; k < 3U; ++k) {
+        CHECK(a->slaves[k].single_turn == vals[k].st);
+        CHECK(a->slaves[k].multi_turn == vals[k].mt);
+        CHECK(a->slaves[k].crc == b->slaves[k].crc);
+      }
+    } else if (a.is_failed()) {
+      CHECK(a.expected() == b.expected());
+      CHECK(a.received() == b.received());
+    } else {
+      CHECK(a.needed_bits() == b.needed_bits());
+    }
+  }
+}
+
 TEST_CASE("invalid layouts, chains, buffers and values are refused") {
   std::uint32_t words[4] = {};
   const span<const std::uint32_t> in(words, 4);

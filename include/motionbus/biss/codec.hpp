@@ -12,7 +12,8 @@
 //
 // Outcomes of decode_frame, a frame_result<N> (decode_result counted in bits):
 //   complete      chain_frame<N>: line delay, Start bit index, Ack length, CDS and every
-//                 slave's fields (N = 1 for one layout, max_chain for a chain);
+//                 slave's fields (N = 1 for one layout, N for an array of N layouts,
+//                 max_chain for a chain given as a span);
 //                 consumed_bits() = bits up to the end of the last CRC
 //   need input    the capture ends before the frame does (truncated), or before a bound
 //                 was reached with no Ack / no Start yet; needed_bits() more at least
@@ -320,6 +321,18 @@ MOTIONBUS_INLINE constexpr frame_result<max_chain> decode_frame(
     const decode_options& opt = {}, bit_order order = bit_order::msb_first) noexcept {
   return detail::decode_chain<Table, max_chain, Word>(detail::capture_words(words), bit_count,
                                                       chain, opt, order);
+}
+
+/// Fixed-chain form: a chain known at compile time as an array of N layouts gives a
+/// chain_frame<N>, sized by the chain (no unused slots to clear and return).
+// inline: as the chain form.
+template <crc_table_size Table = default_crc_table, class Words, std::size_t N,
+          class Word = detail::capture_word_t<Words>>
+MOTIONBUS_INLINE constexpr frame_result<N> decode_frame(
+    const Words& words, std::size_t bit_count, const slave_layout (&chain)[N],
+    const decode_options& opt = {}, bit_order order = bit_order::msb_first) noexcept {
+  return detail::decode_chain<Table, N, Word>(detail::capture_words(words), bit_count,
+                                              span<const slave_layout>(chain, N), opt, order);
 }
 
 /// Single-slave form: the slave's data is `slaves[0]`.
