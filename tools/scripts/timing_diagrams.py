@@ -269,6 +269,10 @@ def biss_frame(title: str, values: 'biss.SlaveValues', line_delay: int, ack_bits
         (line_delay, ack_bits, cds, values.single_turn, True), title
     clocks = len(sl)
     assert f.end == clocks, (f.end, clocks)
+    # The timeout as the encoder gives it: SLO low (busy) after the CRC.
+    with_timeout = biss.encode_frame(layout, values, line_delay=line_delay, ack_bits=ack_bits,
+                                     cds=cds, timeout_bits=BISS_TIMEOUT - 2)
+    assert with_timeout[:clocks] == sl, title
     data_bits = layout.data_bits
     crc_bits = layout.frame_bits - data_bits - 2
     # SLO one level a tick: idle, the encoder's samples (one per MA period), the timeout (SLO
@@ -277,7 +281,7 @@ def biss_frame(title: str, values: 'biss.SlaveValues', line_delay: int, ack_bits
     first_data = BISS_LEAD + f.start + 2            # after Start and CDS
     cut_from = first_data + BISS_SHOWN
     cut_to = first_data + data_bits - BISS_SHOWN
-    full = [1] * BISS_LEAD + sl + [0] * (BISS_TIMEOUT - 2) + [1, 1] + ([1] if cdm else [])
+    full = [1] * BISS_LEAD + with_timeout + [1, 1] + ([1] if cdm else [])
     slo = full[:cut_from] + [full[cut_from - 1]] + full[cut_to:]
     slo_wave = list(wave_of_levels(slo))
     slo_wave[cut_from] = '|'
