@@ -25,8 +25,8 @@ work="$(mktemp -d)"
 xvfb_pid=""
 pv_pid=""
 cleanup() {
-  [ -n "$pv_pid" ] && kill "$pv_pid" 2>/dev/null || true
-  [ -n "$xvfb_pid" ] && kill "$xvfb_pid" 2>/dev/null || true
+  if [ -n "$pv_pid" ]; then kill "$pv_pid" 2>/dev/null || true; fi
+  if [ -n "$xvfb_pid" ]; then kill "$xvfb_pid" 2>/dev/null || true; fi
   rm -rf "$work"
 }
 trap cleanup EXIT
@@ -97,21 +97,23 @@ shot() {
   echo "$out/pulseview_$name.png"
 }
 
-baud="$(int64_bytes 2500000)"
-cat >"$work/tformat.pvs" <<EOF
-[General]
-decode_signals=1
-views=1
+# pvs NAME SIGNAL_NAME SCALE: $work/NAME.pvs, a PulseView session setup (QSettings ini) with
+# one decode signal whose decoder stack and channel mapping come on stdin, and the view's zoom
+# (SCALE seconds a pixel).
+pvs() {
+  { printf '[General]\ndecode_signals=1\nviews=1\n\n[decode_signal0]\nname=%s\n' "$2"
+    cat
+    printf '\n[view0]\nscale=%s\n' "$3"; } >"$work/$1.pvs"
+}
 
-[decode_signal0]
-name=T-format
+pvs tformat T-format 4.5e-8 <<EOF
 decoders=2
 decoder0\\id=uart
 decoder0\\visible=true
 decoder0\\options=1
 decoder0\\option0\\name=baudrate
 decoder0\\option0\\type=x
-decoder0\\option0\\value=@ByteArray($baud)
+decoder0\\option0\\value=@ByteArray($(int64_bytes 2500000))
 decoder0\\row0\\visible=false
 decoder1\\id=tformat
 decoder1\\visible=true
@@ -120,18 +122,9 @@ channels=2
 channel0\\name=RX
 channel0\\assigned_signal_name=line
 channel1\\name=TX
-
-[view0]
-scale=4.5e-8
 EOF
 
-cat >"$work/biss.pvs" <<EOF
-[General]
-decode_signals=1
-views=1
-
-[decode_signal0]
-name=BiSS-C
+pvs biss BiSS-C 3.6e-8 <<EOF
 decoders=1
 decoder0\\id=biss
 decoder0\\visible=true
@@ -141,9 +134,6 @@ channel0\\name=MA
 channel0\\assigned_signal_name=MA
 channel1\\name=SLO
 channel1\\assigned_signal_name=SLO
-
-[view0]
-scale=3.6e-8
 EOF
 
 # tformat.sr: the ID3 exchange (81 to 132 us) at 45 ns a pixel, after a pan of 72 us.
