@@ -114,7 +114,9 @@ def tformat_exchange(title: str, request: bytes, req_names: Sequence[str], respo
         == request, title
     assert tformat.encode_response(r.frame) == response, title
     assert r.start_bit == TF_LEAD_BITS + 10 * len(request) + TF_TURNAROUND_BITS, title
-    spans = ([(1, 'z', '')] + [(1, '3', l) for l in _tf_field_labels(request, req_names)]
+    spans = ([(1, 'z', '')]
+             + [(1, '5' if 0 < i == len(request) - 1 else '3', l)
+                for i, l in enumerate(_tf_field_labels(request, req_names))]
              + [(1, 'z', '')]
              + [(1, '4' if i + 1 < len(response) else '5', l)
                 for i, l in enumerate(_tf_field_labels(response, resp_names))]
@@ -126,8 +128,7 @@ def tformat_exchange(title: str, request: bytes, req_names: Sequence[str], respo
         data_lane('sender', [(1, 'z', ''), (len(request), '3', 'master'), (1, 'z', ''),
                              (len(response), '4', 'encoder'), (1, 'z', '')]),
     ]
-    foot = ('one tick a field of 10 bits (4 us at 2.5 Mbps, see the field above); turnaround '
-            'about 3 us (%d bit times drawn as one tick)' % TF_TURNAROUND_BITS)
+    foot = 'one tick a field (10 bits, 4 us); turnaround about 3 us'
     return {'signal': lanes, 'edge': ['A<->B turnaround'], 'head': {'text': title},
             'foot': {'text': foot}, 'config': {'hscale': 2}}
 
