@@ -13,7 +13,6 @@ fails the test command; the SVGs carry the SHA-256 of the WaveJSON they were ren
 """
 
 import argparse
-import hashlib
 import json
 import os
 import sys
@@ -48,17 +47,15 @@ def lane_of_spans(spans: Sequence[Tuple[int, str, str]]) -> Tuple[str, List[str]
     for ticks, kind, label in spans:
         if ticks <= 0:
             continue
-        if kind in ('z', 'x', '0', '1'):
-            wave.append(kind + '.' * (ticks - 1))
-        else:
-            wave.append(kind + '.' * (ticks - 1))
+        wave.append(kind + '.' * (ticks - 1))
+        if kind not in ('z', 'x', '0', '1'):
             data.append(label)
     return ''.join(wave), data
 
 
 def merge_dots(wave: str) -> str:
     """Join adjacent spans of the same plain state ('zz' -> 'z.')."""
-    out = []
+    out: List[str] = []
     for c in wave:
         if out and c in 'zx01' and _last_state(out) == c:
             out.append('.')
@@ -112,6 +109,7 @@ def tformat_exchange(title: str, request: bytes, req_names: Sequence[str], respo
     r = tformat.decode_response_line(line, q.end)
     assert tformat.encode_request(int(q.frame.id), q.frame.address, q.frame.edf)[:len(request)] \
         == request, title
+    assert isinstance(r.frame, tformat.Response), title
     assert tformat.encode_response(r.frame) == response, title
     assert r.start_bit == TF_LEAD_BITS + 10 * len(request) + TF_TURNAROUND_BITS, title
     spans = ([(1, 'z', '')]
@@ -204,7 +202,8 @@ def modbus_adu(title: str, request: bytes, response: bytes, req_names: Sequence[
     gap_ticks = int(t15 / half) - 1        # a gap shorter than t1.5: allowed within a frame
     assert t35_ticks == 7 and gap_ticks >= 1, (t35, t15, char_us)
 
-    def chars(frame: bytes, names: Sequence[str], colour: str, gap_at: int) -> List[Tuple[int, str, str]]:
+    def chars(frame: bytes, names: Sequence[str], colour: str,
+              gap_at: int) -> List[Tuple[int, str, str]]:
         out: List[Tuple[int, str, str]] = []
         for i, (b, n) in enumerate(zip(frame, names)):
             kind = '5' if i >= len(frame) - 2 else colour
@@ -341,10 +340,6 @@ def all_diagrams() -> Dict[str, Diagram]:
 
 def to_text(diagram: Diagram) -> str:
     return json.dumps(diagram, indent=1, sort_keys=True) + '\n'
-
-
-def digest(text: str) -> str:
-    return hashlib.sha256(text.encode('utf-8')).hexdigest()
 
 
 def main(argv: Sequence[str]) -> int:
