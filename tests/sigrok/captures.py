@@ -21,10 +21,12 @@ def _tf_bits(frame, idle_bits):
     return tformat.encode_line(frame, idle_bits)
 
 
-def tformat_capture(corrupt=False):
+def tformat_capture(corrupt=False, tail=None):
     """(raw samples, expected): a request/response exchange per Data ID, an EEPROM read and
     write, an abnormal (unknown Data ID) request and a request left unanswered. `corrupt` flips
-    a bit in the ID3 response's ABS (its CRC goes bad)."""
+    a bit in the ID3 response's ABS (its CRC goes bad). `tail` ends the capture with one more
+    request, unanswered: 'unanswered' records 60 us of idle line after it, 'cut' only 1.6 us
+    (4 bits: the capture may have cut its response off)."""
     enc = ts5700n8500.Emulator()
     enc.set_position(123456, 77)
     bits = [1] * 40
@@ -63,6 +65,10 @@ def tformat_capture(corrupt=False):
     exchange(tformat.encode_request(DataId.read_abs), answer=False)
     enc.set_condition(AlmcBit.be, True)                 # the battery error in the last reply
     exchange(tformat.encode_request(DataId.read_all))
+    if tail is not None:
+        exchange(tformat.encode_request(DataId.read_abs), answer=False)
+        if tail == 'cut':
+            del bits[len(bits) - 150 + 4:]
     samples = bytes(b for b in bits for _ in range(TF_OVERSAMPLE))
     return samples, expected
 

@@ -134,6 +134,28 @@ def test_tformat(tmp_path, corrupt):
         assert expected[-1]['reply'].alarms == [AlmcBit.be]
 
 
+@pytest.mark.parametrize('tail', ['unanswered', 'cut'])
+def test_tformat_missing_response_at_the_end_of_the_capture(tmp_path, tail):
+    """The capture's last request is unanswered: flagged once the line has been idle longer
+    than gap_us (10 us) in the capture (uart's IDLE packets), not flagged when the capture
+    ends sooner (1.6 us after it: the response may have been cut off)."""
+    samples, expected = captures.tformat_capture(tail=tail)
+    sr = make_sr(tmp_path, 'tformat', samples, 1, captures.TF_RATE)
+    anns = decode(sr, TF_PD, 'tformat')
+    groups = frames_of(anns)
+    last = groups[-1]
+    assert last[0] == 'Request ID0 (CF 0x02)' and last.span == expected[-1]['request_span'], last
+    flagged = [(ss, es) for ss, es, t in anns if t == 'Missing response to ID0 request']
+    if tail == 'unanswered':
+        assert 'Missing response to ID0 request' in last, last
+        assert flagged[-1] == expected[-1]['request_span']
+    else:
+        assert not any(t.startswith('Missing') for t in last), last
+    # the unanswered request inside the capture is flagged either way
+    inner = [e['request_span'] for e in expected[:-1] if 'reply_bytes' not in e]
+    assert len(inner) == 1 and inner[0] in flagged
+
+
 def biss_check(anns, layout, frames, bad_frame=None, line_delay=2):
     chain = layout if isinstance(layout, list) else [layout]
     heads = [i for i, (_, _, t) in enumerate(anns) if t.startswith('Frame: ')]

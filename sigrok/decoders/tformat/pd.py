@@ -117,9 +117,17 @@ class Decoder(srd.Decoder):
             # goes to the listener as read, and the encoder answers it with ID3 data (SF CA1).
             self.put_ann(ss, es, ANN_ERROR, ['Delimiter error (stop bit 0)', 'Delimiter', 'D!'])
             return
+        gap = self.gap_samples()
+        if ptype == 'IDLE':
+            # uart's IDLE: the line stayed idle for a whole character time, up to `es`. It
+            # comes while the capture goes on, so a silence longer than the gap ends the
+            # exchange there, also after the capture's last request (libsigrokdecode's API 3
+            # has no end-of-capture call: docs/sigrok.md).
+            if self.last_es is not None and gap is not None and es - self.last_es > gap:
+                self.silence()
+            return
         if ptype != 'DATA':
             return
-        gap = self.gap_samples()
         if self.last_es is not None and gap is not None and ss - self.last_es > gap:
             self.silence()
         self.last_es = es
@@ -127,6 +135,7 @@ class Decoder(srd.Decoder):
         self.handle(self.listener.put(pdata[0] & 0xFF))
 
     def silence(self):
+        self.last_es = None          # once a silence: the next IDLE packets are the same one
         expecting = self.listener.expecting_response
         self.handle(self.listener.idle())
         if expecting and self.request is not None:
