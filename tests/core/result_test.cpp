@@ -42,7 +42,9 @@ decode_result<frame> toy_build(byte_view in) {
   } else if (in.size() < 2) {
     o.need(1);
   } else {
-    o.complete(2, [&](frame& f) { f.id = in[1]; });
+    frame f;  // fields not named here stay value-initialised
+    f.id = in[1];
+    o.complete_value(2, f);
   }
   return r;
 }
@@ -68,7 +70,7 @@ TEST_CASE("decode_result built in place: the same outcomes as the converting con
       CHECK(a.consumed() == b.consumed());
       CHECK(a.needed() == b.needed());
       CHECK(a->id == b->id);
-      CHECK(b->position == 0);  // fields the fill does not set stay value-initialised
+      CHECK(b->position == 0);  // fields the decoder does not set stay value-initialised
     }
   }
   // Steps that settle nothing: incomplete, 1 unit needed, the value reads as value-initialised.

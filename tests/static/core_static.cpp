@@ -162,7 +162,7 @@ constexpr mb::decode_result<int> built(int step) {
   } else if (step == 1) {
     o.fail(mb::errc::crc_mismatch, 2, 1, 2);
   } else if (step == 2) {
-    o.complete(4, [](int& v) { v = 5; });
+    o.complete_value(4, 5);
   } else {
     o.complete_in_place(4) = 6;  // in constant evaluation, value-initialised first
   }

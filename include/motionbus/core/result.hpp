@@ -118,7 +118,7 @@ class [[nodiscard]] decode_result {
     return decode_result(value, consumed);
   }
   /// Settles a decode_result in place (a stream object's own result, framer.hpp): call one
-  /// of need, fail or complete once; the other fields are not written.
+  /// of need, fail, complete_in_place or complete_value once; the other fields are not written.
   class outcome {
    public:
     constexpr explicit outcome(decode_result& r) noexcept : r_(r) {}
@@ -135,11 +135,6 @@ class [[nodiscard]] decode_result {
       r_.status_ = decode_status::failed;
       r_.count_ = consumed;
       r_.u_ = storage(evidence{e == errc::ok ? errc::invalid_argument : e, expected, received});
-    }
-    /// Complete using `consumed` units: `fill(T&)` sets the fields of the value-initialised T.
-    template <class Fill>
-    constexpr void complete(std::size_t consumed, Fill&& fill) noexcept {
-      r_.set_complete(consumed, fill);
     }
     /// Complete using `consumed` units, the value returned for the caller to set every
     /// member of (a large T, such as a BiSS chain's frame, is then written once, in place).
@@ -235,14 +230,6 @@ class [[nodiscard]] decode_result {
 
   constexpr std::size_t needed_units() const noexcept {
     return is_incomplete() ? (count_ == 0U ? 1U : count_) : 0U;  // 0: default-constructed
-  }
-  template <class Fill>
-  constexpr void set_complete(std::size_t consumed, Fill& fill) noexcept {
-    status_ = decode_status::complete;
-    count_ = consumed;
-    T v{};  // filled where the compiler keeps it (registers, for a small T)
-    fill(v);
-    set_value(consumed, v);
   }
   // inline: the stream objects' results, set in place.
   MOTIONBUS_INLINE constexpr void set_value(std::size_t consumed, const T& v) noexcept {
