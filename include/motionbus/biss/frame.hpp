@@ -101,15 +101,18 @@ struct slave_layout {
   MOTIONBUS_INLINE constexpr unsigned data_bits() const noexcept {
     return multi_turn_bits + single_turn_bits + alignment_bits;
   }
+  // inline: as data_bits().
   MOTIONBUS_INLINE constexpr unsigned status_bits() const noexcept {
     return (has_error ? 1U : 0U) + (has_warning ? 1U : 0U);
   }
   /// Bits this slave puts on SL after the CDS bit (data, nE, nW, CRC).
+  // inline: as data_bits().
   MOTIONBUS_INLINE constexpr unsigned frame_bits() const noexcept {
     return data_bits() + status_bits() + crc.width;
   }
   /// ok, or errc::biss_layout: 1..64 data bits, a CRC of at most 16 bits whose polynomial,
   /// start value fit its width (the widths are checked one by one first: no overflow).
+  // inline: as data_bits().
   MOTIONBUS_INLINE constexpr errc validate() const noexcept {
     if (multi_turn_bits > max_data_bits || single_turn_bits > max_data_bits ||
         alignment_bits > max_data_bits || data_bits() == 0U || data_bits() > max_data_bits ||

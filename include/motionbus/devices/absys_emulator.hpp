@@ -116,7 +116,7 @@ class emulator {
     return v;
   }
   /// Writes this frame's SL samples into `out`: `line_delay` idle samples (the line delay a
-  /// master reports as frame_info::line_delay), `ack_bits` of Ack, Start, the CDS owed to the
+  /// master reports as chain_frame::line_delay), `ack_bits` of Ack, Start, the CDS owed to the
   /// master, data, nE, nW, CRC6. Returns the bits written.
   template <class Word>
   constexpr result<std::size_t> frame(span<Word> out, std::size_t line_delay = 1,

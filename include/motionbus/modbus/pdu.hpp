@@ -164,7 +164,7 @@ inline constexpr std::uint8_t mei_read_device_identification = 0x0E;
 inline constexpr std::uint16_t max_fifo_count = 31;
 
 /// Register i of big-endian register bytes (no bounds check beyond the caller's: i < size/2).
-/// Forced inline: one load and a byte swap, inside every server's register loop.
+// inline: one load and a byte swap, inside every server's register loop.
 MOTIONBUS_INLINE constexpr std::uint16_t register_at(byte_view bytes, std::size_t i) noexcept {
   return load_be16(bytes, 2U * i);
 }
@@ -288,7 +288,7 @@ constexpr bool overflows(std::uint16_t address, std::uint16_t quantity) noexcept
 }
 
 // Checks a read quantity: limits first (exception 03), then the address range (exception 02).
-// Forced inline: a few compares that fold to one with the caller's constant function code.
+// inline: a few compares that fold to one with the caller's constant function code.
 MOTIONBUS_INLINE constexpr errc check_read(std::uint8_t f, std::uint16_t address,
                                            std::uint16_t quantity) noexcept {
   const std::uint16_t max = is_read_bits(f) ? max_read_bits : max_read_registers;

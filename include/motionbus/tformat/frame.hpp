@@ -236,7 +236,8 @@ struct request {
 };
 
 /// A response as the master sees it; the fields present follow layout_of(id).
-/// (The one-byte fields come first and together: a decoder fills them with few stores.)
+/// (The one-byte fields come first and together: a decoder fills them with few stores. The
+/// ID3 decoder initialises them by position, and checks this order: codec.hpp.)
 struct response {
   data_id id = data_id::read_abs;
   std::uint8_t cf = control_field(data_id::read_abs);
