@@ -123,6 +123,20 @@ TEST_CASE("encode modbus request: RTU ADU as hex") {
   CHECK(status == 2);
   cli("encode modbus request --function 3 --slave 1 --values x", &status);
   CHECK(status == 2);
+  // --function and --slave are numbers in their ranges, checked as the options are parsed
+  for (const char* args :
+       {"encode modbus request --function 0 --slave 1",
+        "encode modbus request --function 0x80 --slave 1",
+        "encode modbus request --function three --slave 1", "encode modbus request --slave 1",
+        "encode modbus request --function 3 --slave 256"}) {
+    CAPTURE(args);
+    CHECK(cli(args, &status).empty());
+    CHECK(status == 2);
+    const std::string err = testcli::run_stderr(args);
+    CHECK(err.find(std::string(args).find("--slave 256") != std::string::npos
+                       ? "--slave"
+                       : "--function") != std::string::npos);
+  }
 }
 
 TEST_CASE("encode modbus request: a write needs its values, a coil is on or off") {

@@ -163,16 +163,16 @@ std::vector<std::uint16_t> parse_values(const std::string& text, bool coils) {
 
 // The request's options (encode and read): --function, --slave, their fields, --values, --data.
 struct request_options {
-  std::optional<std::string> function;
-  std::optional<std::string> slave;
+  std::optional<std::uint8_t> function;
+  std::optional<std::uint8_t> slave;
   std::uint16_t address = 0;
   std::uint16_t quantity = 1;
   std::uint16_t write_address = 0;
   std::optional<std::string> values;
   std::optional<std::string> data;
   void bind(CLI::App& app) {
-    cli::text(app, "function", function);
-    cli::text(app, "slave", slave);
+    cli::number(app, "function", function, 1, 0x7F);
+    cli::number(app, "slave", slave, 0, 0xFF);  // a byte; the codec refuses 248..255
     cli::number(app, "address", address, 0, 0xFFFF);
     cli::number(app, "quantity", quantity, 0, 0xFFFF);
     cli::text(app, "values", values);
@@ -228,15 +228,14 @@ std::vector<std::uint16_t> values_for(const request_options& opts, std::uint8_t 
 // Builds the request ADU from the options; a usage error when they are incomplete or the codec
 // refuses them (nothing is sent).
 std::vector<std::uint8_t> build_request(const request_options& opts) {
-  const auto fc_value = cli::parse_uint(opts.function.value_or(""));
-  if (!fc_value || *fc_value == 0 || *fc_value > 0x7F) {
-    throw cli::usage_error{"--function takes a function code 1..127 (decimal or 0x..)"};
+  if (!opts.function) {
+    throw cli::usage_error{"--function FC is required"};
   }
-  const auto slave = opts.slave ? cli::parse_uint(*opts.slave) : std::nullopt;
-  if (!slave || *slave > 255) {
-    throw cli::usage_error{"--slave N (0..247) is required"};
+  if (!opts.slave) {
+    throw cli::usage_error{"--slave N is required"};
   }
-  const auto fc = static_cast<std::uint8_t>(*fc_value);
+  const std::uint8_t fc = *opts.function;
+  const std::uint8_t slave = *opts.slave;
   const std::uint16_t address = opts.address;
   const std::vector<std::uint16_t> regs = values_for(opts, fc);
   const mb::span<const std::uint16_t> reg_view(regs.data(), regs.size());
@@ -285,9 +284,8 @@ std::vector<std::uint8_t> build_request(const request_options& opts) {
   }
   const std::size_t size = cli::built(n, "the request's fields");
   std::uint8_t adu[mo::max_rtu_size] = {};
-  const std::size_t k =
-      cli::built(mo::encode_rtu(static_cast<std::uint8_t>(*slave), mb::byte_view(pdu, size), adu),
-                 "--slave " + std::to_string(*slave));
+  const std::size_t k = cli::built(mo::encode_rtu(slave, mb::byte_view(pdu, size), adu),
+                                   "--slave " + std::to_string(slave));
   return std::vector<std::uint8_t>(adu, adu + k);
 }
 
@@ -508,8 +506,7 @@ request_options typed_request(const request_options& given, const typed_values& 
 }
 
 int read_modbus(const read_options& opts) {
-  const auto fc_value = cli::parse_uint(opts.request.function.value_or(""));
-  const auto fc = static_cast<std::uint8_t>(fc_value && *fc_value <= 0x7F ? *fc_value : 0U);
+  const std::uint8_t fc = opts.request.function.value_or(0);
   const std::optional<typed_values> typed = typed_of(opts.type, opts.word_order, fc);
   const auto adu = build_request(typed ? typed_request(opts.request, *typed, fc) : opts.request);
   if (adu[0] == 0) {
