@@ -312,6 +312,34 @@ mb_biss_slave_data slave_data_of(const bs::slave_data& d) {
   return mb_biss_slave_data{d.data, d.multi_turn, d.single_turn, d.ne, d.nw, d.crc, d.crc_computed};
 }
 
+using capture_view = mb::span<const std::uint32_t>;
+
+// A chain of 2..8 slaves (out of line: its layouts and frame stay off the single-slave path's
+// stack).
+__attribute__((noinline)) mb_result decode_chain(capture_view capture, std::size_t bit_count,
+                                                 const mb_biss_layout* chain,
+                                                 std::size_t chain_size,
+                                                 const bs::decode_options& opt, mb::bit_order order,
+                                                 mb_biss_frame* out) {
+  bs::slave_layout layouts[bs::max_chain];
+  for (std::size_t i = 0; i < chain_size; ++i) {
+    layouts[i] = layout_of(chain[i]);
+  }
+  const mb::span<const bs::slave_layout> lay(layouts, chain_size);
+  return outcome(bs::decode_frame(capture, bit_count, lay, opt, order),
+                 [out](const bs::chain_frame<bs::max_chain>& f) {
+                   if (out != nullptr) {
+                     out->line_delay = f.line_delay;
+                     out->start = f.start;
+                     out->cds = f.cds;
+                     out->count = f.count;
+                     for (std::size_t i = 0; i < f.count; ++i) {
+                       out->slaves[i] = slave_data_of(f.slaves[i]);
+                     }
+                   }
+                 });
+}
+
 }  // namespace
 
 extern "C" {
@@ -608,10 +636,6 @@ mb_result mb_biss_decode_frame(const uint32_t* words, size_t word_count, size_t 
     bad.error = MB_INVALID_ARGUMENT;
     return bad;
   }
-  bs::slave_layout layouts[bs::max_chain];
-  for (std::size_t i = 0; i < chain_size; ++i) {
-    layouts[i] = layout_of(chain[i]);
-  }
   bs::decode_options opt;
   if (max_line_delay != 0U) {
     opt.max_line_delay = max_line_delay;
@@ -619,24 +643,22 @@ mb_result mb_biss_decode_frame(const uint32_t* words, size_t word_count, size_t 
   if (max_ack_bits != 0U) {
     opt.max_ack_bits = max_ack_bits;
   }
-  const mb::span<const std::uint32_t> capture =
-      words == nullptr ? mb::span<const std::uint32_t>()
-                       : mb::span<const std::uint32_t>(words, word_count);
-  const mb::span<const bs::slave_layout> lay(layouts, chain_size);
-  const bs::frame_result<bs::max_chain> r =
-      bs::decode_frame(capture, bit_count, lay, opt,
-                       lsb_first ? mb::bit_order::lsb_first : mb::bit_order::msb_first);
-  return outcome(r, [out](const bs::chain_frame<bs::max_chain>& f) {
-    if (out != nullptr) {
-      out->line_delay = f.line_delay;
-      out->start = f.start;
-      out->cds = f.cds;
-      out->count = f.count;
-      for (std::size_t i = 0; i < bs::max_chain; ++i) {
-        out->slaves[i] = slave_data_of(f.slaves[i]);
-      }
-    }
-  });
+  const capture_view capture = words == nullptr ? capture_view() : capture_view(words, word_count);
+  const mb::bit_order order = lsb_first ? mb::bit_order::lsb_first : mb::bit_order::msb_first;
+  if (chain_size > 1U) {
+    return decode_chain(capture, bit_count, chain, chain_size, opt, order, out);
+  }
+  // one slave: the single-slave decoder, one slave copied
+  return outcome(bs::decode_frame(capture, bit_count, layout_of(chain[0]), opt, order),
+                 [out](const bs::single_frame& f) {
+                   if (out != nullptr) {
+                     out->line_delay = f.line_delay;
+                     out->start = f.start;
+                     out->cds = f.cds;
+                     out->count = 1;
+                     out->slaves[0] = slave_data_of(f.slaves[0]);
+                   }
+                 });
 }
 
 mb_errc mb_biss_encode_frame(const mb_biss_layout* layout, const mb_biss_slave_values* values,

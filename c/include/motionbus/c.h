@@ -412,7 +412,7 @@ typedef struct mb_biss_frame {
   size_t line_delay; /* idle bits before the Ack */
   size_t start;      /* index of the Start bit */
   bool cds;          /* the CDS bit */
-  size_t count;      /* slaves decoded */
+  size_t count;      /* slaves decoded: slaves[0..count-1] are written, the rest left as they were */
   mb_biss_slave_data slaves[MB_BISS_MAX_CHAIN];
 } mb_biss_frame;
 
