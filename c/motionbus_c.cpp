@@ -3,7 +3,7 @@
 // without exceptions and RTTI (no exception can cross into C), no heap: the stream objects are
 // constructed in the caller's storage, whose size and alignment are checked below against the
 // C++ types on the ABI being compiled for.
-#include "motionbus/c.h"
+#include "include/motionbus/c.h"  // beside this file: no include path needed
 
 #include <cstddef>
 #include <cstdint>
