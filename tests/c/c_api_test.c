@@ -893,6 +893,7 @@ static void test_biss_frames(void) {
     CHECK(f.slaves[0].multi_turn == 0xABC && f.slaves[0].single_turn == 0x1234 &&
           f.slaves[0].ne && f.slaves[0].nw);
     CHECK(f.slaves[1].single_turn == position && !f.slaves[1].ne);
+    CHECK(mb_biss_decode_frame(msb, 4, at, chain, 2, 0, 0, false, NULL).status == MB_COMPLETE);
     res = mb_biss_decode_frame(lsb, 4, at, chain, 2, 0, 0, true, &f);
     CHECK(res.status == MB_COMPLETE && f.slaves[0].multi_turn == 0xABC &&
           f.slaves[1].single_turn == position);
@@ -1051,6 +1052,88 @@ static void test_biss_control(void) {
   CHECK(!mb_biss_control_master_step(&m, false));
 }
 
+/* Optional outputs left NULL, absent inputs, and the callback table's combinations. */
+static void test_null_and_absent(void) {
+  static mb_modbus_server_framer fr;
+  static device dev;
+  const uint8_t id0_request[1] = {0x02};
+  const uint8_t eeprom_read[3] = {0xEA, 0x05, 0xEF};
+  uint8_t id0[6] = {0x02, 0x00, 0x34, 0x12, 0x00, 0x00};
+  const uint8_t classic[8] = {0x01, 0x03, 0x00, 0x00, 0x00, 0x0A, 0xC5, 0xCD};
+  const uint8_t answer[6] = {0x03, 4, 0x12, 0x34, 0xAB, 0xCD};
+  const mb_biss_layout absys = mb_biss_absys_layout();
+  mb_biss_layout two[2];
+  mb_biss_slave_values v;
+  mb_modbus_callbacks cb;
+  mb_modbus_frame f;
+  uint8_t rsp[MB_MODBUS_MAX_PDU_SIZE];
+  uint32_t words[4] = {0, 0, 0, 0};
+  size_t n = 0, bits = 0;
+  mb_result res;
+  id0[5] = xor_of(id0, 5);
+
+  CHECK(mb_tformat_encode_request(MB_TFORMAT_ID3, 0, 0, NULL, 0, &n) == MB_BUFFER_TOO_SMALL);
+  CHECK(mb_tformat_decode_response(id0, 6, NULL, NULL).status == MB_COMPLETE);
+  CHECK(mb_tformat_decode_response_for(id0_request, 1, id0, 6, NULL, NULL).status == MB_COMPLETE);
+  CHECK(mb_tformat_decode_request(eeprom_read, 3, NULL).status == MB_COMPLETE);
+  CHECK(mb_modbus_decode_rtu(classic, 8, NULL).status == MB_COMPLETE);
+  CHECK(mb_modbus_decode_response_unpaired(answer, 6, NULL).status == MB_COMPLETE);
+  {
+    const mb_modbus_framer_options one = {1, 0, false};
+    mb_modbus_server_framer_init(&fr, NULL); /* address 0: broadcasts alone */
+    res = mb_modbus_server_framer_feed(&fr, classic, 8, NULL);
+    CHECK(res.status == MB_INCOMPLETE && mb_modbus_server_framer_skipped(&fr) == 1);
+    mb_modbus_server_framer_init(&fr, &one);
+    res = mb_modbus_server_framer_feed(&fr, classic, 8, NULL);
+    CHECK(res.status == MB_COMPLETE && res.count == 8);
+  }
+
+  /* BiSS-C: no layouts, no words, no values; the Ack bound given */
+  CHECK(mb_biss_decode_frame(words, 4, 64, NULL, 1, 0, 0, false, NULL).error ==
+        MB_INVALID_ARGUMENT);
+  res = mb_biss_decode_frame(NULL, 0, 64, &absys, 1, 0, 0, false, NULL);
+  CHECK(res.status == MB_INCOMPLETE);
+  v.multi_turn = 0;
+  v.single_turn = 77;
+  v.ne = true;
+  v.nw = true;
+  CHECK(mb_biss_encode_frame(&absys, NULL, 0, 1, false, words, 4, &bits) == MB_INVALID_ARGUMENT);
+  CHECK(mb_biss_encode_frame(&absys, &v, 0, 1, false, NULL, 0, &bits) == MB_BUFFER_TOO_SMALL);
+  CHECK(mb_biss_encode_frame(&absys, &v, 0, 40, false, words, 4, &bits) == MB_OK);
+  res = mb_biss_decode_frame(words, 4, bits, &absys, 1, 0, 8, false, NULL);
+  CHECK(res.status == MB_FAILED && res.error == MB_BISS_NO_START);
+  res = mb_biss_decode_frame(words, 4, bits, &absys, 1, 0, 64, false, NULL);
+  CHECK(res.status == MB_COMPLETE);
+  two[0] = absys;
+  two[1] = absys;
+  res = mb_biss_decode_frame(words, 4, bits, two, 2, 0, 0, false, NULL);
+  CHECK(res.status != MB_COMPLETE); /* one slave's frame read as a chain of two */
+
+  /* the server: no table; FC16 and FC17 without a holding register reader: 01 */
+  memset(&cb, 0, sizeof cb);
+  f.slave = 1;
+  f.pdu = classic + 1;
+  f.pdu_size = 5;
+  f.crc = 0;
+  CHECK(mb_modbus_serve_frame(NULL, 1, &f, rsp, sizeof rsp, &n) == MB_INVALID_ARGUMENT);
+  cb.write_single_register = write_register;
+  cb.write_multiple_registers = write_registers;
+  cb.context = &dev;
+  {
+    const uint8_t m[7] = {0x16, 0x00, 1, 0xFF, 0xFF, 0x00, 0x00};
+    const uint8_t rw[12] = {0x17, 0x00, 1, 0x00, 1, 0x00, 2, 0x00, 1, 2, 0x11, 0x22};
+    CHECK(mb_modbus_serve_pdu(&cb, m, 7, rsp, sizeof rsp, &n) == MB_OK);
+    CHECK(n == 2 && rsp[0] == 0x96 && rsp[1] == 0x01);
+    CHECK(mb_modbus_serve_pdu(&cb, rw, 12, rsp, sizeof rsp, &n) == MB_OK);
+    CHECK(n == 2 && rsp[0] == 0x97 && rsp[1] == 0x01);
+    cb.read_holding_registers = read_holding;
+    cb.write_single_register = NULL;
+    cb.write_multiple_registers = NULL;
+    CHECK(mb_modbus_serve_pdu(&cb, m, 7, rsp, sizeof rsp, &n) == MB_OK);
+    CHECK(n == 2 && rsp[0] == 0x96 && rsp[1] == 0x01);
+  }
+}
+
 int main(void) {
   test_errors_and_crcs();
   test_tformat_codec();
@@ -1059,6 +1142,7 @@ int main(void) {
   test_modbus_client();
   test_biss_frames();
   test_biss_control();
+  test_null_and_absent();
   printf("c_api_test: %d checks, %d failed\n", checks, failures);
   return failures == 0 ? 0 : 1;
 }
