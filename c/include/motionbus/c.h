@@ -14,8 +14,10 @@
  *    state; no C++ exception crosses the boundary (the source is built without exceptions).
  *  - Views into the caller's or an object's memory (mb_modbus_frame.pdu, mb_modbus_response.data)
  *    are valid while that memory is unchanged: a framer's frame until the next call on it.
- *  - Interrupts: as the C++ objects (docs/firmware.md): put()/feed() may run in a receive
- *    interrupt, idle() in the idle-line timer's, never two at once on one object.
+ *  - Interrupts: as the C++ objects' firmware contracts say (tformat/receiver.hpp,
+ *    modbus/framer.hpp, biss/control.hpp): put()/feed() may run in a receive interrupt, idle()
+ *    in the idle-line timer's, step() where the frame's CDS bit is known; never two calls at
+ *    once on one object.
  */
 #ifndef MOTIONBUS_C_H
 #define MOTIONBUS_C_H
@@ -133,10 +135,12 @@ typedef union mb_biss_control_master {
 uint16_t mb_crc16_modbus(const uint8_t* data, size_t size);
 /* The T-format CRC (x^8 + 1: the XOR of the bytes; "123456789": 0x31). */
 uint8_t mb_crc8_tformat(const uint8_t* data, size_t size);
-/* BiSS CRC6 (x^6 + x + 1, start 0, inverted as sent) over the low `count` (<= 64) bits of
- * `bits`, most significant first ("123456789" as bytes: 0x2E). */
+/* BiSS CRC6 (x^6 + x + 1, start 0, inverted as sent) over the low `count` bits of `bits`,
+ * most significant first (a count above 64 is taken as 64): a sensor data frame's CRC over its
+ * data, nE and nW. */
 uint8_t mb_crc6_biss(uint64_t bits, unsigned count);
-/* BiSS CRC4 (x^4 + x + 1, start 0, inverted) of control communication, likewise. */
+/* BiSS CRC4 (x^4 + x + 1, start 0, inverted) of control communication, likewise (the header's
+ * CTS, ID and address bits; a register byte). */
 uint8_t mb_crc4_biss(uint64_t bits, unsigned count);
 
 /* --- T-format (Tamagawa Smart-Abs) ------------------------------------------------------------
@@ -258,7 +262,8 @@ mb_result mb_modbus_decode_rtu(const uint8_t* adu, size_t size, mb_modbus_frame*
 
 /* The server framer (modbus/framer.hpp, a server's role). `address` 1..247 (it also takes
  * broadcasts); `last_address` above it: every address up to it too (0: `address` alone);
- * `length_only`: no t3.5 signal, frames end where the length rule says. */
+ * `length_only`: no t3.5 signal, frames end where the length rule says. NULL options: all
+ * zero (address 0: broadcasts alone). */
 typedef struct mb_modbus_framer_options {
   uint8_t address;
   uint8_t last_address;
