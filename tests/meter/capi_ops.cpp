@@ -26,6 +26,7 @@ namespace {
 
 mb_tformat_response tformat_response;
 mb_result last;
+mb_tformat_receiver receiver;
 mb_modbus_server_framer framer;
 mb_modbus_frame frame;
 mb_biss_frame biss;
@@ -94,6 +95,28 @@ METER_OP void op_capi_report_tformat() {
   meter_out[5] = tformat_response.enid;
   meter_out[6] = tformat_response.sf;
   meter_out[7] = tformat_response.cf;
+}
+
+// T-format: the stream receiver, byte by byte, after a request of Data ID `code`.
+METER_OP void op_capi_receiver_start(unsigned code) {
+  mb_tformat_receiver_init(&receiver, nullptr);
+  std::uint8_t request[MB_TFORMAT_MAX_REQUEST_SIZE];
+  std::size_t n = 0;
+  (void)mb_tformat_encode_request(static_cast<std::uint8_t>(code), 0, 0, request, sizeof request,
+                                  &n);
+  mb_tformat_receiver_sent(&receiver, request, n);
+}
+METER_OP bool op_capi_receiver_byte(unsigned byte) {
+  return mb_tformat_receiver_put(&receiver, static_cast<std::uint8_t>(byte));
+}
+METER_OP void op_capi_report_receiver(unsigned ready) {
+  meter_out[0] = 0;
+  meter_out[1] = 0;
+  if (ready == 0U) {
+    return;
+  }
+  last = mb_tformat_receiver_result(&receiver, &tformat_response);
+  op_capi_report_tformat();
 }
 
 // Modbus: the server framer, byte by byte (slave 1).

@@ -820,7 +820,8 @@ def per_request(rows, prefix, suffix):
 def measure_capi(m):
     """The C API (c/include/motionbus/c.h) in its own image (tests/meter/capi_ops.cpp and
     c/motionbus_c.cpp): the calls a C firmware makes, each checked as its C++ twin in
-    measure() is: a CRC-16 over 256 bytes, an ID3 response decoded, the server framer fed an
+    measure() is: a CRC-16 over 256 bytes, an ID3 response decoded and received byte by byte
+    by the stream receiver, the server framer fed an
     FC03 request byte by byte and the frame served through a callback table, a BiSS-C frame
     decoded, and the control master reading two registers."""
     results = []
@@ -851,6 +852,13 @@ def measure_capi(m):
     expect("capi.tformat.decode_response.id3", o[:6] + [o[7]],
            [STATUS_COMPLETE, 0, 123456, 3898, 0, 0x17, id3[0]])
     record("capi.tformat.decode_response.id3", n, s)
+    n, s, worst, _ = stream_per_byte(m, "capi.tformat.receiver.id3_per_byte", "op_capi_receiver",
+                                     "op_capi_report_receiver", tformat_id3(1, 0x17, 2),
+                                     [STATUS_COMPLETE, 0, 1], id3,
+                                     [STATUS_COMPLETE, 0, 123456, 3898, 0, 0x17], (3,))
+    record("capi.tformat.receiver.id3_per_byte", round(n / len(id3), 1), s, per="byte",
+           units=len(id3), total=n)
+    record("capi.tformat.receiver.id3_worst_byte", worst, s)
 
     request = rtu(1, [0x03, 0x00, 0x05, 0x00, 0x0A])
     first = rtu(1, [0x06, 0x00, 0x01, 0x00, 0x03])
