@@ -3,7 +3,7 @@ file(GLOB_RECURSE files
   "${SOURCE_DIR}/include/*.hpp" "${SOURCE_DIR}/tests/*.hpp" "${SOURCE_DIR}/tests/*.cpp"
   "${SOURCE_DIR}/fuzz/*.cpp" "${SOURCE_DIR}/fuzz/*.hpp" "${SOURCE_DIR}/bench/*.cpp"
   "${SOURCE_DIR}/tools/*.cpp" "${SOURCE_DIR}/tools/*.hpp" "${SOURCE_DIR}/examples/*.cpp"
-  "${SOURCE_DIR}/examples/*.hpp" "${SOURCE_DIR}/test_package/*.cpp")
+  "${SOURCE_DIR}/examples/*.hpp" "${SOURCE_DIR}/test_package/*.cpp" "${SOURCE_DIR}/c/*.cpp")
 execute_process(COMMAND "${CLANG_FORMAT}" --dry-run --Werror ${files}
   WORKING_DIRECTORY "${SOURCE_DIR}" RESULT_VARIABLE rc)
 if(NOT rc EQUAL 0)

@@ -51,7 +51,9 @@ class MeterError(Exception):
 # is alone in its translation unit (measure_alone()).
 IMAGES = {"": ["ops.cpp"],
           "-alone": ["alone_main.cpp", "alone_receiver.cpp", "alone_framer.cpp",
-                     "alone_gateway.cpp"]}
+                     "alone_gateway.cpp"],
+          # the C API's calls (measure_capi()): its C++ source linked as a C firmware links it
+          "-capi": ["capi_ops.cpp", os.path.join("..", "..", "c", "motionbus_c.cpp")]}
 
 
 def build(core, opt, out, include, tools, image=""):
@@ -61,7 +63,7 @@ def build(core, opt, out, include, tools, image=""):
     elf = os.path.join(out, name + ".elf")
     common = ["-std=c++17", "-" + opt, "-fno-exceptions", "-fno-rtti", "-fno-threadsafe-statics",
               "-ffunction-sections", "-fdata-sections", "-Wall", "-Wextra", "-Werror",
-              "-I" + include]
+              "-I" + include, "-I" + os.path.join(HERE, "..", "..", "c", "include")]
     if core in ("cortex-m0plus", "cortex-m4"):
         cpu = ["-mcpu=" + core, "-mthumb", "-mfloat-abi=soft"]
         cmd = [tools["arm_gxx"]] + common + cpu + [
@@ -804,6 +806,112 @@ def measure_position(m, record):
     record("link_health.record", worst_n, worst_s)
 
 
+def per_request(rows, prefix, suffix):
+    """A whole FC03 request of 10 registers served: its 8 bytes through the server framer
+    (`prefix`.framer.per_byte, their total) and the frame served (`prefix`.serve.fc03_10),
+    both measured in the same image; stack: the worse of the two."""
+    framer = next(r for r in rows if r["operation"] == prefix + ".framer.per_byte" + suffix)
+    serve = next(r for r in rows if r["operation"] == prefix + ".serve.fc03_10" + suffix)
+    return [dict(operation=prefix + ".request.fc03_10" + suffix,
+                 instructions=framer["total"] + serve["instructions"],
+                 stack_bytes=max(framer["stack_bytes"], serve["stack_bytes"]))]
+
+
+def measure_capi(m):
+    """The C API (c/include/motionbus/c.h) in its own image (tests/meter/capi_ops.cpp and
+    c/motionbus_c.cpp): the calls a C firmware makes, each checked as its C++ twin in
+    measure() is: a CRC-16 over 256 bytes, an ID3 response decoded and received byte by byte
+    by the stream receiver, the server framer fed an
+    FC03 request byte by byte and the frame served through a callback table, a BiSS-C frame
+    decoded, and the control master reading two registers."""
+    results = []
+
+    def record(op, instructions, stack, **extra):
+        results.append(dict(operation=op, instructions=instructions, stack_bytes=stack, **extra))
+
+    def once(fn, *args):
+        m.clear_out()
+        _, n, s = m.call(fn, *args)
+        return n, s
+
+    r = rng(7)
+    block = [next(r) for _ in range(256)]
+    m.write("meter_in", block)
+    m.write_u32("meter_in_size", len(block))
+    n, s = once("op_capi_crc16")
+    expect("capi.crc16_modbus.per_byte", m.out(1)[0], crc16_modbus(block))
+    record("capi.crc16_modbus.per_byte", round(n / len(block), 1), s, per="byte",
+           units=len(block), total=n)
+
+    id3 = tformat_id3(123456, 0x17, 3898, almc=0x00)
+    m.write("meter_in", id3)
+    m.write_u32("meter_in_size", len(id3))
+    n, s = once("op_capi_tformat_decode_response")
+    m.call("op_capi_report_tformat")
+    o = m.out(8)
+    expect("capi.tformat.decode_response.id3", o[:6] + [o[7]],
+           [STATUS_COMPLETE, 0, 123456, 3898, 0, 0x17, id3[0]])
+    record("capi.tformat.decode_response.id3", n, s)
+    n, s, worst, _ = stream_per_byte(m, "capi.tformat.receiver.id3_per_byte", "op_capi_receiver",
+                                     "op_capi_report_receiver", tformat_id3(1, 0x17, 2),
+                                     [STATUS_COMPLETE, 0, 1], id3,
+                                     [STATUS_COMPLETE, 0, 123456, 3898, 0, 0x17], (3,))
+    record("capi.tformat.receiver.id3_per_byte", round(n / len(id3), 1), s, per="byte",
+           units=len(id3), total=n)
+    record("capi.tformat.receiver.id3_worst_byte", worst, s)
+
+    request = rtu(1, [0x03, 0x00, 0x05, 0x00, 0x0A])
+    first = rtu(1, [0x06, 0x00, 0x01, 0x00, 0x03])
+    n, s, worst, _ = stream_per_byte(
+        m, "capi.modbus.framer.per_byte", "op_capi_framer", "op_capi_report_framer", first,
+        [STATUS_COMPLETE, 0, 1, 5], request,
+        [STATUS_COMPLETE, 0, 1, 5, 3, request[-2] | (request[-1] << 8)])
+    record("capi.modbus.framer.per_byte", round(n / len(request), 1), s, per="byte",
+           units=len(request), total=n)
+    record("capi.modbus.framer.worst_byte.fc03", worst, s)
+    registers = [(0x1000 + 7 * i) & 0xFFFF for i in range(128)]
+    m.write("meter_registers", b"".join(struct.pack("<H", v) for v in registers))
+    data = []
+    for v in registers[5:15]:
+        data += [v >> 8, v & 0xFF]
+    n, s = once("op_capi_serve_frame")
+    expect("capi.modbus.serve.fc03_10", list(m.out_bytes()), rtu(1, [0x03, 20] + data))
+    expect("capi.modbus.serve.fc03_10 error", m.out(3)[2], 0)
+    record("capi.modbus.serve.fc03_10", n, s)
+
+    position = 0x89ABCDEF
+    data34 = (position << 2) | 0b11
+    crc = crc_msb_first(data34, 34, 6, 0x03) ^ 0x3F
+    frame = [1, 1, 1, 0, 0, 1, 0] + [(data34 >> i) & 1 for i in range(33, -1, -1)] + \
+            [(crc >> i) & 1 for i in range(5, -1, -1)]
+    m.write("meter_in", words_msb_first(frame, 4))
+    m.write_u32("meter_in_size", 64)
+    n, s = once("op_capi_biss_decode_frame")
+    m.call("op_capi_report_biss")
+    expect("capi.biss.decode_frame.absys64", m.out(6), [STATUS_COMPLETE, 0, position, 3, crc, 5])
+    record("capi.biss.decode_frame.absys64", n, s)
+
+    regs = [(0x30 + 5 * i) & 0xFF for i in range(128)]
+    m.write("meter_in", regs)
+    m.clear_out()
+    m.call("op_capi_control_start", 0x42)
+    expect("capi.biss.control_master start", m.out(2)[1], 0)
+    total, worst, frames, cds = 0, 0, 0, 0
+    while frames < 200:
+        cdm, n, s = m.call("op_capi_master_step", cds)
+        total, worst, frames = total + n, max(worst, s), frames + 1
+        cds, _, _ = m.call("op_capi_slave_step", cdm)
+        m.call("op_capi_report_control")
+        if m.out(1)[0] != 1:  # busy
+            break
+    o = m.out(5)
+    expect("capi.biss.control_master.per_frame", [o[0], o[2], o[3], o[4]],
+           [2, regs[0x42], regs[0x43], 0])
+    record("capi.biss.control_master.per_frame", round(total / frames, 1), worst, per="frame",
+           units=frames, total=total)
+    return results
+
+
 def self_check(m):
     """The meter against code of known instruction count and stack use."""
     for n in (1, 10, 100):
@@ -847,6 +955,11 @@ def cmd_run(a):
     rows = [dict(core=a.core, opt=a.opt, **r) for r in measure(m)]
     alone = load(build(a.core, a.opt, a.out, a.include, tools, "-alone"))
     rows += [dict(core=a.core, opt=a.opt, **r) for r in measure_alone(Machine(a.core, alone))]
+    rows += [dict(core=a.core, opt=a.opt, **r) for r in per_request(rows, "modbus", "")]
+    capi = load(build(a.core, a.opt, a.out, a.include, tools, "-capi"))
+    capi_rows = measure_capi(Machine(a.core, capi))
+    capi_rows += per_request(capi_rows, "capi.modbus", "")
+    rows += [dict(core=a.core, opt=a.opt, **r) for r in capi_rows]
     path = os.path.join(a.out, f"meter-{a.core}-{a.opt}.json")
     with open(path, "w") as f:
         json.dump(rows, f, indent=1)
