@@ -211,7 +211,7 @@ TEST_CASE("read tformat --watch --json: ID3 across the multi-turn wrap, link los
     return s;
   });
   const watch_run w = run_watch("read tformat --device " + enc.path() +
-                                " --id 3 --watch --count 20 --interval-ms 10 --timeout-ms 300 "
+                                " --id 3 --watch --count 20 --interval-ms 10 --timeout-ms 500 "
                                 "--max-step 150000");
   CHECK(w.status == 0);
   CHECK(enc.requests() == 20);
@@ -308,7 +308,7 @@ TEST_CASE(
     return s;
   });
   const std::string args =
-      "read tformat --device " + enc.path() + " --id 0 --watch --interval-ms 5";
+      "read tformat --device " + enc.path() + " --id 0 --watch --interval-ms 5 --timeout-ms 500";
   const watch_run w = run_watch(args + " --count 8");
   CHECK(w.status == 0);
   REQUIRE(w.reads.size() == 8);
@@ -339,6 +339,17 @@ TEST_CASE(
   CHECK(lines[3].find("# summary=watch reads=3 link=up") == 0);
   CHECK(text.find('\r') == std::string::npos);
   CHECK(text.find('\x1b') == std::string::npos);
+  // no --count: it reads until interrupted (SIGINT after 1 s), then prints the summary
+  const std::string interrupted = testcli::output_of(
+      "timeout --preserve-status -s INT 1 '" MOTIONBUS_CLI_PATH "' " + args + " --json 2>/dev/null",
+      &status);
+  CHECK(status == 0);
+  const auto objects = testcli::json_lines(interrupted);
+  REQUIRE(objects.size() >= 5);
+  const nlohmann::json& last = objects.back();
+  CHECK(last["summary"] == "watch");
+  CHECK(last["reads"] == objects.size() - 1);
+  CHECK(last["link"] == "up");
 }
 
 TEST_CASE("read tformat --watch under a terminal: one live line, rewritten in place") {
@@ -352,7 +363,7 @@ TEST_CASE("read tformat --watch under a terminal: one live line, rewritten in pl
   int status = 0;
   const std::string out = run_on_terminal(
       {"read", "tformat", "--device", enc.path(), "--id", "3", "--watch", "--count", "7",
-       "--interval-ms", "5", "--timeout-ms", "150", "--lose-after", "2", "--restore-after", "1"},
+       "--interval-ms", "5", "--timeout-ms", "500", "--lose-after", "2", "--restore-after", "1"},
       &status);
   CHECK(status == 0);
   // each read rewrites the line: carriage return and "erase to the end of the line"
