@@ -417,8 +417,6 @@ TEST_CASE("monitor --duration: past 4294 s (its microseconds above 2^32) it does
   // 4295 s: the 32-bit product was 32.7 ms; the monitor must still run when killed after 1 s
   testcli::run_bounded("monitor tformat --device " + pty.path + " --duration 4295", 1, &status);
   CHECK(status == 124);
-  testcli::run_bounded("monitor tformat --device " + pty.path + " --duration 4000000", 1, &status);
-  CHECK(status == 124);
   // and a short duration still ends the monitor by itself
   testcli::run_bounded("monitor tformat --device " + pty.path + " --duration 1", 10, &status);
   CHECK(status == 0);
