@@ -47,6 +47,19 @@ const std::map<std::string, option_info>& catalogue() {
        {"BITS",
         "single-turn resolution in bits, 1..24 (default: from an ID3 response's ENID)",
         {}}},
+      {"watch",
+       {"",
+        "read repeatedly: the continuous position, speed and link health, a live line on a "
+        "terminal (a line per read otherwise, a JSON object per read with --json)",
+        {}}},
+      {"interval-ms", {"MS", "--watch: from one read's start to the next's, in milliseconds", {}}},
+      {"max-step",
+       {"COUNTS",
+        "--watch: the largest plausible change of the position in one read, in counts (0: the "
+        "largest unwrapping can tell); a larger step is reported, not applied",
+        {}}},
+      {"lose-after", {"N", "--watch: consecutive failed reads that lose the link", {}}},
+      {"restore-after", {"N", "--watch: consecutive good reads that restore it", {}}},
       {"echo",
        {"", "the adapter hands back the request (half duplex, receiver always on): skip it", {}}},
       // Modbus
@@ -152,7 +165,7 @@ const std::map<std::string, option_info>& catalogue() {
       {"ascii",
        {"", "Modbus ASCII on the line (':' hex LRC CR LF) instead of RTU; 8 data bits", {}}},
       // Monitors
-      {"count", {"N", "stop after N frames (0: no limit)", {}}},
+      {"count", {"N", "stop after N frames (monitor) or N reads (read --watch); 0: no limit", {}}},
       {"duration", {"S", "stop after S seconds (0: no limit; Ctrl-C stops too)", {}}},
       {"response-ms",
        {"MS", "a request not answered within this many milliseconds is flagged", {}}},

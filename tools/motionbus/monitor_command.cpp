@@ -46,11 +46,15 @@ template <class Monitor>
 int watch(serial::port& port, const cli::monitor_options& l, Monitor& m, const char* summary_key) {
   serial::install_stop_handler();
   const std::uint32_t start = serial::now_us();
+  // --duration on the 64-bit clock: in 32 bits its microseconds (up to 4e12) would wrap, and
+  // so would the time elapsed, after 4294 s.
+  const std::uint64_t start64 = serial::now_us64();
+  const std::uint64_t duration_us = std::uint64_t{l.duration_s} * 1000000U;
   std::uint8_t buffer[256];
   std::uint32_t last_byte = start;
   int status = 0;
   while (!serial::stop_requested() && (l.count == 0 || m.counts().frames < l.count)) {
-    if (l.duration_s != 0 && serial::now_us() - start >= l.duration_s * 1000000U) {
+    if (duration_us != 0 && serial::now_us64() - start64 >= duration_us) {
       break;
     }
     const long n = port.read_some(buffer, sizeof buffer, 2);

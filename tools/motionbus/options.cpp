@@ -149,6 +149,15 @@ void monitor_options::bind(CLI::App& app) {
   }
 }
 
+void watch_options::bind(CLI::App& app) {
+  CLI::Option* on = flag(app, "watch", watch);
+  number(app, "interval-ms", interval_ms, 1, 3600000)->needs(on);
+  number(app, "count", count, 0, ~std::uint64_t{0})->needs(on);
+  number(app, "max-step", max_step, 0, max_position_step)->needs(on);
+  number(app, "lose-after", lose_after, 1, 65535)->needs(on);
+  number(app, "restore-after", restore_after, 1, 65535)->needs(on);
+}
+
 uart_capture_options uart_capture_options::modbus() {
   uart_capture_options o;
   o.watched = monitored_line::modbus();

@@ -25,6 +25,9 @@ constexpr unsigned tformat_baud = 2500000;
 /// The Modbus RTU default line: 9600 bit/s, even parity (Modbus over Serial Line V1.02 §2.5.1).
 constexpr unsigned modbus_baud = 9600;
 
+/// The largest --max-step taken (the position tracker's readings span at most 2^62 counts).
+constexpr std::uint64_t max_position_step = std::uint64_t{1} << 62U;
+
 /// An option of the catalogue (commands.cpp): what its value looks like, what it means, the
 /// values allowed (empty: any).
 struct option_info {
@@ -121,6 +124,22 @@ struct monitor_options {
   bool ascii = false;  ///< Modbus: the line speaks Modbus ASCII
 
   static monitor_options modbus();
+  void bind(CLI::App& app);
+};
+
+/// read tformat --watch: a read every --interval-ms (from the start of one to the start of the
+/// next; a read that takes longer delays the next), --count reads (0: until Ctrl-C); the
+/// position's plausible step per read, --max-step counts (0: the largest unwrapping can tell),
+/// and the link's hysteresis, --lose-after consecutive failures and --restore-after consecutive
+/// successes (core/position.hpp, core/link_health.hpp). The options other than --watch need it.
+struct watch_options {
+  bool watch = false;
+  std::uint32_t interval_ms = 100;
+  std::uint64_t count = 0;
+  std::uint64_t max_step = 0;
+  std::uint16_t lose_after = 3;
+  std::uint16_t restore_after = 3;
+
   void bind(CLI::App& app);
 };
 

@@ -208,6 +208,12 @@ std::uint32_t now_us() {
       std::chrono::duration_cast<std::chrono::microseconds>(t).count() & 0xFFFFFFFF);
 }
 
+std::uint64_t now_us64() {
+  const auto t = std::chrono::steady_clock::now().time_since_epoch();
+  return static_cast<std::uint64_t>(
+      std::chrono::duration_cast<std::chrono::microseconds>(t).count());
+}
+
 void sleep_us(std::uint32_t us) {
   std::this_thread::sleep_for(std::chrono::microseconds(us));
 }

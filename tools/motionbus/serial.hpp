@@ -44,8 +44,10 @@ class port {
   int pty_fd_ = -1;  // a pseudo-terminal, which libserialport does not open (POSIX only)
 };
 
-/// Monotonic microseconds (wraps at 2^32).
+/// Monotonic microseconds (wraps at 2^32, after 71.6 minutes: for short intervals).
 std::uint32_t now_us();
+/// Monotonic microseconds, 64-bit (no wrap in practice): for durations and long runs.
+std::uint64_t now_us64();
 /// Sleeps at least `us` microseconds.
 void sleep_us(std::uint32_t us);
 

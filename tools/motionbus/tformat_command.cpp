@@ -4,9 +4,12 @@
 //   encode tformat request --id ID [--address N] [--data N]
 //   serve tformat-encoder --device PATH [--baud N]    the TS5700N8500 emulator on a serial line
 //   read tformat --device PATH --id ID [--address N] [--data N] [--baud N] [--echo]
+//   read tformat --device PATH --id 0|1|3 --watch [--interval-ms N] [--count N] [--max-step N]
+//                [--lose-after N] [--restore-after N]     repeated reads (tformat_watch.cpp)
 #include <motionbus/core/errc.hpp>
 #include <motionbus/devices/ts5700n8500_emulator.hpp>
 #include <motionbus/tformat.hpp>
+#include <motionbus/tformat/position.hpp>
 
 #include <cstdint>
 #include <iostream>
@@ -314,27 +317,64 @@ struct read_options {
   std::optional<std::uint8_t> resolution;
   int timeout_ms = 200;
   bool echo = false;
+  cli::watch_options watch;
   void bind(CLI::App& app) {
     line.bind(app);
     request.bind(app, max_eeprom_address);
     cli::number(app, "resolution", resolution, 1, max_resolution);
     cli::number(app, "timeout-ms", timeout_ms, 0, 60000);
     cli::flag(app, "echo", echo);
+    watch.bind(app);
   }
 };
+
+// --watch: the Data IDs whose response carries a position (ID0 ABS, ID1 ABM, ID3 both); the
+// resets (7, 8, C) carry ABS too but are not sent over and over. A --max-step that unwrapping
+// cannot tell from its opposite is refused (at the resolution known before the first response).
+tformat_io::watch_setup watch_setup_of(const read_options& opts, std::uint8_t id,
+                                       const std::uint8_t* request, std::size_t size,
+                                       const tf::receiver_options& ro) {
+  const auto polled = static_cast<tf::data_id>(id);
+  if (polled != tf::data_id::read_abs && polled != tf::data_id::read_abm &&
+      polled != tf::data_id::read_all) {
+    throw cli::usage_error{"--watch reads a position: --id 0, 1 or 3"};
+  }
+  const mb::position_config cfg =
+      tf::position_config_for(ro.decode.res, polled, opts.watch.max_step);
+  if (!cfg.valid()) {
+    throw cli::usage_error{"--max-step: at most " + std::to_string(cfg.unambiguous_step()) +
+                           " counts for --id " + std::to_string(static_cast<unsigned>(id)) +
+                           " (half the reading's range)"};
+  }
+  tformat_io::watch_setup s;
+  s.id = polled;
+  s.request = request;
+  s.request_size = size;
+  s.receiver = ro;
+  s.baud = static_cast<std::uint32_t>(opts.line.baud);
+  s.timeout_ms = static_cast<std::uint32_t>(opts.timeout_ms);
+  return s;
+}
 
 int read_encoder(const read_options& opts) {
   std::uint8_t request[tf::max_request_size] = {};
   const std::size_t n = opts.request.build(request);
   const int timeout_ms = opts.timeout_ms;
+  tf::receiver_options ro;
+  ro.echo_mode = opts.echo ? tf::echo::expected : tf::echo::none;
+  ro.decode = options_for(opts.resolution);
+  std::optional<tformat_io::watch_setup> watching;
+  if (opts.watch.watch) {  // usage errors before the port is opened
+    watching = watch_setup_of(opts, data_id_of(opts.request.id), request, n, ro);
+  }
   serial::port port;
   if (!opts.line.open(port)) {
     return 1;
   }
+  if (watching) {
+    return tformat_io::watch(port, *watching, opts.watch);
+  }
   port.flush_input();
-  tf::receiver_options ro;
-  ro.echo_mode = opts.echo ? tf::echo::expected : tf::echo::none;
-  ro.decode = options_for(opts.resolution);
   tf::receiver rx(ro);
   if (!port.write_all(request, n)) {
     std::cerr << "motionbus: write error\n";
@@ -393,7 +433,10 @@ protocol_entries tformat_entries() {
       "the answer's bytes",
       &serve_encoder));
   e.typed.push_back(cli::typed(
-      "read", "tformat", "", "one request to an encoder and its response, decoded", &read_encoder));
+      "read", "tformat", "",
+      "one request to an encoder and its response, decoded; --watch: repeated reads with the "
+      "continuous position, speed and link health",
+      &read_encoder));
   return e;
 }
 
