@@ -184,3 +184,12 @@ TEST_CASE("--help says what each input is: hex bytes, or bits for BiSS-C") {
   // and takes what it says
   CHECK(run("decode biss csd 000110000000000000001111000100100000011111110").status == 0);
 }
+
+TEST_CASE("--help shows each number's range, written once where the option is bound") {
+  const std::string help = testcli::run_as_is("encode modbus request --help");
+  CHECK(help.find("Modbus function code (decimal or 0x..) (1..127)") != std::string::npos);
+  CHECK(help.find("(0..65535)") != std::string::npos);  // --address, --quantity
+  const std::string gateway = testcli::run_as_is("gateway --help");
+  CHECK(gateway.find("client connections at once; one more is closed at once (1..8)") !=
+        std::string::npos);
+}

@@ -44,9 +44,7 @@ const std::map<std::string, option_info>& catalogue() {
       // T-format
       {"id", {"HEX", "T-format Data ID, one hex digit 0-F", {}}},
       {"resolution",
-       {"BITS",
-        "single-turn resolution in bits, 1..24 (default: from an ID3 response's ENID)",
-        {}}},
+       {"BITS", "single-turn resolution in bits (default: from an ID3 response's ENID)", {}}},
       {"watch",
        {"",
         "read repeatedly: the continuous position, speed and link health, a live line on a "
@@ -63,7 +61,7 @@ const std::map<std::string, option_info>& catalogue() {
       {"echo",
        {"", "the adapter hands back the request (half duplex, receiver always on): skip it", {}}},
       // Modbus
-      {"function", {"FC", "Modbus function code, 1..127 (decimal or 0x..)", {}}},
+      {"function", {"FC", "Modbus function code (decimal or 0x..)", {}}},
       {"slave",
        {"N",
         "Modbus slave address, 1..247 (0: broadcast, where a command allows it; the SM unit: "
@@ -141,7 +139,7 @@ const std::map<std::string, option_info>& catalogue() {
         {}}},
       {"rtu-over-tcp",
        {"", "the clients speak RTU over TCP (the RTU ADU with its CRC, no MBAP header)", {}}},
-      {"max-clients", {"N", "client connections at once, 1..8; one more is closed at once", {}}},
+      {"max-clients", {"N", "client connections at once; one more is closed at once", {}}},
       {"idle-timeout-ms",
        {"MS", "a client connection silent this long is closed (with any half request)", {}}},
       {"turnaround-ms", {"MS", "the line's silence after a broadcast, in milliseconds", {}}},
@@ -154,8 +152,7 @@ const std::map<std::string, option_info>& catalogue() {
        {"ADDR:PORT",
         "serve Modbus TCP (MBAP) there instead of --device (PORT alone: 127.0.0.1)",
         {}}},
-      {"points",
-       {"N", "serve modbus: coils, inputs and registers of each unit, at 0..N-1 (1..65536)", {}}},
+      {"points", {"N", "serve modbus: coils, inputs and registers of each unit, at 0..N-1", {}}},
       {"functions",
        {"LIST", "the function codes forwarded, e.g. 1-4,6,16 (default: all; others get 01)", {}}},
       {"read-only", {"", "forward reads only: every write is refused with exception 01", {}}},

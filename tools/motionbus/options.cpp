@@ -16,6 +16,14 @@ std::uint64_t number_in_range(const std::string& name, const std::string& text, 
   return *n;
 }
 
+std::string help_with_range(const std::string& name, std::uint64_t min, std::uint64_t max) {
+  const std::string& help = option_help(name).help;
+  if (max >= 0xFFFFFFFFU) {
+    return help;
+  }
+  return help + " (" + std::to_string(min) + ".." + std::to_string(max) + ")";
+}
+
 CLI::Option* number(CLI::App& app, const std::string& name, std::uint64_t& field, std::uint64_t min,
                     std::uint64_t max) {
   return number<std::uint64_t>(app, name, field, min, max);

@@ -42,6 +42,10 @@ const option_info& option_help(const std::string& name);
 std::uint64_t number_in_range(const std::string& name, const std::string& text, std::uint64_t min,
                               std::uint64_t max);
 
+/// The catalogue's help of `--name` with its range, as number() binds it: "... (min..max)"
+/// (the range written once, where the option is bound; none shown for an unbounded count).
+std::string help_with_range(const std::string& name, std::uint64_t min, std::uint64_t max);
+
 /// Binds `--name` to `field`: a number, decimal or 0x.. (parse_uint), from `min` to `max`, else
 /// a usage error. The field's value before parsing is the default, shown in --help.
 CLI::Option* number(CLI::App& app, const std::string& name, std::uint64_t& field, std::uint64_t min,
@@ -54,7 +58,7 @@ CLI::Option* number(CLI::App& app, const std::string& name, T& field, std::uint6
       [&field, name, min, max](const std::string& text) {
         field = static_cast<T>(number_in_range(name, text, min, max));
       },
-      option_help(name).help);
+      help_with_range(name, min, max));
   o->type_name(option_help(name).type)->default_str(std::to_string(field));
   return o;
 }
@@ -67,7 +71,7 @@ CLI::Option* number(CLI::App& app, const std::string& name, std::optional<T>& fi
       [&field, name, min, max](const std::string& text) {
         field = static_cast<T>(number_in_range(name, text, min, max));
       },
-      option_help(name).help);
+      help_with_range(name, min, max));
   o->type_name(option_help(name).type);
   return o;
 }
