@@ -1,0 +1,182 @@
+#!/usr/bin/python3
+"""Back-to-back requests to the interrupt-driven generic Modbus server image (slave 1) on a
+serial device: nothing lost, nothing answered twice, every answer the one its request asks for.
+
+  sequence  each request sent t3.5 after the answer to the one before (a master as fast as the
+            protocol allows it to be, waiting for each answer);
+  burst     each request sent t3.5 after the previous one, without waiting for the answers
+            (full duplex: RS-422 or RS-232; the answers go out while the next requests come in;
+            a pseudo-terminal carries a request's bytes at once, so that its end is its write);
+  one write many requests in one write, no silence at all between them: more than an RTU line
+            allows (frames must be t3.5 apart), served because each request's length is given
+            by its function code.
+
+Each step writes a register (FC06, answered by its echo) and reads it back (FC03), the values
+unique to the step, so that a lost, repeated or reordered answer shows in the bytes. Every
+answer byte is compared with what was expected, and the line is watched for a further second
+for anything more. The image's counters (input registers 1000-1005) are read before and after:
+frames handed over, dropped on a full queue, put() failures, idle() failures (a request cut by a
+silence), early timer expiries, frames ended by idle(). The frames counted must equal the
+requests sent, and no frame may be dropped or failed.
+
+Usage: modbus_back_to_back.py DEVICE [BAUD]  (BAUD: the image's line rate; by default the
+environment's MOTIONBUS_BAUD, else 9600).
+Exit 0 when every check holds.
+"""
+import os
+import select
+import sys
+import time
+
+from modbus_raw_checks import Line, adu  # tests/firmware/modbus_raw_checks.py
+
+SLAVE = 1
+COUNTER_NAMES = ["frames", "dropped (queue full)", "put() failures", "idle() failures",
+                 "early timer expiries", "frames ended by idle()"]
+
+
+def t35_seconds(baud):
+    """t3.5 as modbus/timing.hpp computes it (11-bit characters; 1750 us above 19200 baud)."""
+    return 0.00175 if baud > 19200 else 3.5 * 11 / baud
+
+
+def write_request(register, value):
+    return adu(SLAVE, [0x06, register >> 8, register & 0xFF, value >> 8, value & 0xFF])
+
+
+def read_request(register):
+    return adu(SLAVE, [0x03, register >> 8, register & 0xFF, 0x00, 0x01])
+
+
+def read_answer(value):
+    return adu(SLAVE, [0x03, 0x02, value >> 8, value & 0xFF])
+
+
+def steps(first, count):
+    """(request, expected answer) pairs: a write of register (k % 100), then its read back."""
+    pairs = []
+    for k in range(first, first + count):
+        register = k % 100
+        value = (k * 7919 + 1) & 0xFFFF
+        pairs.append((write_request(register, value), write_request(register, value)))
+        pairs.append((read_request(register), read_answer(value)))
+    return pairs
+
+
+def receive_exactly(line, size, seconds):
+    """Bytes until `size` have arrived (or `seconds` passed), then whatever else comes within a
+    further second (an answer sent twice)."""
+    got = b""
+    deadline = time.monotonic() + seconds
+    while len(got) < size:
+        left = deadline - time.monotonic()
+        if left <= 0:
+            break
+        ready, _, _ = select.select([line.fd], [], [], left)
+        if ready:
+            got += os.read(line.fd, 4096)
+    return got + line.receive(1.0)
+
+
+def first_difference(got, expected, answers):
+    """Which answer is the first to differ, as text."""
+    at = 0
+    for i, a in enumerate(answers):
+        if got[at:at + len(a)] != a:
+            return "answer %d of %d (expected %s, got %s)" % (
+                i + 1, len(answers), a.hex(), got[at:at + len(a)].hex() or "nothing")
+        at += len(a)
+    return "%d bytes more than the %d expected" % (len(got) - len(expected), len(expected))
+
+
+def main():
+    line = Line(sys.argv[1])
+    baud = int(sys.argv[2] if len(sys.argv) > 2 else os.environ.get("MOTIONBUS_BAUD", "9600"))
+    t35 = t35_seconds(baud)
+    failures = []
+    requests_sent = 0
+
+    def check(name, condition, detail=""):
+        print(("ok   " if condition else "FAIL ") + name + ("" if condition else ": " + detail))
+        if not condition:
+            failures.append(name)
+
+    def counters():
+        nonlocal requests_sent
+        time.sleep(t35)
+        request = adu(SLAVE, [0x04, 1000 >> 8, 1000 & 0xFF, 0x00, len(COUNTER_NAMES)])
+        line.send(request)
+        requests_sent += 1
+        size = 5 + 2 * len(COUNTER_NAMES)
+        got = receive_exactly(line, size, 5.0)
+        if len(got) != size or got[:3] != bytes([SLAVE, 0x04, 2 * len(COUNTER_NAMES)]) or \
+                adu(SLAVE, list(got[1:-2])) != got:
+            print("FAIL the image's counters: got %s" % got.hex())
+            failures.append("counters")
+            return None
+        return [int.from_bytes(got[3 + 2 * i:5 + 2 * i], "big") for i in range(len(COUNTER_NAMES))]
+
+    def run(name, pairs, send):
+        nonlocal requests_sent
+        expected = b"".join(a for _, a in pairs)
+        start = time.monotonic()
+        got = send(pairs)
+        elapsed = time.monotonic() - start
+        requests_sent += len(pairs)
+        check("%s: %d requests, each answered once, as asked (%.2f s)" % (
+            name, len(pairs), elapsed), got == expected,
+            first_difference(got, expected, [a for _, a in pairs]))
+
+    def sequence(pairs):
+        got = b""
+        for request, answer in pairs:
+            time.sleep(t35)
+            line.send(request)
+            got += receive_exactly_quiet(line, len(answer), 2.0)
+        return got + line.receive(1.0)
+
+    def burst(pairs):
+        for request, _ in pairs:
+            line.send(request)
+            time.sleep(t35)
+        return receive_exactly(line, sum(len(a) for _, a in pairs), 10.0)
+
+    def one_write(pairs):
+        line.send(b"".join(r for r, _ in pairs))
+        return receive_exactly(line, sum(len(a) for _, a in pairs), 10.0)
+
+    before = counters()
+    run("sequence", steps(0, 30), sequence)
+    run("burst", steps(100, 30), burst)
+    run("one write", steps(200, 25), one_write)
+    after = counters()
+    if before is not None and after is not None:
+        delta = [(a - b) & 0xFFFF for a, b in zip(after, before)]
+        print("     the image's counters over the checks: " +
+              ", ".join("%s %d" % (n, d) for n, d in zip(COUNTER_NAMES, delta)))
+        # the read of `after` is counted in `frames` (handed over before it was served)
+        check("the image handed over every request as a frame",
+              delta[0] == requests_sent - 1, "%d frames for %d requests" % (
+                  delta[0], requests_sent - 1))
+        check("no frame dropped, no put() or idle() failure", delta[1:4] == [0, 0, 0],
+              str(delta[1:4]))
+    os.close(line.fd)
+    return 1 if failures else 0
+
+
+def receive_exactly_quiet(line, size, seconds):
+    """Bytes until `size` have arrived (or `seconds` passed)."""
+    got = b""
+    deadline = time.monotonic() + seconds
+    while len(got) < size:
+        left = deadline - time.monotonic()
+        if left <= 0:
+            break
+        ready, _, _ = select.select([line.fd], [], [], left)
+        if ready:
+            got += os.read(line.fd, 4096)
+    return got
+
+
+if __name__ == "__main__":
+    sys.exit(main())
