@@ -29,10 +29,11 @@
 // - The main loop sleeps with interrupts off between its check of the queue and wfi, so that a
 //   frame handed over between the two wakes it (board_irq.hpp: wait_for_interrupt()).
 //
-// The image's counters (input registers 1000-1005, FC04): frames handed over, frames dropped on
+// The image's counters (input registers 1000-1006, FC04): frames handed over, frames dropped on
 // a full queue, failures put() reported (garbage, bad CRC), failures idle() reported (a frame cut
-// short by a silence), the timer's early expiries, the frames ended by idle(). The checks read
-// them (tests/firmware/modbus_back_to_back.py): each failure has a count that names its cause.
+// short by a silence), the timer's early expiries, the frames ended by idle(), and the longest
+// silence seen between two bytes of one frame (in units of 100 us). The checks read them
+// (tests/firmware/modbus_back_to_back.py): each failure has a count that names its cause.
 //
 // Deliberately broken builds, for the checks' own test (tests/firmware/CMakeLists.txt):
 // -DMOTIONBUS_BROKEN_DROP=N drops the Nth frame, -DMOTIONBUS_BROKEN_TWICE=N answers it twice.
@@ -77,10 +78,18 @@ struct request_copy {
 request_copy queue[slots];
 volatile std::uint32_t queued = 0;  // frames handed over (the handlers write it)
 volatile std::uint32_t served = 0;  // frames served (the main loop writes it)
-enum counter_index : unsigned { frames, overruns, rejected, idle_failures, early, idle_frames };
-volatile std::uint32_t counters[6] = {};
+enum counter_index : unsigned {
+  frames,
+  overruns,
+  rejected,
+  idle_failures,
+  early,
+  idle_frames,
+  longest_gap  // the longest silence between two bytes of one frame, in microseconds
+};
+volatile std::uint32_t counters[7] = {};
 constexpr std::uint16_t counters_at = 1000;
-constexpr std::uint16_t counters_end = counters_at + 6U;
+constexpr std::uint16_t counters_end = counters_at + 7U;
 
 void count(counter_index i) {
   counters[i] = counters[i] + 1U;
@@ -89,6 +98,10 @@ void count(counter_index i) {
 std::uint16_t counter(std::size_t i) {
   if (i == frames) {
     return static_cast<std::uint16_t>(queued);
+  }
+  if (i == longest_gap) {  // in units of 100 us, up to 6.5 s
+    const std::uint32_t units = counters[i] / 100U;
+    return static_cast<std::uint16_t>(units < 0xFFFFU ? units : 0xFFFFU);
   }
   return static_cast<std::uint16_t>(counters[i]);
 }
@@ -113,7 +126,11 @@ void hand_over(const mo::rtu_frame& f) {
 
 // The UART's receive interrupt, a byte at a time.
 void on_byte(std::uint8_t byte) {
-  last_byte_us = board::now_us();
+  const std::uint32_t now = board::now_us();
+  if (rx.pending() > 0U && now - last_byte_us > counters[longest_gap]) {  // inside a frame
+    counters[longest_gap] = now - last_byte_us;
+  }
+  last_byte_us = now;
   mb::put_each(rx, byte, [](const mb::decode_result<mo::rtu_frame>& r) {
     if (r.is_complete()) {
       hand_over(r.value());
@@ -143,7 +160,7 @@ void on_t35() {
 }
 
 // The data: coils and holding registers as written; discrete input i is on when i % 3 == 0,
-// input register i reads 1000 + i; input registers 1000-1005 are this image's counters (below).
+// input register i reads 1000 + i; input registers 1000-1006 are this image's counters (below).
 struct device {
   std::uint8_t coils[(points + 7U) / 8U] = {};
   std::uint16_t holding[points] = {};

@@ -20,10 +20,10 @@ bytes: every answer byte is compared with what was expected, and the line is wat
 further second for anything more. In the third, the writes alternate with reads of input
 registers (FC04), each answer unique and independent of the others: the answers must be those
 expected with some left out, and as many left out as the image counted dropped. The image's
-counters (input registers 1000-1005: frames handed over, dropped on a full queue, put()
+counters (input registers 1000-1006: frames handed over, dropped on a full queue, put()
 failures, idle() failures (a request cut by a silence), early timer expiries, frames ended by
-idle()) are read before, between and after: in the first two nothing dropped, nothing failed,
-a frame handed over for every request.
+idle(); and the longest silence inside a request, shown) are read before, between and after:
+in the first two nothing dropped, nothing failed, a frame handed over for every request.
 
 Usage: modbus_back_to_back.py DEVICE [BAUD [sequence]]  (BAUD: the image's line rate; by
 default the environment's MOTIONBUS_BAUD, else 9600; "sequence": the sequence alone, for the
@@ -39,6 +39,9 @@ from modbus_raw_checks import Line, adu  # tests/firmware/modbus_raw_checks.py
 SLAVE = 1
 COUNTER_NAMES = ["frames", "dropped (queue full)", "put() failures", "idle() failures",
                  "early timer expiries", "frames ended by idle()"]
+# the seventh register: the longest silence between two bytes of one request (100 us units),
+# not a count (shown as measured, over the whole run)
+GAP = len(COUNTER_NAMES)
 
 
 def t35_seconds(baud):
@@ -142,21 +145,24 @@ def main():
 
     def counters():
         time.sleep(t35)
-        request = adu(SLAVE, [0x04, 1000 >> 8, 1000 & 0xFF, 0x00, len(COUNTER_NAMES)])
+        n = len(COUNTER_NAMES) + 1
+        request = adu(SLAVE, [0x04, 1000 >> 8, 1000 & 0xFF, 0x00, n])
         line.send(request)
-        size = 5 + 2 * len(COUNTER_NAMES)
+        size = 5 + 2 * n
         got = receive_exactly(line, size, 5.0)
-        if len(got) != size or got[:3] != bytes([SLAVE, 0x04, 2 * len(COUNTER_NAMES)]) or \
+        if len(got) != size or got[:3] != bytes([SLAVE, 0x04, 2 * n]) or \
                 adu(SLAVE, list(got[1:-2])) != got:
             print("FAIL the image's counters: got %s" % got.hex())
             failures.append("counters")
             return None
-        return [int.from_bytes(got[3 + 2 * i:5 + 2 * i], "big") for i in range(len(COUNTER_NAMES))]
+        return [int.from_bytes(got[3 + 2 * i:5 + 2 * i], "big") for i in range(n)]
 
     def difference(after, before):
         delta = [(a - b) & 0xFFFF for a, b in zip(after, before)]
         print("     the image's counters: " +
-              ", ".join("%s %d" % (n, d) for n, d in zip(COUNTER_NAMES, delta)))
+              ", ".join("%s %d" % (n, d) for n, d in zip(COUNTER_NAMES, delta)) +
+              "; the longest silence inside a request so far %.1f ms (t3.5 %.1f ms)" % (
+                  after[GAP] / 10, t35 * 1000))
         return delta
 
     def run(name, pairs, send):
