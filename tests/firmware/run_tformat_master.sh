@@ -5,11 +5,14 @@
 # transaction answered and checked against its request, the fields of each layout, ENID 0x11,
 # no alarm, single-turn values below 2^17 (the emulator's shaft turns as time passes, so the
 # positions are checked for range, not value).
-# Usage: run_tformat_master.sh "QEMU -M BOARD [...]" IMAGE MOTIONBUS_CLI
+# Usage: run_tformat_master.sh "QEMU -M BOARD [...]" IMAGE MOTIONBUS_CLI [IMAGE_LINE]
+# IMAGE_LINE: a further line the report must hold (a regular expression): the interrupt-driven
+# image's back-to-back counts.
 set -euo pipefail
 qemu="$1"
 image="$2"
 cli="$3"
+image_line="${4:-}"
 # shellcheck source=qemu_board.sh
 source "$(dirname "${BASH_SOURCE[0]}")/qemu_board.sh"
 qemu_start "$qemu" "$image" pty -semihosting
@@ -34,6 +37,9 @@ expect "ID1: answered, ABM" "^id 1 ok sf 0 abm [0-9]+$"
 expect "ID2: answered, ENID 17" "^id 2 ok sf 0 enid 17$"
 expect "IDD: the EEPROM byte at address 5" "^id 13 ok sf 0 address 5 edf [0-9]+$"
 expect "the report ends" "^done$"
+if [ -n "$image_line" ]; then
+  expect "the image's line: $image_line" "$image_line"
+fi
 if grep -Eo 'abs [0-9]+' "$dir/qemu.log" | awk '$2 >= 131072 {bad=1} END {exit bad}'; then
   echo "ok   single-turn values below 2^17"
 else

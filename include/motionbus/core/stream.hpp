@@ -8,6 +8,11 @@
 //   });
 //   put_each(rx, byte, same_lambda);         // one byte, from a receive interrupt
 //
+// put_each() in a receive interrupt, run under QEMU by the interrupt-driven firmware images
+// (examples/firmware/modbus_server_irq.cpp, tformat_master_irq.cpp; the firmware.*_irq.*
+// tests): `each` runs in the interrupt too, so it copies out what it keeps (a result lives in,
+// or points into, the stream object until its next call).
+//
 // No heap, no I/O.
 #ifndef MOTIONBUS_CORE_STREAM_HPP
 #define MOTIONBUS_CORE_STREAM_HPP
