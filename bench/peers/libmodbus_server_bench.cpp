@@ -90,9 +90,9 @@ constexpr std::uint16_t register_value(std::size_t i) {
   return static_cast<std::uint16_t>(i * 0x0101U + 0x1234U);
 }
 
-// The device behind motionbus's server: 200 holding registers, read and written as the
-// request's and response's big-endian bytes (libmodbus converts to and from its mapping the
-// same way).
+// The device behind motionbus's server: 200 holding registers in host order, as libmodbus's
+// mapping holds them; read as registers (the server writes their big-endian bytes), written
+// from the request's big-endian bytes.
 struct holding_registers {
   std::uint16_t regs[200] = {};
   holding_registers() {
@@ -100,13 +100,13 @@ struct holding_registers {
       regs[i] = register_value(i);
     }
   }
-  std::uint8_t read_registers_be(std::uint8_t /*function*/, std::uint16_t address,
-                                 std::uint16_t quantity, mb::mutable_byte_view out) {
-    if (address + quantity > 200U) {
+  std::uint8_t read_registers(std::uint8_t /*function*/, std::uint16_t address,
+                              mb::span<std::uint16_t> out) {
+    if (address + out.size() > 200U) {
       return 0x02;
     }
-    for (std::size_t i = 0; i < quantity; ++i) {
-      mb::store_be16(out, 2 * i, regs[address + i]);
+    for (std::size_t i = 0; i < out.size(); ++i) {
+      out[i] = regs[address + i];
     }
     return 0;
   }
