@@ -15,8 +15,10 @@ load"). Not part of the test command: run it by hand, and record its figures.
 2. Latency: the same line, one client, FC03 of 10 registers, one transaction at a time:
    directly on the pty (an RTU master: the line's own time), through `motionbus gateway`, and
    through pymodbus 3.0's forwarding server (a Modbus TCP server whose datastore is
-   RemoteSlaveContext over pymodbus's serial client on the same pty). The added latency of
-   each is its median minus the direct median.
+   RemoteSlaveContext over pymodbus's serial client on the same pty), in rounds (a direct
+   block, then rounds of gateway, pymodbus, direct). The added latency of a forwarder in a
+   round is its median minus the mean of the direct medians just before and after the
+   round; the figure is the median over the rounds.
 
 Usage: /usr/bin/python3 gateway_load.py MOTIONBUS_CLI [--requests N] [--clients N]
        [--latency-samples N] [--json]
@@ -115,11 +117,21 @@ class Line:
             stderr=subprocess.DEVNULL))
         if not (wait_for(self.unit) and wait_for(self.master)):
             raise RuntimeError("socat made no pty pair")
+        fd = os.open(self.master, os.O_RDWR | os.O_NOCTTY)
+        self.fresh_termios = termios.tcgetattr(fd)
+        os.close(fd)
         with open(self.serve_log, "w", encoding="ascii") as log:
             self.procs.append(subprocess.Popen(
                 [cli, "serve", "modbus", "--device", self.unit, "--baud", str(BAUD), "--units",
                  "1", "--points", "1000", "--json"], stdout=log, stderr=subprocess.STDOUT))
         time.sleep(0.5)
+
+    def restore_termios(self):
+        """The pty's settings as socat made them: pyserial cannot open it again (tcsetattr:
+        EINVAL) with the settings it left there."""
+        fd = os.open(self.master, os.O_RDWR | os.O_NOCTTY)
+        termios.tcsetattr(fd, termios.TCSANOW, self.fresh_termios)
+        os.close(fd)
 
     def served(self):
         with open(self.serve_log, encoding="utf-8", errors="replace") as f:
@@ -241,10 +253,7 @@ def fc03_10():
 
 
 def latency_direct(line, samples):
-    fd = os.open(line.master, os.O_RDWR | os.O_NOCTTY)
-    attrs = termios.tcgetattr(fd)
-    attrs[4] = attrs[5] = termios.B115200
-    termios.tcsetattr(fd, termios.TCSANOW, attrs)
+    fd = os.open(line.master, os.O_RDWR | os.O_NOCTTY)  # raw already (socat); no baud on a pty
     request = rtu(1, fc03_10())
     times = []
     for _ in range(samples):
@@ -294,39 +303,59 @@ StartTcpServer(context=context, address=("127.0.0.1", int(sys.argv[2])))
 """
 
 
-def summary(times, base):
-    med = statistics.median(times)
-    return {"median_ms": round(1e3 * med, 3),
-            "p90_ms": round(1e3 * sorted(times)[int(0.9 * (len(times) - 1))], 3),
-            "added_ms": None if base is None else round(1e3 * (med - base), 3)}
-
-
-def latency_run(line, scratch, samples):
-    out = {}
-    direct = latency_direct(line, samples)
-    base = statistics.median(direct)
-    out["direct_rtu"] = summary(direct, None)
-    gateway, port = start_gateway(line, scratch)
-    latency_tcp(port, 20)  # warm-up
-    out["motionbus_gateway"] = summary(latency_tcp(port, samples), base)
-    line.stop(gateway)
+def forwarder_port(line, scratch):
+    """Starts pymodbus's forwarding server on the pty; returns (process, port)."""
+    line.restore_termios()
     port = free_port()
     log = os.path.join(scratch, "pymodbus.log")
     forwarder = line.start([sys.executable, "-c", PYMODBUS_FORWARDER, line.master, str(port)],
                            log)
     if not wait_for("listening", log):
-        raise RuntimeError("the pymodbus forwarder did not start")
+        raise RuntimeError("the pymodbus forwarder did not start: " +
+                           open(log, encoding="utf-8", errors="replace").read())
     for _ in range(100):
         try:
             socket.create_connection(("127.0.0.1", port), timeout=1).close()
             break
         except OSError:
             time.sleep(0.1)
-    latency_tcp(port, 20)
-    out["pymodbus_forwarder"] = summary(latency_tcp(port, samples), base)
-    line.stop(forwarder)
-    # the direct line again: the baseline must not have moved meanwhile
-    out["direct_rtu_again"] = summary(latency_direct(line, samples), None)
+    return forwarder, port
+
+
+def latency_run(line, scratch, samples, rounds=4):
+    """Rounds of: gateway, pymodbus, direct, after one direct block (samples // rounds each),
+    so that each round's two forwarders have a direct block measured just before and just
+    after them: a forwarder's added latency in a round is its median minus the mean of those
+    two direct medians."""
+    n = max(1, samples // rounds)
+    blocks = {"direct_rtu": [], "motionbus_gateway": [], "pymodbus_forwarder": []}
+    added = {"motionbus_gateway": [], "pymodbus_forwarder": []}
+    before = latency_direct(line, n)
+    blocks["direct_rtu"].extend(before)
+    for _ in range(rounds):
+        medians = {}
+        for name in ("motionbus_gateway", "pymodbus_forwarder"):
+            proc, port = (start_gateway(line, scratch) if name == "motionbus_gateway"
+                          else forwarder_port(line, scratch))
+            latency_tcp(port, 20)  # warm-up
+            times = latency_tcp(port, n)
+            line.stop(proc)
+            medians[name] = statistics.median(times)
+            blocks[name].extend(times)
+        after = latency_direct(line, n)
+        blocks["direct_rtu"].extend(after)
+        base = (statistics.median(before) + statistics.median(after)) / 2
+        for name, med in medians.items():
+            added[name].append(med - base)
+        before = after
+    out = {}
+    for name, times in blocks.items():
+        times.sort()
+        out[name] = {"median_ms": round(1e3 * statistics.median(times), 3),
+                     "p90_ms": round(1e3 * times[int(0.9 * (len(times) - 1))], 3)}
+        if name in added:
+            out[name]["added_ms_per_round"] = [round(1e3 * v, 3) for v in added[name]]
+            out[name]["added_ms"] = round(1e3 * statistics.median(added[name]), 3)
     return out
 
 
@@ -335,7 +364,7 @@ def main():
     ap.add_argument("cli")
     ap.add_argument("--requests", type=int, default=10000)
     ap.add_argument("--clients", type=int, default=8)
-    ap.add_argument("--latency-samples", type=int, default=1000)
+    ap.add_argument("--latency-samples", type=int, default=2000)
     ap.add_argument("--json", action="store_true")
     a = ap.parse_args()
     with tempfile.TemporaryDirectory() as scratch:
