@@ -38,21 +38,10 @@ import termios
 import threading
 import time
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "support"))
+from reference import rtu  # noqa: E402  (tests/support/reference.py)
+
 BAUD = 115200
-
-
-def crc16(data):
-    crc = 0xFFFF
-    for b in data:
-        crc ^= b
-        for _ in range(8):
-            crc = (crc >> 1) ^ 0xA001 if crc & 1 else crc >> 1
-    return crc
-
-
-def rtu(unit, pdu):
-    adu = bytes([unit]) + pdu
-    return adu + struct.pack("<H", crc16(adu))
 
 
 def mbap(tid, unit, pdu):
@@ -254,7 +243,7 @@ def fc03_10():
 
 def latency_direct(line, samples):
     fd = os.open(line.master, os.O_RDWR | os.O_NOCTTY)  # raw already (socat); no baud on a pty
-    request = rtu(1, fc03_10())
+    request = bytes(rtu(1, fc03_10()))
     times = []
     for _ in range(samples):
         t0 = time.perf_counter()
