@@ -30,20 +30,11 @@ namespace firmware {
 inline constexpr std::uint8_t slave = MOTIONBUS_SLAVE;
 inline constexpr std::uint32_t silence_us = MOTIONBUS_SILENCE_US;
 
-/// Serves `device` on the UART forever; `each_pass(now_us)` runs once per pass of the loop (a
-/// device's clock, say).
-template <class Device, class EachPass>
-[[noreturn]] void serve_forever(Device& device, EachPass&& each_pass) {
-  static motionbus::modbus::rtu_server_framer rx;
-  static std::uint8_t reply[motionbus::modbus::max_rtu_size];
-  rx = motionbus::modbus::rtu_server_framer({slave});
-  const auto serve = [&device](const motionbus::modbus::rtu_frame& frame) {
-    const auto n = motionbus::modbus::serve_frame(
-        device, slave, frame, motionbus::mutable_byte_view(reply, sizeof reply));
-    if (n.ok() && n.value() > 0U) {  // nothing for broadcasts and other addresses
-      board::uart_write(reply, n.value());
-    }
-  };
+/// Feeds the UART's bytes to the server framer `rx` forever and hands each frame it gives to
+/// `serve(frame)`; a line silence of silence_us hands over what `rx` holds. `each_pass(now_us)`
+/// runs once per pass of the loop (a device's clock, say).
+template <class Framer, class Serve, class EachPass>
+[[noreturn]] void frame_forever(Framer& rx, Serve&& serve, EachPass&& each_pass) {
   std::uint32_t last_byte = board::now_us();
   for (;;) {
     const std::uint32_t now = board::now_us();
@@ -64,6 +55,25 @@ template <class Device, class EachPass>
       }
     }
   }
+}
+
+/// Serves `device` on the UART forever; `each_pass(now_us)` runs once per pass of the loop (a
+/// device's clock, say).
+template <class Device, class EachPass>
+[[noreturn]] void serve_forever(Device& device, EachPass&& each_pass) {
+  static motionbus::modbus::rtu_server_framer rx;
+  static std::uint8_t reply[motionbus::modbus::max_rtu_size];
+  rx = motionbus::modbus::rtu_server_framer({slave});
+  frame_forever(
+      rx,
+      [&device](const motionbus::modbus::rtu_frame& frame) {
+        const auto n = motionbus::modbus::serve_frame(
+            device, slave, frame, motionbus::mutable_byte_view(reply, sizeof reply));
+        if (n.ok() && n.value() > 0U) {  // nothing for broadcasts and other addresses
+          board::uart_write(reply, n.value());
+        }
+      },
+      each_pass);
 }
 
 }  // namespace firmware

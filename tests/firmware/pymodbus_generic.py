@@ -1,9 +1,13 @@
 """pymodbus (a third-party Modbus master) against the generic Modbus server image on its UART's
 pty: reads and writes of each table, and the exceptions for bad addresses and quantities.
 
-Usage: pymodbus_generic.py DEVICE. Exit 0 when every check holds. Run with Debian's python3.
+Usage: pymodbus_generic.py DEVICE (a pty, or tcp:PORT for a gateway in front of the image: then
+an unserved function's exception 01 as well). Exit 0 when every check holds. Run with Debian's
+python3.
 """
 import os
+import socket
+import struct
 import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "support"))
@@ -36,6 +40,19 @@ def main() -> int:
     r = client.read_holding_registers(0, 1, slave=9)
     check("another slave stays silent", r.isError())
     client.close()
+    if sys.argv[1].startswith("tcp:"):
+        # through the gateway: a function the image does not serve reaches it (the image ends
+        # the request at the line's silence) and its exception 01 comes back
+        with socket.create_connection(("127.0.0.1", int(sys.argv[1][4:])), timeout=5) as s:
+            s.sendall(struct.pack(">HHHB", 0x4101, 0, 3, 1) + b"\x41\x00")
+            answer = b""
+            while len(answer) < 9:
+                got = s.recv(64)
+                if not got:
+                    break
+                answer += got
+        check("function 0x41 (not served): exception 01 from the image",
+              answer == struct.pack(">HHHB", 0x4101, 0, 3, 1) + b"\xc1\x01")
     return 1 if check.failures else 0
 
 

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # libmodbus's and pymodbus's TCP clients through `motionbus gateway` to `motionbus serve
 # sm-unit`, over a pseudo-terminal pair made by socat: every served function and its
-# exceptions, 0A and 0B, 8 concurrent clients, bad MBAP input; then the gateway again with
+# exceptions, 0A and 0B, 8 concurrent clients, bad MBAP input (the gateway told the SM unit's
+# FC11 layout, --fc11 sm); then the gateway again with
 # --read-only --units 1 --functions 3,4,6, and with --rtu-over-tcp (pymodbus's RTU framer);
 # then `serve modbus --units 1-4` behind it, and alone with --tcp-listen.
 # Usage: run_gateway_interop.sh MOTIONBUS_CLI LIBMODBUS_TCP_CLIENT
@@ -44,7 +45,7 @@ gateway() {
   [ -n "$port" ] || { echo "FAIL the gateway did not start"; cat "$dir/gateway.log"; exit 1; }
 }
 status=0
-gateway
+gateway --fc11 sm
 echo "== pymodbus TCP client and raw MBAP sockets (port $port)"
 /usr/bin/python3 "$here/pymodbus_gateway.py" full "$port" "$timeout_ms" "$idle_ms" || status=1
 echo "== libmodbus TCP client"

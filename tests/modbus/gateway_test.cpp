@@ -765,3 +765,37 @@ TEST_CASE("gateway: bytes during a broadcast's turnaround keep it, near its end 
   CHECK(h.gw.poll(end - 10U + o.line.t35_us).action == gateway_action::to_line);
   CHECK(h.gw.discarded() == 2);
 }
+
+TEST_CASE(
+    "gateway: gateway_options::fc11 frames the line's FC11 responses in the device's layout") {
+  // The SM unit's FC11 answer: two version bytes, no byte count (SM unit guideline §11).
+  const auto sm_fc11 = [](const rtu_frame& f, mutable_byte_view out) {
+    const std::uint8_t pdu[] = {0x11, 0x02, 0x03};
+    return f.pdu.size() == 1U && f.pdu[0] == 0x11 ? encode_rtu(f.slave, byte_view(pdu), out).value()
+                                                  : std::size_t{0};
+  };
+  gateway_options o;
+  o.fc11 = report_id_format::two_bytes_no_count;
+  harness<1, 2> sm(o);
+  sm.serve = sm_fc11;
+  sm.client(0, mbap(0x0711, 1, bytes{0x11}));
+  // taken at its last byte, as the layout sizes it: no silence waited for
+  REQUIRE(sm.replies[0].size() == 1);
+  CHECK(sm.replies[0][0].transaction == 0x0711);
+  CHECK(sm.replies[0][0].exception == 0);
+  CHECK(sm.replies[0][0].pdu == bytes{0x11, 0x02, 0x03});
+
+  // The specification's layout (the default) reads 02 as a byte count: the frame is one byte
+  // short of it, so the response is not taken at its last byte, only once t3.5 of silence has
+  // ended it (poll), and then forwarded as it is.
+  harness<1, 2> standard;
+  standard.serve = sm_fc11;
+  standard.client(0, mbap(0x0711, 1, bytes{0x11}));
+  CHECK(standard.replies[0].empty());
+  const std::uint32_t last_byte = standard.now;
+  standard.drain();
+  REQUIRE(standard.replies[0].size() == 1);
+  CHECK(standard.replies[0][0].exception == 0);
+  CHECK(standard.replies[0][0].pdu == bytes{0x11, 0x02, 0x03});
+  CHECK(standard.now - last_byte >= standard.options.line.t35_us);
+}

@@ -63,6 +63,7 @@ mo::gateway_options core_options(const cli::gateway_options& o) {
   }
   g.read_only = o.read_only;
   g.answer_broadcasts = o.answer_broadcasts;
+  g.fc11 = modbus_io::fc11_of(o.fc11);
   return g;
 }
 

@@ -241,6 +241,7 @@ void gateway_options::bind(CLI::App& app) {
   text(app, "functions", functions);
   flag(app, "read-only", read_only);
   flag(app, "answer-broadcasts", answer_broadcasts);
+  text(app, "fc11", fc11);
 }
 
 CLI::Option* recording(CLI::App& app, std::string& file) {

@@ -186,6 +186,7 @@ struct gateway_options {
   std::optional<std::string> functions;  ///< "3,4,6"; empty: every function
   bool read_only = false;
   bool answer_broadcasts = false;
+  std::string fc11 = "standard";  ///< the line's FC11 response layout (standard or sm)
 
   void bind(CLI::App& app);
 };

@@ -123,6 +123,9 @@ struct gateway_options {
   /// server would give (the request echoed, or its address and quantity); by default a
   /// broadcast is never answered (Serial Line §2.1), as on the line.
   bool answer_broadcasts = false;
+  /// The layout of the line's FC11 (Report Server ID) responses: the specification's byte
+  /// count and data, or a device's own (report_id_format::two_bytes_no_count: the SM unit).
+  report_id_format fc11 = report_id_format::standard;
 };
 
 /// What the I/O is to do after a call (gateway_step::action).
@@ -159,7 +162,7 @@ class basic_gateway {
 
  public:
   constexpr explicit basic_gateway(const gateway_options& options = {}) noexcept
-      : options_(options) {
+      : options_(options), framer_(framer_options{0, frame_end::silence, options.fc11}) {
     if (options_.response_timeout_us > max_response_timeout_us) {
       options_.response_timeout_us = max_response_timeout_us;
     }
