@@ -89,6 +89,9 @@ double number_in(const std::string& path, const std::string& text, const std::st
   return v;
 }
 
+// The longest recording read, in seconds.
+constexpr double max_recording_s = 1e6;
+
 // --- VCD -------------------------------------------------------------------------------------
 
 recording read_vcd(std::istream& in, const std::string& path) {
@@ -483,21 +486,27 @@ recording read_session(const std::string& metadata, const session_member& member
 
 recording parse(const std::string& format, const std::string& data, const std::string& path) {
   try {
+    recording r;
     if (format == "vcd") {
       std::istringstream in(data);
-      return read_vcd(in, path);
-    }
-    if (format == "csv") {
+      r = read_vcd(in, path);
+    } else if (format == "csv") {
       std::istringstream in(data);
-      return read_csv(in, path);
+      r = read_csv(in, path);
+    } else if (format == "sr") {
+      r = read_sr(data, path);
+    } else {
+      throw cli::usage_error{path + ": a recording is a .sr, .vcd or .csv file"};
     }
-    if (format == "sr") {
-      return read_sr(data, path);
+    // a double holds a time to better than a nanosecond up to 10^6 s (about 11 days); later
+    // times would merge a UART's bits (and the decoders' clock ends at 4294 s anyway)
+    if (r.end > max_recording_s) {
+      fail(path, "the recording lasts more than 10^6 s (its times would lose their nanoseconds)");
     }
+    return r;
   } catch (const std::logic_error&) {  // a library's refusal of a malformed number
     fail(path, "a number in the file cannot be read");
   }
-  throw cli::usage_error{path + ": a recording is a .sr, .vcd or .csv file"};
 }
 
 bool channel::level_before(double t) const {
