@@ -250,7 +250,7 @@ std::string difference_class(const std::vector<std::uint8_t>& pdu, bool broadcas
   //    checks the address first
   if (f == 0x0FU || f == 0x10U || f == 0x17U) {
     const std::size_t at = f == 0x17U ? 9U : 5U;
-    const unsigned q = (pdu[at - 2U] << 8U) | pdu[at - 1U];
+    const unsigned q = (static_cast<unsigned>(pdu[at - 2U]) << 8U) | pdu[at - 1U];
     const unsigned right = f == 0x0FU ? (q + 7U) / 8U : 2U * q;
     if (pdu.size() > at && pdu[at] != right && (broadcast ? our_size == 0U : our_exception) &&
         (broadcast || ours[2] == 0x03U)) {
