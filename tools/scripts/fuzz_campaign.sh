@@ -17,7 +17,8 @@ root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 build="${1:?usage: fuzz_campaign.sh BUILD_DIR SECONDS [TARGET_REGEX]}"
 seconds="${2:?usage: fuzz_campaign.sh BUILD_DIR SECONDS [TARGET_REGEX]}"
 filter="${3:-.}"
-work="${MOTIONBUS_CAMPAIGN_DIR:-$build/campaign}"
+work="$(mkdir -p "${MOTIONBUS_CAMPAIGN_DIR:-$build/campaign}" && cd "${MOTIONBUS_CAMPAIGN_DIR:-$build/campaign}" && pwd)"
+build="$(cd "$build" && pwd)"
 jobs="${MOTIONBUS_CAMPAIGN_JOBS:-1}"
 mkdir -p "$work"
 table="$work/campaign.md"
@@ -33,12 +34,16 @@ for bin in "$build"/fuzz/motionbus_fuzz_*; do
   log="$work/$name/run.log"
   echo "=== $name: $seconds s" >&2
   rc=0
-  nice "$bin" -max_total_time="$seconds" -timeout=10 -print_final_stats=1 \
-    -jobs="$jobs" -workers="$jobs" \
-    -artifact_prefix="$work/$name/artifacts/" "$work/$name/new" "$corpus" >"$log" 2>&1 || rc=$?
+  parallel=()
   if [ "$jobs" -gt 1 ]; then
-    cat fuzz-*.log >>"$log" 2>/dev/null || true
-    rm -f fuzz-*.log
+    parallel=(-jobs="$jobs" -workers="$jobs")  # each job logs to fuzz-N.log in its directory
+  fi
+  (cd "$work/$name" && nice "$bin" -max_total_time="$seconds" -timeout=10 -print_final_stats=1 \
+    "${parallel[@]}" -artifact_prefix="$work/$name/artifacts/" "$work/$name/new" "$corpus") \
+    >"$log" 2>&1 || rc=$?
+  if [ "$jobs" -gt 1 ]; then
+    cat "$work/$name"/fuzz-*.log >>"$log" 2>/dev/null || true
+    rm -f "$work/$name"/fuzz-*.log
   fi
   execs=$(grep -E '^stat::number_of_executed_units' "$log" | awk '{s += $2} END {print s + 0}')
   rate=$(grep -E '^stat::average_exec_per_sec' "$log" | awk '{s += $2} END {print s + 0}')
