@@ -163,6 +163,23 @@ if(MOTIONBUS_LIBMODBUS_VALUES_FOUND AND values_pymodbus_ok)
 elseif(MOTIONBUS_REQUIRE_ALL_CHECKS)
   message(FATAL_ERROR "the typed-value interop test needs libmodbus-dev and python3-pymodbus")
 endif()
+# The server against libmodbus's modbus_reply, same image and requests, 20000 random requests
+# from a fixed seed; differences only of the classes docs/modbus.md lists
+# (tests/interop/server_differential.cpp)
+if(MOTIONBUS_LIBMODBUS_VALUES_FOUND)
+  add_executable(motionbus_server_differential interop/server_differential.cpp)
+  target_include_directories(motionbus_server_differential SYSTEM PRIVATE
+    ${MOTIONBUS_LIBMODBUS_VALUES_INCLUDE_DIRS})
+  target_include_directories(motionbus_server_differential PRIVATE
+    "${CMAKE_CURRENT_SOURCE_DIR}/support")
+  target_link_libraries(motionbus_server_differential PRIVATE motionbus::motionbus
+    ${MOTIONBUS_LIBMODBUS_VALUES_LINK_LIBRARIES})
+  motionbus_project_target(motionbus_server_differential)
+  add_test(NAME interop.server_differential COMMAND motionbus_server_differential 20000)
+  set_tests_properties(interop.server_differential PROPERTIES LABELS "interop" TIMEOUT 120)
+elseif(MOTIONBUS_REQUIRE_ALL_CHECKS)
+  message(FATAL_ERROR "the server differential test needs libmodbus-dev")
+endif()
 # FC14/15 file records against pymodbus's file_message classes (tests/interop/file_record_check.py)
 if(values_pymodbus_ok)
   add_executable(motionbus_file_record_peer interop/file_record_peer.cpp)

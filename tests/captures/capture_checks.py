@@ -159,7 +159,19 @@ def sigrok_sr(cli, work):
         f.write("$timescale 1ns $end\n$var wire 1 ! a $end\n$enddefinitions $end\n#zz\n1!\n")
     _, _, status, err = decode(cli, "tformat", "capture", bad, "--line", "a")
     check("a malformed VCD is a usage error, with its reason", status == 2 and
-          "cannot be read" in err, err)
+          "the time 'zz' is not a number" in err, err)
+    with open(bad, "w") as f:
+        f.write("$timescale 1ns $end\n$var wire 1 ! a $end\n$enddefinitions $end\n#20\n1!\n"
+                "#10\n0!\n")
+    _, _, status, err = decode(cli, "tformat", "capture", bad, "--line", "a")
+    check("a VCD whose time goes back is a usage error", status == 2 and
+          "the time '#10' goes back" in err, err)
+    bad_csv = os.path.join(work, "bad.csv")
+    with open(bad_csv, "w") as f:
+        f.write("Time [s],a\n0,1\n1e-6,x\n")
+    _, _, status, err = decode(cli, "tformat", "capture", bad_csv, "--line", "a")
+    check("a CSV level other than 0 or 1 is a usage error", status == 2 and
+          "row 3: the level 'x' of 'a' is not 0 or 1" in err, err)
     with open(raw, "rb") as f:
         with open(os.path.join(work, "not_a_zip.sr"), "wb") as g:
             g.write(f.read(64))

@@ -62,6 +62,8 @@ TEST_CASE("SM unit: settings are range-checked before anything is sent") {
   CHECK(sm::write_settings(1, 9, ok, out).ok());
   const std::uint16_t bad[] = {100, 100, 50, 50, 0};  // index 13 is a start time
   CHECK(sm::write_settings(1, 9, bad, out).error() == errc::out_of_range);
+  // the address is checked before the values (mutation testing: docs/testing.md)
+  CHECK(sm::write_settings(248, 9, bad, out).error() == errc::modbus_slave_address);
   for (std::uint16_t i = 0; i < 40; ++i) {
     const auto l = sm::setting_limits(i);
     REQUIRE(l.ok());

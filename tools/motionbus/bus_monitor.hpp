@@ -137,6 +137,8 @@ class line_monitor {
   }
 
   const tally& counts() const { return t_; }
+  /// The bytes heard and not yet settled (none after end()).
+  std::size_t held() const { return heard_.size(); }
 
  protected:
   Protocol& self() { return static_cast<Protocol&>(*this); }

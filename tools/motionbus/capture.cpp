@@ -72,13 +72,29 @@ double seconds_per(const std::string& unit_text, bool& ok) {
   return 1.0;
 }
 
+// A number of the file (a time, a timescale, a sample rate): the whole of `text` a finite,
+// non-negative decimal number (std::strtod: the C locale's decimal point), else a usage error
+// naming `what` and the text.
+double number_in(const std::string& path, const std::string& text, const std::string& what) {
+  const char* begin = text.c_str();
+  char* stop = nullptr;
+  const double v = text.empty() ? 0.0 : std::strtod(begin, &stop);
+  if (text.empty() || stop != begin + text.size() ||
+      std::isspace(static_cast<unsigned char>(text[0])) != 0 || !std::isfinite(v)) {
+    fail(path, what + " '" + text + "' is not a number");
+  }
+  if (v < 0) {
+    fail(path, what + " '" + text + "' is negative");
+  }
+  return v;
+}
+
+// The longest recording read, in seconds.
+constexpr double max_recording_s = 1e6;
+
 // --- VCD -------------------------------------------------------------------------------------
 
-recording load_vcd(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) {
-    fail(path, "cannot open");
-  }
+recording read_vcd(std::istream& in, const std::string& path) {
   recording r;
   r.format = "vcd";
   std::map<std::string, std::vector<std::size_t>> by_id;  // an id may name several variables
@@ -87,17 +103,22 @@ recording load_vcd(const std::string& path) {
   double now = 0;
   bool in_definitions = true;
   std::string token;
-  auto read_until_end = [&](std::vector<std::string>& words) {
+  // The words of a section up to its $end; a file that ends first is cut short.
+  auto read_until_end = [&](std::vector<std::string>& words, const std::string& section) {
     words.clear();
-    while (in >> token && token != "$end") {
+    while (in >> token) {
+      if (token == "$end") {
+        return;
+      }
       words.push_back(token);
     }
+    fail(path, "the file ends inside " + section + " (no $end)");
   };
   std::vector<std::string> words;
   while (in >> token) {
     if (in_definitions) {
       if (token == "$timescale") {
-        read_until_end(words);
+        read_until_end(words, token);
         std::string joined;
         for (const auto& w : words) {
           joined += w;
@@ -111,17 +132,20 @@ recording load_vcd(const std::string& path) {
         if (digits == 0 || !ok) {
           fail(path, "unreadable $timescale '" + joined + "'");
         }
-        timescale = std::stod(joined.substr(0, digits)) * unit;
+        timescale = number_in(path, joined.substr(0, digits), "the $timescale") * unit;
+        if (!(timescale > 0)) {
+          fail(path, "the $timescale '" + joined + "' is not above zero");
+        }
       } else if (token == "$scope") {
-        read_until_end(words);
+        read_until_end(words, token);
         scope.push_back(words.size() >= 2 ? words[1] : "");
       } else if (token == "$upscope") {
-        read_until_end(words);
+        read_until_end(words, token);
         if (!scope.empty()) {
           scope.pop_back();
         }
       } else if (token == "$var") {
-        read_until_end(words);  // type size id reference [index]
+        read_until_end(words, token);  // type size id reference [index]
         if (words.size() < 4) {
           fail(path, "a $var without its reference");
         }
@@ -129,8 +153,8 @@ recording load_vcd(const std::string& path) {
           channel c;
           c.name = words[3];
           std::string full;
-          for (const auto& s : scope) {
-            full += s + ".";
+          for (const auto& sc : scope) {
+            full += sc + ".";
           }
           r.channels.push_back(c);
           by_id[words[2]].push_back(r.channels.size() - 1);
@@ -142,16 +166,25 @@ recording load_vcd(const std::string& path) {
           }
         }
       } else if (token == "$enddefinitions") {
-        read_until_end(words);
+        read_until_end(words, token);
         in_definitions = false;
       } else if (token[0] == '$') {
-        read_until_end(words);  // $date, $version, $comment
+        read_until_end(words, token);  // $date, $version, $comment
+      } else {
+        fail(path, "'" + token + "' among the definitions (before $enddefinitions)");
       }
       continue;
     }
     const char first = token[0];
     if (first == '#') {
-      now = std::stod(token.substr(1)) * timescale;
+      const double t = number_in(path, token.substr(1), "the time") * timescale;
+      if (!std::isfinite(t)) {
+        fail(path, "the time '" + token + "' is out of range");
+      }
+      if (t < now) {
+        fail(path, "the time '" + token + "' goes back (times rise in a VCD file)");
+      }
+      now = t;
       r.end = std::max(r.end, now);
     } else if (first == '0' || first == '1' || first == 'x' || first == 'X' || first == 'z' ||
                first == 'Z') {
@@ -163,13 +196,23 @@ recording load_vcd(const std::string& path) {
         }
       }
     } else if (first == 'b' || first == 'B' || first == 'r' || first == 'R') {
-      in >> token;  // a vector or real value and its id: not a 1-bit channel
+      if (!(in >> token)) {  // a vector or real value and its id: not a 1-bit channel
+        fail(path, "the file ends inside a vector value (no identifier)");
+      }
     } else if (token == "$dumpvars" || token == "$end" || token == "$dumpall" ||
                token == "$dumpon" || token == "$dumpoff") {
       continue;
     } else if (first == '$') {
-      read_until_end(words);
+      read_until_end(words, token);
+    } else {
+      fail(path, "'" + token + "' is neither a time, a value change nor a section");
     }
+  }
+  if (in_definitions) {
+    fail(path, "no $enddefinitions (not a VCD file, or cut short)");
+  }
+  if (r.channels.empty()) {
+    fail(path, "no 1-bit variable ($var ... 1 ...) in the VCD file");
   }
   return r;
 }
@@ -183,19 +226,19 @@ std::vector<std::string> split_csv(const std::string& line) {
   while (std::getline(s, cell, ',')) {
     out.push_back(trim(cell));
   }
+  if (!line.empty() && line.back() == ',') {
+    out.emplace_back();  // an empty last cell
+  }
   return out;
 }
 
-recording load_csv(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) {
-    fail(path, "cannot open");
-  }
+recording read_csv(std::istream& in, const std::string& path) {
   recording r;
   r.format = "csv";
   std::string line;
   double unit = 1.0;
   bool header = false;
+  double last = 0;
   std::size_t row = 0;
   while (std::getline(in, line)) {
     ++row;
@@ -213,7 +256,11 @@ recording load_csv(const std::string& path) {
       const std::size_t open = h.find_first_of("[(");
       bool ok = true;
       if (open != std::string::npos) {
-        unit = seconds_per(h.substr(open + 1, h.find_first_of("])") - open - 1), ok);
+        const std::size_t close = h.find_first_of("])", open);
+        if (close == std::string::npos) {
+          fail(path, "the time unit in '" + cells[0] + "' is not closed");
+        }
+        unit = seconds_per(h.substr(open + 1, close - open - 1), ok);
       } else if (h.size() > 5 && h.compare(0, 5, "time_") == 0) {
         unit = seconds_per(h.substr(5), ok);
       }
@@ -221,6 +268,9 @@ recording load_csv(const std::string& path) {
         fail(path, "unknown time unit in '" + cells[0] + "'");
       }
       for (std::size_t i = 1; i < cells.size(); ++i) {
+        if (cells[i].empty()) {
+          fail(path, "the header's column " + std::to_string(i + 1) + " has no channel name");
+        }
         channel c;
         c.name = cells[i];
         r.channels.push_back(c);
@@ -228,18 +278,22 @@ recording load_csv(const std::string& path) {
       header = true;
       continue;
     }
+    const std::string where = "row " + std::to_string(row);
     if (cells.size() != r.channels.size() + 1) {
-      fail(path, "row " + std::to_string(row) + " has " + std::to_string(cells.size()) +
-                     " cells, the header " + std::to_string(r.channels.size() + 1));
+      fail(path, where + " has " + std::to_string(cells.size()) + " cells, the header " +
+                     std::to_string(r.channels.size() + 1));
     }
-    double time = 0;
-    try {
-      time = std::stod(cells[0]) * unit;
-    } catch (const std::exception&) {
-      fail(path, "row " + std::to_string(row) + ": the time '" + cells[0] + "' is not a number");
+    const double time = number_in(path, cells[0], where + ": the time") * unit;
+    if (time < last) {
+      fail(path, where + ": the time '" + cells[0] + "' goes back (times rise in a recording)");
     }
+    last = time;
     for (std::size_t i = 0; i < r.channels.size(); ++i) {
-      append(r.channels[i], time, cells[i + 1] != "0");
+      if (cells[i + 1] != "0" && cells[i + 1] != "1") {
+        fail(path, where + ": the level '" + cells[i + 1] + "' of '" + r.channels[i].name +
+                       "' is not 0 or 1");
+      }
+      append(r.channels[i], time, cells[i + 1] == "1");
     }
     r.end = std::max(r.end, time);
   }
@@ -251,49 +305,120 @@ recording load_csv(const std::string& path) {
 
 // --- sigrok session files --------------------------------------------------------------------
 
+// The largest member read from a session file (sigrok writes its samples in chunks of a few MB).
+constexpr zip_uint64_t max_member = 1ULL << 30;
+
 struct zip_closer {
   void operator()(zip_t* z) const { zip_close(z); }
 };
 
-bool read_member(zip_t* z, const std::string& name, std::string& out) {
+// The member `name` of the archive in `out`, as far as it reads; false when there is none or
+// it cannot be read whole (a member larger than max_member: a usage error).
+bool read_member(zip_t* z, const std::string& path, const std::string& name, std::string& out) {
   zip_stat_t st;
   zip_stat_init(&st);
   if (zip_stat(z, name.c_str(), 0, &st) != 0) {
     return false;
   }
+  if ((st.valid & ZIP_STAT_SIZE) != 0 && st.size > max_member) {
+    fail(path, "the member '" + name + "' is larger than 1 GiB");
+  }
   zip_file_t* f = zip_fopen(z, name.c_str(), 0);
   if (f == nullptr) {
     return false;
   }
-  out.assign(static_cast<std::size_t>(st.size), '\0');
-  const zip_int64_t n = zip_fread(f, out.data(), st.size);
+  out.clear();
+  char block[65536];
+  zip_int64_t n = 0;
+  while ((n = zip_fread(f, block, sizeof block)) > 0 &&
+         out.size() + static_cast<std::size_t>(n) <= max_member) {
+    out.append(block, static_cast<std::size_t>(n));
+  }
   zip_fclose(f);
-  return n == static_cast<zip_int64_t>(st.size);
+  if (n < 0) {
+    fail(path, "the member '" + name + "' cannot be read (a damaged archive)");
+  }
+  if (n > 0) {
+    fail(path, "the member '" + name + "' is larger than 1 GiB");
+  }
+  return true;
 }
 
-// "1 MHz", "500 kHz", "24000000": samples per second.
+// "1 MHz", "500 kHz", "24000000": samples per second, 1 Hz to 1 THz.
 double rate_of(const std::string& text, bool& ok) {
   std::istringstream s(text);
   double v = 0;
   std::string unit;
   ok = static_cast<bool>(s >> v);
   s >> unit;
+  std::string rest;
+  ok = ok && !(s >> rest);
   unit = lower(unit);
   const double f = unit == "ghz" ? 1e9 : unit == "mhz" ? 1e6 : unit == "khz" ? 1e3 : 1.0;
-  ok = ok && (unit.empty() || unit == "hz" || f != 1.0) && v > 0;
+  ok = ok && (unit.empty() || unit == "hz" || f != 1.0) && v * f >= 1.0 && v * f <= 1e12;
   return v * f;
 }
 
-recording load_sr(const std::string& path) {
-  int error = 0;
-  std::unique_ptr<zip_t, zip_closer> z(zip_open(path.c_str(), ZIP_RDONLY, &error));
+// A count of the metadata: decimal digits only, at most 4 of them; -1 otherwise.
+int small_count(const std::string& text) {
+  if (text.empty() || text.size() > 4 ||
+      !std::all_of(text.begin(), text.end(),
+                   [](unsigned char c) { return std::isdigit(c) != 0; })) {
+    return -1;
+  }
+  return std::atoi(text.c_str());
+}
+
+recording read_sr(const std::string& data, const std::string& path) {
+  zip_error_t error;
+  zip_error_init(&error);
+  zip_source_t* source = zip_source_buffer_create(data.data(), data.size(), 0, &error);
+  if (source == nullptr) {
+    zip_error_fini(&error);
+    fail(path, "not a sigrok session file (not a zip archive)");
+  }
+  std::unique_ptr<zip_t, zip_closer> z(zip_open_from_source(source, ZIP_RDONLY, &error));
+  zip_error_fini(&error);
   if (!z) {
+    zip_source_free(source);
     fail(path, "not a sigrok session file (not a zip archive)");
   }
   std::string metadata;
-  if (!read_member(z.get(), "metadata", metadata)) {
+  if (!read_member(z.get(), path, "metadata", metadata)) {
     fail(path, "no metadata in the session file");
   }
+  return read_session(
+      metadata,
+      [&](const std::string& name, std::string& out) {
+        return read_member(z.get(), path, name, out);
+      },
+      path);
+}
+
+std::string read_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    fail(path, "cannot open");
+  }
+  std::ostringstream s;
+  s << in.rdbuf();
+  if (in.bad()) {
+    fail(path, "cannot read");
+  }
+  return s.str();
+}
+
+std::size_t index_at(const channel& c, double t, bool inclusive) {
+  // the last change at or before t (inclusive) or before t
+  const auto it = inclusive ? std::upper_bound(c.times.begin(), c.times.end(), t)
+                            : std::lower_bound(c.times.begin(), c.times.end(), t);
+  return static_cast<std::size_t>(it - c.times.begin());
+}
+
+}  // namespace
+
+recording read_session(const std::string& metadata, const session_member& member,
+                       const std::string& path) {
   std::map<std::string, std::string> device;  // the keys of [device 1]
   std::istringstream m(metadata);
   std::string line;
@@ -309,12 +434,13 @@ recording load_sr(const std::string& path) {
   bool ok = false;
   const double rate = rate_of(device["samplerate"], ok);
   if (!ok) {
-    fail(path, "unreadable samplerate '" + device["samplerate"] + "'");
+    fail(path, "unreadable samplerate '" + device["samplerate"] + "' (1 Hz to 1 THz)");
   }
-  const int probes = std::atoi(device["total probes"].c_str());
-  const int unitsize = std::atoi(device["unitsize"].c_str());
+  const int probes = small_count(device["total probes"]);
+  const int unitsize = small_count(device["unitsize"]);
   if (probes < 1 || unitsize < 1 || unitsize > 8 || probes > unitsize * 8) {
-    fail(path, "unreadable probes or unitsize");
+    fail(path, "unreadable probes or unitsize ('" + device["total probes"] + "', '" +
+                   device["unitsize"] + "': 1 to 8 bytes a sample, a probe a bit)");
   }
   recording r;
   r.format = "sr";
@@ -327,6 +453,10 @@ recording load_sr(const std::string& path) {
   std::string chunk;
   std::uint64_t sample = 0;
   auto take = [&](const std::string& data) {
+    if (data.size() % static_cast<std::size_t>(unitsize) != 0) {
+      fail(path, "a chunk of samples is not a whole number of " + std::to_string(unitsize) +
+                     "-byte samples");
+    }
     const std::size_t n = data.size() / static_cast<std::size_t>(unitsize);
     for (std::size_t i = 0; i < n; ++i, ++sample) {
       std::uint64_t bits = 0;
@@ -341,10 +471,10 @@ recording load_sr(const std::string& path) {
       }
     }
   };
-  if (read_member(z.get(), base, chunk)) {
+  if (member(base, chunk)) {
     take(chunk);  // one unsplit member (older files)
   }
-  for (int k = 1; read_member(z.get(), base + "-" + std::to_string(k), chunk); ++k) {
+  for (int k = 1; member(base + "-" + std::to_string(k), chunk); ++k) {
     take(chunk);
   }
   if (sample == 0) {
@@ -354,14 +484,30 @@ recording load_sr(const std::string& path) {
   return r;
 }
 
-std::size_t index_at(const channel& c, double t, bool inclusive) {
-  // the last change at or before t (inclusive) or before t
-  const auto it = inclusive ? std::upper_bound(c.times.begin(), c.times.end(), t)
-                            : std::lower_bound(c.times.begin(), c.times.end(), t);
-  return static_cast<std::size_t>(it - c.times.begin());
+recording parse(const std::string& format, const std::string& data, const std::string& path) {
+  try {
+    recording r;
+    if (format == "vcd") {
+      std::istringstream in(data);
+      r = read_vcd(in, path);
+    } else if (format == "csv") {
+      std::istringstream in(data);
+      r = read_csv(in, path);
+    } else if (format == "sr") {
+      r = read_sr(data, path);
+    } else {
+      throw cli::usage_error{path + ": a recording is a .sr, .vcd or .csv file"};
+    }
+    // a double holds a time to better than a nanosecond up to 10^6 s (about 11 days); later
+    // times would merge a UART's bits (and the decoders' clock ends at 4294 s anyway)
+    if (r.end > max_recording_s) {
+      fail(path, "the recording lasts more than 10^6 s (its times would lose their nanoseconds)");
+    }
+    return r;
+  } catch (const std::logic_error&) {  // a library's refusal of a malformed number
+    fail(path, "a number in the file cannot be read");
+  }
 }
-
-}  // namespace
 
 bool channel::level_before(double t) const {
   const std::size_t i = index_at(*this, t, false);
@@ -387,20 +533,10 @@ const channel& recording::find(const std::string& name) const {
 recording load(const std::string& path) {
   const std::size_t dot = path.find_last_of('.');
   const std::string ext = dot == std::string::npos ? "" : lower(path.substr(dot + 1));
-  try {
-    if (ext == "vcd") {
-      return load_vcd(path);
-    }
-    if (ext == "csv") {
-      return load_csv(path);
-    }
-    if (ext == "sr") {
-      return load_sr(path);
-    }
-  } catch (const std::logic_error&) {  // std::stod on a malformed time or timescale
-    fail(path, "a number in the file cannot be read");
+  if (ext != "vcd" && ext != "csv" && ext != "sr") {
+    throw cli::usage_error{path + ": a recording is a .sr, .vcd or .csv file"};
   }
-  throw cli::usage_error{path + ": a recording is a .sr, .vcd or .csv file"};
+  return parse(ext, read_file(path), path);
 }
 
 std::vector<uart_byte> decode_uart(const channel& line, double baud, char parity,

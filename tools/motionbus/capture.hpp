@@ -5,6 +5,7 @@
 #define MOTIONBUS_TOOLS_CAPTURE_HPP
 
 #include <cstdint>
+#include <functional>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -37,6 +38,19 @@ struct recording {
 
 /// Reads a recording by its extension (.sr, .vcd, .csv); a usage error when it cannot.
 recording load(const std::string& path);
+
+/// Reads a recording of `format` ("sr", "vcd" or "csv") from `data`, a file's bytes: what load
+/// does once the file is read. A malformed file is a usage error that starts with `path` and
+/// names what is wrong; a recording read has at least one channel, each channel's times rise
+/// (never back) from 0 to at most `end`, and its levels alternate (a change each).
+recording parse(const std::string& format, const std::string& data, const std::string& path);
+
+/// A member of a sigrok session by name into `out`; false when there is none.
+using session_member = std::function<bool(const std::string& name, std::string& out)>;
+/// A sigrok session from its "metadata" text and its members (what parse does with a .sr once
+/// the archive is open; the fuzz target gives it members without an archive).
+recording read_session(const std::string& metadata, const session_member& member,
+                       const std::string& path);
 
 /// A byte a UART receiver found on a line (idle high, start bit low, 8 data bits LSB first,
 /// parity, stop bits), sampled at the middle of each bit from the start bit's falling edge.

@@ -1,0 +1,215 @@
+#!/usr/bin/env python3
+"""Mutation testing of include/: applies one mutation at a time to a header, rebuilds the
+doctest suite (motionbus_tests) of a configured build and runs it; a mutant the suite does
+not fail survives. Reports every mutant (killed, survived, stillborn: it does not compile,
+or timed out) and the score, killed / (killed + survived).
+
+Usage: mutate.py --build DIR [--seed N] [--count N] [--files GLOB ...] [--timeout S]
+                 [--report FILE] [--list]
+
+DIR: a configured build of this source tree with the target motionbus_tests (fast: gcc -O0,
+no tools, e.g. cmake -S . -B build/mut -G Ninja -DCMAKE_CXX_COMPILER=g++
+-DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS=-O0 -DMOTIONBUS_BUILD_TOOLS=OFF; ccache, when
+installed, is used through CMAKE_CXX_COMPILER_LAUNCHER if the build sets it). Ninja rebuilds
+only the test sources that include the mutated header.
+
+Mutations (on code lines: not comments, preprocessor lines or static_asserts), each site one
+mutant:
+  relational   a < b -> a <= b, <= -> <, > -> >=, >= -> > (binary, spaced as clang-format
+               spaces them: not template brackets or shifts)
+  equality     == -> !=, != -> ==
+  boolean      && -> ||, || -> &&, `return true` <-> `return false`, `!x` -> `x` in a condition
+  constant     an integer literal n -> n + 1 (off by one; not in array sizes of declarations)
+  deletion     a statement that is a call, an increment or an assignment -> removed
+  swap         f(a, b) -> f(b, a) for a call with two simple arguments
+The sample: the sites of the chosen headers in a fixed order, shuffled with the seed, the
+first COUNT taken. The header is restored after each mutant (and on any exit).
+"""
+import argparse
+import glob
+import json
+import os
+import random
+import re
+import subprocess
+import sys
+import time
+
+ROOT = os.path.abspath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".."))
+
+BINARY = [
+    ("relational", re.compile(r"(?<=\s)<(?=\s)"), "<="),
+    ("relational", re.compile(r"(?<=\s)<=(?=\s)"), "<"),
+    ("relational", re.compile(r"(?<=\s)>(?=\s)"), ">="),
+    ("relational", re.compile(r"(?<=\s)>=(?=\s)"), ">"),
+    ("equality", re.compile(r"(?<=\s)==(?=\s)"), "!="),
+    ("equality", re.compile(r"(?<=\s)!=(?=\s)"), "=="),
+    ("boolean", re.compile(r"(?<=\s)&&(?=\s)"), "||"),
+    ("boolean", re.compile(r"(?<=\s)\|\|(?=\s)"), "&&"),
+    ("boolean", re.compile(r"\breturn true;"), "return false;"),
+    ("boolean", re.compile(r"\breturn false;"), "return true;"),
+    ("boolean", re.compile(r"(?<=[(\s])!(?=[a-z_(])"), ""),
+    ("constant", re.compile(r"(?<![\w.])(?:0x[0-9A-Fa-f]+|\d+)(?=[uUlL]*\b)(?![.\w])"), None),
+]
+STATEMENT = re.compile(r"^\s*(?:\+\+\w[\w.\[\]]*|\w[\w.\[\]>-]*\s*(?:\+\+|--|[+\-|&^]?=)[^=].*|"
+                       r"[\w:.]+\([^;]*\));\s*(?://.*)?$")
+SWAP = re.compile(r"\b(\w+)\((\w+), (\w+)\)")
+
+
+def code_lines(text):
+    """(index, line) for lines that hold code to mutate."""
+    out = []
+    in_block = False
+    for i, line in enumerate(text.splitlines(keepends=True)):
+        s = line.strip()
+        if in_block:
+            if "*/" in s:
+                in_block = False
+            continue
+        if s.startswith("/*"):
+            in_block = "*/" not in s
+            continue
+        if not s or s.startswith("//") or s.startswith("#") or "static_assert" in s:
+            continue
+        if s.endswith("\\") or (out and out[-1][1].rstrip().endswith("\\")):
+            continue  # a preprocessor line continued
+        if s.startswith("template") or s.startswith("using ") or s.startswith("namespace"):
+            continue
+        out.append((i, line))
+    return out
+
+
+def strip_comment(line):
+    at = line.find("//")
+    return (line[:at], line[at:]) if at >= 0 else (line.rstrip("\n"), "")
+
+
+def sites(path):
+    """Every mutant of one header: (path, line index, kind, original line, mutated line)."""
+    with open(path, encoding="utf-8") as f:
+        text = f.read()
+    out = []
+    for i, line in code_lines(text):
+        code, comment = strip_comment(line)
+        newline = "\n" if line.endswith("\n") else ""
+        if '"' in code or "'" in code:
+            continue  # no mutation inside literals
+        for kind, pattern, repl in BINARY:
+            for m in pattern.finditer(code):
+                if kind == "constant":
+                    if re.search(r"\w\s*\[\s*$", code[:m.start()]) and \
+                            re.match(r"\s*\]\s*(?:=|;|\{)", code[m.end():]):
+                        continue  # an array's size in its declaration
+                    text_n = m.group(0)
+                    value = int(text_n, 0) + 1
+                    new = hex(value) if text_n.lower().startswith("0x") else str(value)
+                else:
+                    new = repl
+                mutated = code[:m.start()] + new + code[m.end():]
+                out.append((path, i, kind, line, mutated + comment + newline
+                            if not comment else mutated + comment))
+        if STATEMENT.match(code) and not code.strip().startswith("return"):
+            indent = code[:len(code) - len(code.lstrip())]
+            out.append((path, i, "deletion", line, indent + ";  // (deleted)" + newline))
+        for m in SWAP.finditer(code):
+            if m.group(2) != m.group(3):
+                mutated = code[:m.start()] + f"{m.group(1)}({m.group(3)}, {m.group(2)})" + \
+                    code[m.end():]
+                out.append((path, i, "swap", line, mutated + comment +
+                            ("" if comment else newline)))
+    return out
+
+
+def run(cmd, timeout, cwd=None):
+    try:
+        p = subprocess.run(cmd, cwd=cwd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                           timeout=timeout, check=False)
+        return p.returncode, p.stdout.decode(errors="replace")
+    except subprocess.TimeoutExpired:
+        return None, "timeout"
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--build", required=True)
+    ap.add_argument("--seed", type=int, default=28)
+    ap.add_argument("--count", type=int, default=300)
+    ap.add_argument("--files", nargs="*", default=["include/motionbus/**/*.hpp"])
+    ap.add_argument("--timeout", type=float, default=300, help="seconds per build and per run")
+    ap.add_argument("--report", default=None, help="JSON report (default: BUILD/mutants.json)")
+    ap.add_argument("--list", action="store_true", help="list the sample, mutate nothing")
+    args = ap.parse_args()
+    build = os.path.abspath(args.build)
+    headers = sorted({p for g in args.files
+                      for p in glob.glob(os.path.join(ROOT, g), recursive=True)})
+    everything = [s for h in headers for s in sites(h)]
+    rng = random.Random(args.seed)
+    sample = list(everything)
+    rng.shuffle(sample)
+    sample = sample[:args.count]
+    print(f"mutate: {len(everything)} mutants in {len(headers)} headers; "
+          f"sample of {len(sample)} (seed {args.seed})", flush=True)
+    if args.list:
+        for path, i, kind, before, after in sample:
+            print(f"{os.path.relpath(path, ROOT)}:{i + 1}: {kind}: {before.strip()}  ->  "
+                  f"{after.strip()}")
+        return 0
+    tests = os.path.join(build, "tests", "motionbus_tests")
+    rc, out = run(["cmake", "--build", build, "--target", "motionbus_tests"], args.timeout * 4)
+    if rc != 0:
+        print("mutate: the unmutated build fails:\n" + out[-3000:], file=sys.stderr)
+        return 2
+    rc, out = run([tests, "--no-version"], args.timeout)
+    if rc != 0:
+        print("mutate: the unmutated tests fail:\n" + out[-3000:], file=sys.stderr)
+        return 2
+    results = []
+    counts = {"killed": 0, "survived": 0, "stillborn": 0, "timeout": 0}
+    started = time.time()
+    for n, (path, i, kind, before, after) in enumerate(sample, start=1):
+        with open(path, encoding="utf-8") as f:
+            original = f.read()
+        lines = original.splitlines(keepends=True)
+        lines[i] = after
+        try:
+            with open(path, "w", encoding="utf-8") as f:
+                f.write("".join(lines))
+            rc, out = run(["cmake", "--build", build, "--target", "motionbus_tests"],
+                          args.timeout)
+            if rc is None:
+                status = "timeout"
+            elif rc != 0:
+                status = "stillborn"
+            else:
+                rc, out = run([tests, "--no-version"], args.timeout)
+                status = "timeout" if rc is None else ("killed" if rc != 0 else "survived")
+        finally:
+            with open(path, "w", encoding="utf-8") as f:
+                f.write(original)
+        counts[status] += 1
+        where = f"{os.path.relpath(path, ROOT)}:{i + 1}"
+        results.append({"where": where, "kind": kind, "before": before.strip(),
+                        "after": after.strip(), "status": status})
+        print(f"[{n}/{len(sample)}] {status:9} {where} {kind}: {before.strip()}  ->  "
+              f"{after.strip()}", flush=True)
+    # the headers restored: rebuild once so that the build matches the sources again
+    run(["cmake", "--build", build, "--target", "motionbus_tests"], args.timeout * 4)
+    decided = counts["killed"] + counts["survived"]
+    score = 100.0 * counts["killed"] / decided if decided else 0.0
+    summary = {"seed": args.seed, "population": len(everything), "sample": len(sample),
+               "counts": counts, "score": round(score, 1),
+               "seconds": round(time.time() - started)}
+    report = args.report or os.path.join(build, "mutants.json")
+    with open(report, "w", encoding="utf-8") as f:
+        json.dump({"summary": summary, "mutants": results}, f, indent=1)
+    print(f"mutate: {counts['killed']} killed, {counts['survived']} survived, "
+          f"{counts['stillborn']} stillborn, {counts['timeout']} timed out; "
+          f"score {score:.1f} % of {decided}; report {report}")
+    for r in results:
+        if r["status"] == "survived":
+            print(f"  SURVIVED {r['where']} {r['kind']}: {r['before']}  ->  {r['after']}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
