@@ -201,19 +201,8 @@ MOTIONBUS_INLINE constexpr decode_result<response> decode_read_all(
     return decode_failure{errc::out_of_range, 1};
   }
   // Every field given (aggregate initialisation): each is stored once. By position, in the
-  // order of response's members: set by name, the ID3 decode costs more than the performance
-  // policy allows (docs/design.md, "Field order and construction"); the order is checked below.
-  static_assert(offsetof(response, id) < offsetof(response, cf) &&
-                    offsetof(response, cf) < offsetof(response, sf) &&
-                    offsetof(response, sf) < offsetof(response, enid) &&
-                    offsetof(response, enid) < offsetof(response, almc) &&
-                    offsetof(response, almc) < offsetof(response, address) &&
-                    offsetof(response, address) < offsetof(response, busy) &&
-                    offsetof(response, busy) < offsetof(response, edf) &&
-                    offsetof(response, edf) < offsetof(response, crc) &&
-                    offsetof(response, crc) < offsetof(response, abs) &&
-                    offsetof(response, abs) < offsetof(response, abm),
-                "response's members in the order this initialiser gives them");
+  // order of response's members, which frame.hpp checks: set by name, the ID3 decode costs more
+  // than the performance policy allows (docs/design.md, "Field order and construction").
   return decode_result<response>::complete(
       response{data_id::read_all, static_cast<std::uint8_t>(w), status, enid,
                static_cast<std::uint8_t>(f9), 0, false, 0, crc, abs, abm},
@@ -317,19 +306,8 @@ constexpr decode_result<response> decode_short_response(byte_view in,
   }
   const auto third = static_cast<std::uint8_t>(first);
   // Every field given (aggregate initialisation): each is stored once. By position, in the
-  // order of response's members: set by name, the ID3 decode costs more than the performance
-  // policy allows (docs/design.md, "Field order and construction"); the order is checked below.
-  static_assert(offsetof(response, id) < offsetof(response, cf) &&
-                    offsetof(response, cf) < offsetof(response, sf) &&
-                    offsetof(response, sf) < offsetof(response, enid) &&
-                    offsetof(response, enid) < offsetof(response, almc) &&
-                    offsetof(response, almc) < offsetof(response, address) &&
-                    offsetof(response, address) < offsetof(response, busy) &&
-                    offsetof(response, busy) < offsetof(response, edf) &&
-                    offsetof(response, edf) < offsetof(response, crc) &&
-                    offsetof(response, crc) < offsetof(response, abs) &&
-                    offsetof(response, abs) < offsetof(response, abm),
-                "response's members in the order this initialiser gives them");
+  // order of response's members, which frame.hpp checks: set by name, the ID3 decode costs more
+  // than the performance policy allows (docs/design.md, "Field order and construction").
   return decode_result<response>::complete(
       response{static_cast<data_id>(code), cf, eeprom ? std::uint8_t{0} : second,
                fields == field_bit::enid ? third : std::uint8_t{0}, std::uint8_t{0},

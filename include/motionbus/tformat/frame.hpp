@@ -237,7 +237,7 @@ struct request {
 
 /// A response as the master sees it; the fields present follow layout_of(id).
 /// (The one-byte fields come first and together: a decoder fills them with few stores. The
-/// ID3 decoder initialises them by position, and checks this order: codec.hpp.)
+/// decoders initialise them by position; the order is checked below the struct.)
 struct response {
   data_id id = data_id::read_abs;
   std::uint8_t cf = control_field(data_id::read_abs);
@@ -257,6 +257,20 @@ struct response {
   constexpr bool ca1() const noexcept { return (sf & sf::ca1) != 0U; }
   constexpr response_layout layout() const noexcept { return layout_of(id); }
 };
+
+// The decoders (codec.hpp) initialise a response by position: a reordering of its members is a
+// compile error here rather than swapped values there.
+static_assert(offsetof(response, id) < offsetof(response, cf) &&
+                  offsetof(response, cf) < offsetof(response, sf) &&
+                  offsetof(response, sf) < offsetof(response, enid) &&
+                  offsetof(response, enid) < offsetof(response, almc) &&
+                  offsetof(response, almc) < offsetof(response, address) &&
+                  offsetof(response, address) < offsetof(response, busy) &&
+                  offsetof(response, busy) < offsetof(response, edf) &&
+                  offsetof(response, edf) < offsetof(response, crc) &&
+                  offsetof(response, crc) < offsetof(response, abs) &&
+                  offsetof(response, abs) < offsetof(response, abm),
+              "response's members in the order the decoders' initialisers give them");
 
 }  // namespace tformat
 }  // namespace motionbus
