@@ -7,7 +7,7 @@
 #         package consumers (install, build tree, add_subdirectory, FetchContent, -I),
 #         clang-format, fuzz corpus replay, bench smoke run
 #   clang C++20 with ASan + UBSan: the same suites, plus each libFuzzer target for
-#         MOTIONBUS_FUZZ_SECONDS (default 20) seconds
+#         MOTIONBUS_FUZZ_SECONDS (default 10) seconds
 #   s390x (big-endian) and armhf (32-bit ARM): doctest, static and replay suites under qemu-user
 #   coverage: gcc at -O0 with gcov; every test that executes library code, then the line and
 #         branch coverage of include/ (tools/scripts/coverage_check.py): fails when a line no
@@ -17,7 +17,7 @@ set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$root"
 build="${MOTIONBUS_BUILD_DIR:-$root/build}"
-fuzz_seconds="${MOTIONBUS_FUZZ_SECONDS:-20}"
+fuzz_seconds="${MOTIONBUS_FUZZ_SECONDS:-10}"
 jobs="$(nproc 2>/dev/null || echo 2)"
 
 bash tools/scripts/ensure-packages.sh \
