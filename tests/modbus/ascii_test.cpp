@@ -288,6 +288,51 @@ TEST_CASE("ascii framer roles: server address and broadcast, client's sent(), li
   CHECK(!partial.inside());
 }
 
+TEST_CASE("ascii listener: each frame a request or its response, by pairing") {
+  const bytes read = {0x03, 0x00, 0x10, 0x00, 0x01};
+  const bytes answer = {0x03, 0x02, 0x12, 0x34};
+  const bytes refused = {0x83, 0x02};
+  const bytes write = {0x06, 0x00, 0x01, 0x00, 0x03};
+  // the directions heard, frame by frame: true for a response
+  const auto directions = [](ascii_framer& rx, const std::vector<bytes>& frames,
+                             std::size_t timeout_after = 99) {
+    std::vector<bool> heard;
+    for (std::size_t i = 0; i < frames.size(); ++i) {
+      REQUIRE(rx.feed(view(frames[i])).is_complete());
+      heard.push_back(rx.heard_response());
+      if (i == timeout_after) {
+        rx.no_response();
+      }
+    }
+    return heard;
+  };
+  ascii_framer rx(framer_role::listener);
+  CHECK(!rx.heard_response());
+  // request, its answer, request, its exception, then a request whose answer never comes
+  // followed by another request (to another slave), and that one's answer
+  CHECK(directions(rx,
+                   {ascii(0x11, read), ascii(0x11, answer), ascii(0x11, read), ascii(0x11, refused),
+                    ascii(0x11, write), ascii(0x12, read), ascii(0x12, answer)}) ==
+        std::vector<bool>{false, true, false, true, false, false, true});
+  // not a response: another slave, another function, after a broadcast, after a response
+  ascii_framer other(framer_role::listener);
+  CHECK(directions(other, {ascii(0x11, read), ascii(0x12, answer), ascii(0x12, write),
+                           ascii(0x00, write), ascii(0x12, write), ascii(0x11, read),
+                           ascii(0x11, answer), ascii(0x11, answer)}) ==
+        std::vector<bool>{false, false, false, false, false, false, true, false});
+  // a master repeating its request after the response time: no_response() makes it a request
+  ascii_framer repeated(framer_role::listener);
+  CHECK(directions(repeated, {ascii(0x11, read), ascii(0x11, read), ascii(0x11, answer)}, 0) ==
+        std::vector<bool>{false, false, true});
+  ascii_framer unpaired(framer_role::listener);  // the same without it: paired, as the rule says
+  CHECK(directions(unpaired, {ascii(0x11, read), ascii(0x11, read), ascii(0x11, answer)}) ==
+        std::vector<bool>{false, true, false});
+  // the other roles never pair
+  ascii_framer server(framer_role::server, {0x11});
+  CHECK(directions(server, {ascii(0x11, read), ascii(0x11, answer)}) ==
+        std::vector<bool>{false, false});
+}
+
 TEST_CASE("ascii framer: the delimiter after CR may be changed (FC08 sub-function 03)") {
   ascii_options options{0x11, '!'};
   ascii_framer f(framer_role::server, options);

@@ -77,9 +77,9 @@ int watch(serial::port& port, const cli::monitor_options& l, Monitor& m, const c
 
 // A Modbus ASCII line: its frames carry their own ends (':' ... CR LF), so the library's ASCII
 // framer as a listener frames them (a bad LRC is crc_mismatch, a non-hex character
-// non_hex_character: one failure each, with the error of the framer); the direction is the
-// pairing's, as ASCII frames have no length rule to tell it: after a request, a frame from its
-// slave with its function (or its exception) is its response, any other a request. Each frame
+// non_hex_character: one failure each, with the error of the framer) and tells each frame's
+// direction (heard_response(): the pairing, ASCII frames having no length rule); a request
+// left unanswered past --response-ms is told to it (no_response()). Each frame
 // is described as its RTU form would be (the same fields; `crc` is that form's) with `lrc`,
 // the frame's own. The silence (--gap-us) is not used: a pause inside an ASCII frame is
 // allowed (Serial Line §2.5.2.2: up to 1 s).
@@ -102,6 +102,7 @@ class ascii_monitor {
   }
   void tick(std::uint32_t time_us, std::uint32_t /*silent_us*/) {
     if (pending_ && time_us - pending_time_ >= response_us_) {
+      rx_.no_response();
       missing(time_us);
     }
   }
@@ -123,9 +124,7 @@ class ascii_monitor {
       cli::print(cli::outcome::failure(mb::to_string(as_rtu.error())), bus_monitor::at(time, "?"));
       return;
     }
-    const bool response =
-        pending_ && f.slave == request_[0] && !f.pdu.empty() &&
-        (f.pdu[0] & static_cast<std::uint8_t>(~mo::exception_flag)) == request_[1];
+    const bool response = pending_ && rx_.heard_response();
     cli::record p = bus_monitor::at(time, response ? "response" : "request");
     if (response) {
       const auto request = mo::decode_rtu(mb::byte_view(request_.data(), request_.size()));

@@ -101,10 +101,12 @@ std::optional<std::uint8_t> parse_data_id(const std::string& text) {
   return static_cast<std::uint8_t>(*v);
 }
 
-std::uint8_t data_id_of(const std::optional<std::string>& text) {
-  const auto id = text ? parse_data_id(*text) : std::nullopt;
+const char* const data_id_usage = "--id takes a Data ID: one hex digit 0..F";
+
+std::uint8_t data_id_of(const std::string& text) {
+  const auto id = parse_data_id(text);
   if (!id) {
-    throw cli::usage_error{"--id takes a Data ID: one hex digit 0..F"};
+    throw cli::usage_error{data_id_usage};
   }
   return *id;
 }
@@ -123,17 +125,26 @@ std::size_t request_of(std::uint8_t id, unsigned address, unsigned data,
 // --id, --address and --data: a request (encode, read). The library refuses an EEPROM address
 // past 127 (out_of_range); `max_address` lets encode show that refusal.
 struct request_options {
-  std::optional<std::string> id;
+  std::optional<std::uint8_t> id;  ///< read from its hex digit as the line is parsed
   unsigned address = 0;
   unsigned data = 0;
   void bind(CLI::App& app, std::uint64_t max_address) {
-    cli::text(app, "id", id);
+    app.add_option_function<std::string>(
+           "--id", [this](const std::string& text) { id = data_id_of(text); },
+           cli::option_help("id").help)
+        ->type_name(cli::option_help("id").type);
     cli::number(app, "address", address, 0, max_address);
     cli::number(app, "data", data, 0, 0xFF);
   }
+  std::uint8_t required_id() const {
+    if (!id) {
+      throw cli::usage_error{data_id_usage};
+    }
+    return *id;
+  }
   // The request frame (its size).
   std::size_t build(std::uint8_t (&out)[tf::max_request_size]) const {
-    return request_of(data_id_of(id), address, data, out);
+    return request_of(required_id(), address, data, out);
   }
 };
 
@@ -284,7 +295,7 @@ int read_encoder(const read_options& opts) {
   ro.decode = options_for(opts.resolution);
   std::optional<tformat_io::watch_setup> watching;
   if (opts.watch.watch) {  // usage errors before the port is opened
-    watching = watch_setup_of(opts, data_id_of(opts.request.id), request, n, ro);
+    watching = watch_setup_of(opts, opts.request.required_id(), request, n, ro);
   }
   serial::port port;
   if (!opts.line.open(port)) {

@@ -60,6 +60,14 @@ inline constexpr bool unaligned_halfwords = true;
 inline constexpr bool unaligned_halfwords = false;
 #endif
 
+/// x86-64 hosts, where a reflected 16-bit CRC's byte table is read as two byte tables (its
+/// entries' low and high bytes, the same table's bytes) by the range walk (crc::feed_split).
+#if defined(__x86_64__)
+inline constexpr bool split_halfword_table = true;
+#else
+inline constexpr bool split_halfword_table = false;
+#endif
+
 constexpr std::uint32_t low_mask32(unsigned width) noexcept {
   return width >= 32U ? 0xFFFFFFFFU : ((std::uint32_t{1} << width) - 1U);
 }
@@ -228,6 +236,20 @@ struct crc_kernel {
         make_table<ChunkBits>();
   };
 
+  /// The byte table's entries as two tables of their low and high bytes (16-bit registers).
+  static constexpr std::array<std::array<std::uint8_t, 256>, 2> make_split_tables() noexcept {
+    std::array<std::array<std::uint8_t, 256>, 2> split{};
+    const auto& table = table_holder<8>::table;
+    for (std::size_t i = 0; i < 256U; ++i) {
+      split[0][i] = static_cast<std::uint8_t>(table[i] & 0xFFU);
+      split[1][i] = static_cast<std::uint8_t>(table[i] >> 8U);
+    }
+    return split;
+  }
+  struct split_holder {
+    static constexpr std::array<std::array<std::uint8_t, 256>, 2> tables = make_split_tables();
+  };
+
   /// Feeds a whole chunk of ChunkBits bits (8 or 4), given in the CRC's bit order.
   template <unsigned ChunkBits>
   static constexpr std::uint32_t step_chunk(std::uint32_t reg, std::uint32_t chunk) noexcept {
@@ -338,11 +360,14 @@ class crc {
 
  private:
   // How feed_range walks the bytes: one named walk per target, chosen here and nowhere else.
-  enum class byte_walk { xor_fold, sliced, pairs, counted, indexed };
+  enum class byte_walk { xor_fold, sliced, split, pairs, counted, indexed };
   static constexpr byte_walk walk =
       (chunk_bits == 8U && kernel::reg_bits == 8U && kernel::template identity_table<8>())
           ? byte_walk::xor_fold
-      : (sliced && kernel::can_slice)                     ? byte_walk::sliced
+      : (sliced && kernel::can_slice) ? byte_walk::sliced
+      : (Table == crc_table_size::byte && Spec::refin && kernel::reg_bits == 16U &&
+         detail::split_halfword_table)
+          ? byte_walk::split
       : (chunk_bits == 8U && detail::unaligned_halfwords) ? byte_walk::pairs
       : MOTIONBUS_SMALL_CODE                              ? byte_walk::counted
                                                           : byte_walk::indexed;
@@ -355,6 +380,8 @@ class crc {
       return reg ^ xor_fold(at, size);
     } else if constexpr (walk == byte_walk::sliced) {
       return feed_sliced(reg, at, size);
+    } else if constexpr (walk == byte_walk::split) {
+      return feed_split(reg, at, size);
     } else if constexpr (walk == byte_walk::pairs) {
       return feed_pairs(reg, at, size);
     } else if constexpr (walk == byte_walk::counted) {
@@ -396,6 +423,22 @@ class crc {
       reg = kernel::step_slice4(reg, le32(data, i));
     }
     return feed_indexed(reg, at + i, size - i);
+  }
+
+  // x86-64, reflected 16-bit CRCs: the register as two bytes and the table as two byte tables,
+  // so that each byte's step has a byte load on the loop-carried chain, not a scaled halfword
+  // load (the table layout of Modbus over Serial Line V1.02 §6.2.2).
+  static constexpr std::uint32_t feed_split(std::uint32_t reg, const std::uint8_t* at,
+                                            std::size_t size) noexcept {
+    const auto& tables = kernel::split_holder::tables;
+    std::uint32_t lo = reg & 0xFFU;
+    std::uint32_t hi = reg >> 8U;
+    for (std::size_t i = 0; i < size; ++i) {
+      const std::uint32_t k = lo ^ at[i];
+      lo = hi ^ tables[0][k];
+      hi = tables[1][k];
+    }
+    return lo | (hi << 8U);
   }
 
   // Arm cores with unaligned halfword loads: one load and one loop test for two table steps.

@@ -18,7 +18,7 @@
 // Firmware contract (Cortex-M4; sizes checked by the test command): emulator size: 112 bytes.
 // Its power-on state (the password `password`, the factory settings) is not all zeros, so a
 // `static` one is in .data: 112 bytes of flash copied to RAM at boot. It serves requests through
-// modbus::serve_frame / serve_rtu: an FC03 of three settings from the request ADU takes 757
+// modbus::serve_frame / serve_rtu: an FC03 of three settings from the request ADU takes 643
 // instructions and 560 bytes of stack (meter, Cortex-M4 -Os: serve_rtu's register buffer, as
 // the emulator has uint16_t accessors; the only request measured). Serving and the world's
 // setters (set_time_ms, inject_warning) must not run at the same time.

@@ -322,9 +322,10 @@ struct ascii_options {
 
 /// Modbus ASCII stream framing (see the top of this file), in one of three roles: server (the
 /// requests for its address and broadcasts), client (the response from the slave of the last
-/// sent(), any before the first, or options.address), listener (every frame of a tapped
-/// line; it tells no direction: ASCII frames carry their own ends, not a length rule).
-/// framer_role::either is a server.
+/// sent(), any before the first, or options.address), listener (every frame of a tapped line,
+/// each a request or a response: heard_response()). framer_role::either is a server: ASCII
+/// frames carry their own ends, so a framer needs no length rule of either direction, which is
+/// what either chooses at run time for the RTU framer.
 class ascii_framer {
  public:
   /// A default-constructed framer is all zeros (its options are stored relative to the
@@ -403,6 +404,18 @@ class ascii_framer {
   /// Whether a frame is being received (':' seen, its end not yet).
   constexpr bool inside() const noexcept { return reader_.inside(); }
 
+  /// listener: whether the last frame handed over was the response to the request before it
+  /// (else it was a request). ASCII frames have no length rule to tell the directions apart,
+  /// so the pairing tells: after a request other than a broadcast, a frame from its slave with
+  /// its function, or that function's exception (function + 0x80), is its response; any other
+  /// frame is a request. A request makes the listener expect its response; a response, a
+  /// broadcast or no_response() makes it expect a request.
+  constexpr bool heard_response() const noexcept { return heard_response_; }
+  /// listener: the response to the last request did not come in time (the user's timer, as
+  /// for the RTU listener): the next frame is a request, even one from the same slave with
+  /// the same function (a master repeating its request).
+  constexpr void no_response() noexcept { function_ = 0; }
+
  private:
   constexpr decode_result<ascii_frame> reader_failure(std::size_t consumed) const noexcept {
     return reader_.failure(consumed);
@@ -434,8 +447,24 @@ class ascii_framer {
       ++skipped_;
       return false;
     }
+    if (role_ == framer_role::listener) {
+      pair(f);
+    }
     result_ = decode_result<ascii_frame>::complete(f, 1);
     return true;
+  }
+
+  // listener: the direction of `f` (heard_response()) and what the next frame may answer.
+  constexpr void pair(const ascii_frame& f) noexcept {
+    const std::uint8_t function = f.pdu[0];  // the reader hands over frames of 1 PDU byte or more
+    heard_response_ = function_ != 0U && f.slave == slave_ &&
+                      (function & static_cast<std::uint8_t>(~exception_flag)) == function_;
+    if (heard_response_ || f.broadcast()) {
+      function_ = 0;
+    } else {
+      slave_ = f.slave;
+      function_ = function;
+    }
   }
 
   std::uint8_t bytes_[max_ascii_bytes] = {};  // address, PDU, LRC of the frame being read
@@ -443,8 +472,11 @@ class ascii_framer {
   // The options, each stored so that its default is 0 (a default framer is all zeros).
   std::uint8_t address_ = 0;
   std::uint8_t delimiter_x_ = 0;  // XOR the default delimiter, LF
-  std::uint8_t slave_ = 0;        // client: the slave of the request sent (0: any)
+  std::uint8_t slave_ = 0;        // client: the slave of the request sent (0: any); listener:
+                                  // the slave of the request heard
   framer_role role_ = framer_role::server;
+  std::uint8_t function_ = 0;    // listener: the function of the request heard (0: none)
+  bool heard_response_ = false;  // listener: heard_response()
   std::size_t dropped_ = 0;
   std::size_t skipped_ = 0;
   decode_result<ascii_frame> result_;  // put()'s

@@ -387,6 +387,40 @@ struct device_checks {
   static constexpr bool value = true;
 };
 
+// The device's read_registers into `regs` (`quantity` of them, cleared), then, if it answers
+// 0, their values into the response PDU after the function and byte count.
+template <class Device>
+constexpr std::uint8_t read_through(Device& dev, std::uint8_t f, std::uint16_t address,
+                                    span<std::uint16_t> regs, mutable_byte_view pdu_out) noexcept {
+  const std::uint8_t code = dev.read_registers(f, address, regs);
+  if (code == 0U) {
+    put_registers(pdu_out, 2, span<const std::uint16_t>(regs.data(), regs.size()));
+  }
+  return code;
+}
+
+// At run time the register buffer is cleared as far as the request reaches (a device that
+// leaves a register unwritten answers 0 for it, never a stale stack value), not whole: a
+// 2-register read clears 4 bytes, not 250. Not constexpr: C++17 wants every variable of a
+// constexpr function initialised, which is read_registers_into's own buffer below.
+// inline: in the dispatch's frame its buffer shares a slot with the write path's; out of line
+// the two frames add up (meter: a buffer's worth more stack on Cortex-M0+/M4 at -O2).
+template <class Device>
+MOTIONBUS_INLINE std::uint8_t read_through_uncleared(Device& dev, std::uint8_t f,
+                                                     std::uint16_t address, std::uint16_t quantity,
+                                                     mutable_byte_view pdu_out) noexcept {
+  std::uint16_t regs[max_read_registers];
+#if defined(__GNUC__) || defined(__clang__)
+  // (for the loop below clang's rv32 code keeps a second buffer on the stack: meter, -Os)
+  __builtin_memset(regs, 0, std::size_t{2} * quantity);
+#else
+  for (std::size_t i = 0; i < quantity; ++i) {
+    regs[i] = 0;
+  }
+#endif
+  return read_through(dev, f, address, span<std::uint16_t>(regs, quantity), pdu_out);
+}
+
 // Reads q.quantity registers from `address` into the response PDU `pdu_out` (function, byte
 // count, values), through whichever accessor the device has. Returns 0 or the exception code.
 template <class Device>
@@ -399,12 +433,13 @@ constexpr std::uint8_t read_registers_into(Device& dev, std::uint8_t f, std::uin
     return dev.read_registers_be(f, address, quantity,
                                  pdu_out.subspan(2, std::size_t{2} * quantity));
   } else {
-    std::uint16_t regs[max_read_registers] = {};
-    const std::uint8_t code = dev.read_registers(f, address, span<std::uint16_t>(regs, quantity));
-    if (code == 0U) {
-      put_registers(pdu_out, 2, span<const std::uint16_t>(regs, quantity));
+    if (!MOTIONBUS_CONSTANT_EVALUATED()) {
+      return read_through_uncleared(dev, f, address, quantity, pdu_out);
     }
-    return code;
+    // coverage-begin: constant evaluation only (not counted), and compilers that cannot tell it
+    std::uint16_t regs[max_read_registers] = {};
+    return read_through(dev, f, address, span<std::uint16_t>(regs, quantity), pdu_out);
+    // coverage-end
   }
 }
 
