@@ -17,6 +17,7 @@
 #include "biss_io.hpp"
 #include "capture.hpp"
 #include "cli.hpp"
+#include "options_bind.hpp"
 
 namespace mb = motionbus;
 namespace bs = motionbus::biss;

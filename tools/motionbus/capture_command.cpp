@@ -27,7 +27,7 @@
 #include "capture.hpp"
 #include "cli.hpp"
 #include "modbus_io.hpp"
-#include "options.hpp"
+#include "options_bind.hpp"
 
 namespace mb = motionbus;
 namespace mo = motionbus::modbus;

@@ -25,7 +25,7 @@
 
 #include <motionbus/version.hpp>
 #include "cli.hpp"
-#include "options.hpp"
+#include "options_bind.hpp"
 
 namespace cli {
 

@@ -30,7 +30,7 @@
 #include "capture.hpp"
 #include "cli.hpp"
 #include "modbus_io.hpp"
-#include "options.hpp"
+#include "options_bind.hpp"
 #include "serial.hpp"
 #include "tcp_io.hpp"
 

@@ -1,5 +1,5 @@
 // Typed options for the CLI's commands, and the serial-line group.
-#include "options.hpp"
+#include "options_bind.hpp"
 
 #include <iostream>
 

@@ -6,7 +6,12 @@
 #ifndef MOTIONBUS_TOOLS_OPTIONS_HPP
 #define MOTIONBUS_TOOLS_OPTIONS_HPP
 
-#include <CLI/CLI.hpp>
+// CLI11's types by name only: a command that binds options with number() includes
+// options_bind.hpp (CLI11 whole); the others compile without CLI11.
+namespace CLI {
+class App;
+class Option;
+}  // namespace CLI
 
 #include <cstdint>
 #include <functional>
@@ -50,31 +55,7 @@ std::string help_with_range(const std::string& name, std::uint64_t min, std::uin
 /// a usage error. The field's value before parsing is the default, shown in --help.
 CLI::Option* number(CLI::App& app, const std::string& name, std::uint64_t& field, std::uint64_t min,
                     std::uint64_t max);
-template <class T>
-CLI::Option* number(CLI::App& app, const std::string& name, T& field, std::uint64_t min,
-                    std::uint64_t max) {
-  CLI::Option* o = app.add_option_function<std::string>(
-      "--" + name,
-      [&field, name, min, max](const std::string& text) {
-        field = static_cast<T>(number_in_range(name, text, min, max));
-      },
-      help_with_range(name, min, max));
-  o->type_name(option_help(name).type)->default_str(std::to_string(field));
-  return o;
-}
-/// A number with no default: empty when the option is absent.
-template <class T>
-CLI::Option* number(CLI::App& app, const std::string& name, std::optional<T>& field,
-                    std::uint64_t min, std::uint64_t max) {
-  CLI::Option* o = app.add_option_function<std::string>(
-      "--" + name,
-      [&field, name, min, max](const std::string& text) {
-        field = static_cast<T>(number_in_range(name, text, min, max));
-      },
-      help_with_range(name, min, max));
-  o->type_name(option_help(name).type);
-  return o;
-}
+// number() for other integer types and std::optional fields: options_bind.hpp.
 /// Binds `--name` to a text field (checked against the catalogue's allowed values, if any);
 /// a non-empty initial value is the default shown in --help.
 CLI::Option* text(CLI::App& app, const std::string& name, std::string& field);

@@ -22,7 +22,7 @@
 
 #include "cli.hpp"
 #include "modbus_io.hpp"
-#include "options.hpp"
+#include "options_bind.hpp"
 #include "serial.hpp"
 
 namespace mb = motionbus;

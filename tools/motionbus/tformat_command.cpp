@@ -19,7 +19,7 @@
 
 #include "capture.hpp"
 #include "cli.hpp"
-#include "options.hpp"
+#include "options_bind.hpp"
 #include "serial.hpp"
 #include "tformat_io.hpp"
 
