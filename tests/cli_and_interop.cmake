@@ -128,6 +128,15 @@ if(pymodbus_framers_rc EQUAL 0)
     COMMAND /usr/bin/python3 "${CMAKE_CURRENT_SOURCE_DIR}/interop/pymodbus_framers.py"
             "$<TARGET_FILE:motionbus_interop_framers>")
   set_tests_properties(interop.pymodbus_framers PROPERTIES LABELS "interop" TIMEOUT 120)
+  # the same RTU framer against pymodbus's on random streams (valid frames, noise, bit flips,
+  # cut frames) from a fixed seed, server and client roles; the classes of difference in
+  # docs/modbus.md §14 (tests/interop/pymodbus_framer_differential.py)
+  add_test(NAME interop.pymodbus_framer_differential
+    COMMAND /usr/bin/python3
+            "${CMAKE_CURRENT_SOURCE_DIR}/interop/pymodbus_framer_differential.py"
+            "$<TARGET_FILE:motionbus_interop_framers>" --seed 28 --frames 3000 --exchanges 1500)
+  set_tests_properties(interop.pymodbus_framer_differential PROPERTIES LABELS "interop"
+    TIMEOUT 120)
 elseif(MOTIONBUS_REQUIRE_ALL_CHECKS)
   message(FATAL_ERROR "the pymodbus framer interop test needs python3-pymodbus")
 endif()
