@@ -123,9 +123,9 @@ int main(int argc, char** argv) {
       return mo::encode_ascii(s, p, o);
     });
   }
-  mo::rtu_framer f(role == mo::framer_role::client ? role : mo::framer_role::server,
-                   mo::framer_options{address, mode == "rtu" ? mo::frame_end::silence
-                                                             : mo::frame_end::length});
+  mo::rtu_framer f(
+      role == mo::framer_role::client ? role : mo::framer_role::server,
+      mo::framer_options{address, mode == "rtu" ? mo::frame_end::silence : mo::frame_end::length});
   return run(f, [](std::uint8_t s, mb::byte_view p, mb::mutable_byte_view o) {
     return mo::encode_rtu(s, p, o);
   });
