@@ -186,8 +186,20 @@ if(MOTIONBUS_LIBMODBUS_VALUES_FOUND)
   motionbus_project_target(motionbus_server_differential)
   add_test(NAME interop.server_differential COMMAND motionbus_server_differential 20000)
   set_tests_properties(interop.server_differential PROPERTIES LABELS "interop" TIMEOUT 120)
+  # The client's response checks against libmodbus's (check_confirmation, through its master's
+  # calls), 20000 random requests and mostly mutated responses from a fixed seed
+  # (tests/interop/client_differential.cpp)
+  add_executable(motionbus_client_differential interop/client_differential.cpp)
+  target_include_directories(motionbus_client_differential SYSTEM PRIVATE
+    ${MOTIONBUS_LIBMODBUS_VALUES_INCLUDE_DIRS})
+  target_link_libraries(motionbus_client_differential PRIVATE motionbus::motionbus
+    ${MOTIONBUS_LIBMODBUS_VALUES_LINK_LIBRARIES})
+  motionbus_project_target(motionbus_client_differential)
+  add_test(NAME interop.client_differential
+    COMMAND motionbus_client_differential 20000 0x28C11E)
+  set_tests_properties(interop.client_differential PROPERTIES LABELS "interop" TIMEOUT 120)
 elseif(MOTIONBUS_REQUIRE_ALL_CHECKS)
-  message(FATAL_ERROR "the server differential test needs libmodbus-dev")
+  message(FATAL_ERROR "the server and client differential tests need libmodbus-dev")
 endif()
 # FC14/15 file records against pymodbus's file_message classes (tests/interop/file_record_check.py)
 if(values_pymodbus_ok)
