@@ -57,7 +57,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   MOTIONBUS_FUZZ_CHECK(sent.size() >= 4U && sent[0] == q.slave && sent[1] == q.function);
   const client_diff::outcome o = client_diff::library_client(sent, response);
   if (!client_diff::same(o, t)) {
-    MOTIONBUS_FUZZ_CHECK(!client_diff::difference_class(q, response, o, t).empty());
+    MOTIONBUS_FUZZ_CHECK(!client_diff::difference_class(q, o, t).empty());
   }
   return 0;
 }

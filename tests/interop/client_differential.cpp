@@ -138,7 +138,7 @@ int main(int argc, char** argv) {
       }
       continue;
     }
-    const std::string cls = difference_class(q, response, o, t);
+    const std::string cls = difference_class(q, o, t);
     if (cls.empty()) {
       ++failures;
       if (failures <= 10) {

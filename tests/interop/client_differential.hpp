@@ -8,13 +8,13 @@
 #ifndef MOTIONBUS_TESTS_INTEROP_CLIENT_DIFFERENTIAL_HPP
 #define MOTIONBUS_TESTS_INTEROP_CLIENT_DIFFERENTIAL_HPP
 
-#include <errno.h>
 #include <modbus.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
 #include <motionbus/modbus.hpp>
 
+#include <cerrno>
 #include <cstdint>
 #include <cstring>
 #include <string>
@@ -357,10 +357,8 @@ inline outcome library_client(const std::vector<std::uint8_t>& request_adu,
 }
 
 /// The documented class of a difference (docs/modbus.md §15), or "" when it is of none.
-/// `response`: the bytes both read; `ours` and `theirs`: the library's and libmodbus's
-/// outcomes.
-inline std::string difference_class(const request& q, const std::vector<std::uint8_t>& response,
-                                    const outcome& ours, const outcome& theirs) {
+/// `ours` and `theirs`: the library's and libmodbus's outcomes for the request `q`.
+inline std::string difference_class(const request& q, const outcome& ours, const outcome& theirs) {
   const auto our_error = static_cast<mb::errc>(ours.error);
   // 1. a write's response whose echo differs from the request (FC05/06/16: any field; FC0F/10:
   //    the address): libmodbus checks only its length (and the FC0F/10 quantity), the library
@@ -383,7 +381,6 @@ inline std::string difference_class(const request& q, const std::vector<std::uin
       theirs.kind == outcome::refused && theirs.error == EMBBADEXC) {
     return "exception code above 0x0B";
   }
-  (void)response;
   return "";
 }
 
