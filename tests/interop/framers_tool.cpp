@@ -1,6 +1,8 @@
-// The Modbus ASCII framer and the RTU framer over TCP (frame_end::length) driven by text lines on
-// stdin, for tests/interop/pymodbus_framers.py, which compares them with pymodbus's framers:
-//   framers_tool ascii|rtu-tcp server|client|listener ADDRESS
+// The Modbus ASCII framer and the RTU framer over TCP (frame_end::length) or on a serial line
+// (frame_end::silence: `idle` lines are the t3.5 silences) driven by text lines on stdin, for
+// tests/interop/pymodbus_framers.py and pymodbus_framer_differential.py, which compare them
+// with pymodbus's framers:
+//   framers_tool ascii|rtu-tcp|rtu server|client|listener ADDRESS
 // Lines in:  sent HEX   (the request written: sent())
 //            feed CHUNK HEX   (the bytes in chunks of CHUNK: feed_all)
 //            put HEX    (one byte at a time: put_each)
@@ -106,7 +108,7 @@ int run(Framer& f, Encode&& encode) {
 
 int main(int argc, char** argv) {
   if (argc != 4) {
-    std::cerr << "usage: framers_tool ascii|rtu-tcp server|client|listener ADDRESS\n";
+    std::cerr << "usage: framers_tool ascii|rtu-tcp|rtu server|client|listener ADDRESS\n";
     return 2;
   }
   const std::string mode = argv[1];
@@ -121,8 +123,9 @@ int main(int argc, char** argv) {
       return mo::encode_ascii(s, p, o);
     });
   }
-  mo::rtu_framer f(role == mo::framer_role::client ? role : mo::framer_role::server,
-                   mo::framer_options{address, mo::frame_end::length});
+  mo::rtu_framer f(
+      role == mo::framer_role::client ? role : mo::framer_role::server,
+      mo::framer_options{address, mode == "rtu" ? mo::frame_end::silence : mo::frame_end::length});
   return run(f, [](std::uint8_t s, mb::byte_view p, mb::mutable_byte_view o) {
     return mo::encode_rtu(s, p, o);
   });

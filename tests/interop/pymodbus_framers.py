@@ -6,6 +6,7 @@ ours are parsed by pymodbus into the same messages; bad ASCII input (a bad LRC, 
 character) is refused by both, and ours reads the next frame.
 
 Usage: pymodbus_framers.py FRAMERS_TOOL   (tests/interop/framers_tool.cpp). Exit 0: all agree.
+Its helpers (Ours, check, pdu_of, frame_line) serve pymodbus_framer_differential.py too.
 """
 import random
 import subprocess
@@ -30,7 +31,7 @@ from pymodbus.register_write_message import WriteMultipleRegistersResponse
 from pymodbus.register_write_message import WriteSingleRegisterRequest
 from pymodbus.register_write_message import WriteSingleRegisterResponse
 
-TOOL = sys.argv[1]
+TOOL = None  # the framers_tool binary: the command line's, or set by the importing script
 FAILURES = []
 
 
@@ -241,4 +242,5 @@ def main():
 
 
 if __name__ == "__main__":
+    TOOL = sys.argv[1]
     sys.exit(main())
