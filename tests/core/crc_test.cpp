@@ -403,3 +403,14 @@ TEST_CASE("crc_parameters: valid() refuses each out-of-range value alone; dynami
   CHECK(c.update_bits(0x7, 3).value() == 1U);
   CHECK(c.update_bits(0x1, 1).value() == 0U);
 }
+
+TEST_CASE("crc_parameters: == compares every field, each one alone") {
+  const crc_parameters p{16, 0x8005, 0xFFFF, true, true, 0x0000};
+  CHECK(p == crc_parameters{16, 0x8005, 0xFFFF, true, true, 0x0000});
+  CHECK(p != crc_parameters{15, 0x8005, 0xFFFF, true, true, 0x0000});
+  CHECK(p != crc_parameters{16, 0x8004, 0xFFFF, true, true, 0x0000});
+  CHECK(p != crc_parameters{16, 0x8005, 0xFFFE, true, true, 0x0000});
+  CHECK(p != crc_parameters{16, 0x8005, 0xFFFF, false, true, 0x0000});
+  CHECK(p != crc_parameters{16, 0x8005, 0xFFFF, true, false, 0x0000});
+  CHECK(p != crc_parameters{16, 0x8005, 0xFFFF, true, true, 0x0001});
+}
