@@ -529,3 +529,10 @@ TEST_CASE("observer: an invalid R/W pair, a master ending in a wait state, P sen
   CHECK(seen[1].data == 0xA7);
   CHECK(seen[1].crc_ok);
 }
+
+TEST_CASE("abort() with no access running changes nothing") {
+  control_master m;
+  m.abort();
+  CHECK(m.state() == control_state::idle);
+  CHECK(m.error() == errc::ok);
+}

@@ -30,3 +30,88 @@ TEST_CASE("EDS common part: a checksum that does not match, when asked to verify
   CHECK(encode_eds_common(eds_common{}, mutable_byte_view(bank, bank_size - 1U)) ==
         errc::buffer_too_small);
 }
+
+TEST_CASE("EDS common part and BP3 profile: == compares every field, each one alone") {
+  // Each field changed alone makes the two unequal: a comparison that skipped a field (or
+  // stopped at the first) would call them equal.
+  const eds_common c;
+  CHECK(c == eds_common{});
+  std::uint8_t eds_common::*const common_fields[] = {
+      &eds_common::version,       &eds_common::length,       &eds_common::user_bank_start,
+      &eds_common::user_bank_end, &eds_common::channels,     &eds_common::validity,
+      &eds_common::location,      &eds_common::profile_bank, &eds_common::data_length,
+      &eds_common::data_format,   &eds_common::crc_poly};
+  for (auto field : common_fields) {
+    eds_common other = c;
+    other.*field = static_cast<std::uint8_t>(other.*field + 1U);
+    CHECK_FALSE(c == other);
+    CHECK_FALSE(other == c);
+  }
+
+  const bp3_profile p;
+  CHECK(p == bp3_profile{});
+  std::uint8_t bp3_profile::*const bytes_fields[] = {
+      &bp3_profile::version,           &bp3_profile::length,
+      &bp3_profile::feedback1,         &bp3_profile::feedback2,
+      &bp3_profile::power_on_delay_ms, &bp3_profile::positions,
+      &bp3_profile::mt_length,         &bp3_profile::mt_format,
+      &bp3_profile::coarse_length,     &bp3_profile::coarse_format,
+      &bp3_profile::fine_length,       &bp3_profile::fine_format};
+  for (auto field : bytes_fields) {
+    bp3_profile other = p;
+    other.*field = static_cast<std::uint8_t>(other.*field + 1U);
+    CHECK_FALSE(p == other);
+  }
+  std::uint32_t bp3_profile::*const word_fields[] = {
+      &bp3_profile::mt_count, &bp3_profile::sip_count, &bp3_profile::sip_resolution,
+      &bp3_profile::crc_poly, &bp3_profile::crc_start};
+  for (auto field : word_fields) {
+    bp3_profile other = p;
+    other.*field += 1U;
+    CHECK_FALSE(p == other);
+  }
+  bp3_profile other = p;
+  other.profile_id = 0x6321;
+  CHECK_FALSE(p == other);
+  other = p;
+  other.type = encoder_type::linear;
+  CHECK_FALSE(p == other);
+}
+
+TEST_CASE("BP3 profile: pulses per revolution and LSB size, 0 when 2^SIP_RES does not fit") {
+  bp3_profile p;
+  p.sip_count = 3;
+  p.sip_resolution = 31;
+  CHECK(p.pulses_per_revolution() == (std::uint64_t{3} << 31U));
+  CHECK(p.lsb_nm() == doctest::Approx(3.0 / 2147483648.0));
+  p.sip_resolution = 32;  // above what decode_bp3 accepts (20), a profile built by hand
+  CHECK(p.pulses_per_revolution() == 0U);
+  CHECK(p.lsb_nm() == 0.0);
+}
+
+TEST_CASE("bank_checksum: bytes 0x00..0x3E of a whole bank, or what a short view holds") {
+  std::uint8_t bank[bank_size] = {};
+  for (std::size_t i = 0; i < bank_size; ++i) {
+    bank[i] = 1;
+  }
+  CHECK(bank_checksum(byte_view(bank, bank_size)) == 63U);  // byte 0x3F is the checksum
+  CHECK(bank_checksum(byte_view(bank, 10)) == 10U);
+  CHECK(bank_checksum(byte_view()) == 0U);
+}
+
+TEST_CASE("EDS common part: each invalid field alone is biss_eds") {
+  // length, channels and data length 0, data length above 64 bits, CRC polynomial 0
+  auto with = [](std::size_t at, std::uint8_t value) {
+    std::uint8_t bank[bank_size] = {};
+    REQUIRE(encode_eds_common(eds_common{}, mutable_byte_view(bank, bank_size)) == errc::ok);
+    bank[at] = value;
+    return decode_eds_common(byte_view(bank, bank_size));
+  };
+  CHECK(with(0x01, 1).is_complete());
+  CHECK(with(0x01, 0).error() == errc::biss_eds);
+  CHECK(with(0x10, 0).error() == errc::biss_eds);
+  CHECK(with(0x15, 0).error() == errc::biss_eds);
+  CHECK(with(0x15, 64).is_complete());
+  CHECK(with(0x15, 65).error() == errc::biss_eds);
+  CHECK(with(0x17, 0).error() == errc::biss_eds);
+}

@@ -56,3 +56,37 @@ TEST_CASE("slave_layout: validate() takes 1..64 data bits and a CRC that fits it
   l.crc.start = 0x40;
   CHECK(l.validate() == errc::biss_layout);
 }
+
+TEST_CASE("crc_format: == compares every field; parameters() of a 32-bit CRC") {
+  const crc_format c;
+  CHECK(c == crc_format{});
+  crc_format o = c;
+  o.width = 5;
+  CHECK(o != c);
+  o = c;
+  o.poly = 0x05;
+  CHECK(o != c);
+  o = c;
+  o.start = 0x01;
+  CHECK(o != c);
+  o = c;
+  o.inverted = false;
+  CHECK(o != c);
+  CHECK(c.parameters().xorout == 0x3FU);
+  CHECK(o.parameters().xorout == 0U);
+  crc_format wide{32, 0x04C11DB7, 0, true};  // the mask of every bit: no 32-bit shift
+  CHECK(wide.parameters().xorout == 0xFFFFFFFFU);
+}
+
+TEST_CASE("slave_layout: validate() refuses each too-wide field alone") {
+  slave_layout l;
+  l.single_turn_bits = 65;
+  CHECK(l.validate() == errc::biss_layout);
+  l = slave_layout{};
+  l.multi_turn_bits = 65;
+  l.single_turn_bits = 0;
+  CHECK(l.validate() == errc::biss_layout);
+  l = slave_layout{};
+  l.alignment_bits = 65;
+  CHECK(l.validate() == errc::biss_layout);
+}

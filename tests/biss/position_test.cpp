@@ -241,3 +241,25 @@ TEST_CASE("a given turn with multi-turn bits from a layout made at run time") {
   CHECK(c.turns == 4096U);
   CHECK(c.max_step == 7U);
 }
+
+TEST_CASE("outcome_of: nW alone is an alarm; frame_timing_for refuses an empty chain") {
+  bs::slave_values v;
+  v.single_turn = 1234;
+  v.nw = false;  // a warning, no error
+  std::uint32_t words[4] = {};
+  const auto n = bs::encode_frame(ab::layout, v, span<std::uint32_t>(words, 4));
+  REQUIRE(n.ok());
+  const auto r = bs::decode_frame(span<const std::uint32_t>(words, 4), *n, ab::layout);
+  REQUIRE(r.is_complete());
+  CHECK(bs::outcome_of(r) == link_outcome::alarm);
+  v.nw = true;
+  REQUIRE(bs::encode_frame(ab::layout, v, span<std::uint32_t>(words, 4)).ok());
+  CHECK(bs::outcome_of(bs::decode_frame(span<const std::uint32_t>(words, 4), *n, ab::layout)) ==
+        link_outcome::ok);
+  CHECK(bs::frame_timing_for(span<const bs::slave_layout>(), 2500000, 0, 1, 0).error() ==
+        errc::invalid_argument);
+  bs::slave_layout many[bs::max_chain + 1] = {};
+  CHECK(
+      bs::frame_timing_for(span<const bs::slave_layout>(many, bs::max_chain + 1), 2500000, 0, 1, 0)
+          .error() == errc::invalid_argument);
+}

@@ -350,3 +350,67 @@ TEST_CASE("update_stream: words of 16 and 32 bits, truncation leaves the CRC unc
         errc::truncated);
   CHECK(t.value() == before);
 }
+
+TEST_CASE("dynamic_crc: run-time parameters, every reflection, against the reference model") {
+  // Each combination of refin and refout, widths below, at and above a byte, against the
+  // independent long division of tests/support/reference_crc.hpp.
+  const std::vector<std::uint8_t> msg = {'1', '2', '3', '4', '5', '6', '7', '8', '9'};
+  const crc_parameters cases[] = {
+      {16, 0x8005, 0xFFFF, true, true, 0x0000},               // CRC-16/MODBUS: 0x4B37
+      {16, 0x1021, 0xFFFF, false, false, 0x0000},             // CRC-16/CCITT-FALSE: 0x29B1
+      {16, 0x8005, 0xFFFF, true, false, 0x0000},              // refin alone
+      {16, 0x1021, 0x1D0F, false, true, 0x00FF},              // refout alone
+      {6, 0x03, 0x00, false, false, 0x3F},                    // BiSS-C's, narrower than a byte
+      {5, 0x15, 0x1F, true, true, 0x1F},                      // reflected, narrower than a byte
+      {32, 0x04C11DB7, 0xFFFFFFFF, true, true, 0xFFFFFFFF}};  // CRC-32: 0xCBF43926
+  for (const crc_parameters& p : cases) {
+    CAPTURE(p.width);
+    CAPTURE(p.poly);
+    CAPTURE(p.refin);
+    CAPTURE(p.refout);
+    REQUIRE(p.valid());
+    dynamic_crc c(p);
+    CHECK(c.parameters() == p);
+    c.update(byte_view(msg.data(), msg.size()));
+    CHECK(c.value() ==
+          ref::crc_of_bytes({p.width, p.poly, p.init, p.refin, p.refout, p.xorout}, msg));
+  }
+  CHECK(dynamic_crc(cases[0]).update(byte_view(msg.data(), msg.size())).value() == 0x4B37U);
+  CHECK(dynamic_crc(cases[1]).update(byte_view(msg.data(), msg.size())).value() == 0x29B1U);
+  CHECK(dynamic_crc(cases[6]).update(byte_view(msg.data(), msg.size())).value() == 0xCBF43926U);
+}
+
+TEST_CASE("crc_parameters: valid() refuses each out-of-range value alone; dynamic_crc clamps") {
+  const crc_parameters good{8, 0x07, 0x00, false, false, 0x00};
+  CHECK(good.valid());
+  crc_parameters p = good;
+  p.width = 0;
+  CHECK_FALSE(p.valid());
+  p.width = 33;
+  CHECK_FALSE(p.valid());
+  p = good;
+  p.poly = 0x107;
+  CHECK_FALSE(p.valid());
+  p = good;
+  p.init = 0x100;
+  CHECK_FALSE(p.valid());
+  p = good;
+  p.xorout = 0x100;
+  CHECK_FALSE(p.valid());
+  // invalid parameters become a 1-bit CRC of polynomial 1 (the parity of the bits fed)
+  dynamic_crc c(p);
+  CHECK(c.parameters() == crc_parameters{1, 1, 0, false, false, 0});
+  CHECK(c.update_bits(0x7, 3).value() == 1U);
+  CHECK(c.update_bits(0x1, 1).value() == 0U);
+}
+
+TEST_CASE("crc_parameters: == compares every field, each one alone") {
+  const crc_parameters p{16, 0x8005, 0xFFFF, true, true, 0x0000};
+  CHECK(p == crc_parameters{16, 0x8005, 0xFFFF, true, true, 0x0000});
+  CHECK(p != crc_parameters{15, 0x8005, 0xFFFF, true, true, 0x0000});
+  CHECK(p != crc_parameters{16, 0x8004, 0xFFFF, true, true, 0x0000});
+  CHECK(p != crc_parameters{16, 0x8005, 0xFFFE, true, true, 0x0000});
+  CHECK(p != crc_parameters{16, 0x8005, 0xFFFF, false, true, 0x0000});
+  CHECK(p != crc_parameters{16, 0x8005, 0xFFFF, true, false, 0x0000});
+  CHECK(p != crc_parameters{16, 0x8005, 0xFFFF, true, true, 0x0001});
+}

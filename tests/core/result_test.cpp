@@ -8,6 +8,8 @@
 #include "motionbus/core/errc.hpp"
 #include "motionbus/core/span.hpp"
 
+#include "../support/run_time.hpp"
+
 using namespace motionbus;
 
 namespace {
@@ -162,4 +164,23 @@ TEST_CASE("result: value or error") {
   CHECK(e.value_or(1) == 1);
   const result<int> not_ok = errc::ok;
   CHECK(!not_ok.ok());
+}
+
+TEST_CASE("results at run time: an ok error code, set_consumed() of an incomplete result") {
+  // The cases above with constants may be folded while compiling; these run.
+  const result<int> r(testutil::at_run_time(errc::ok));
+  CHECK_FALSE(r.ok());
+  CHECK(r.error() == errc::invalid_argument);
+  const decode_result<int> odd = decode_failure{testutil::at_run_time(errc::ok), 0, 0, 0};
+  CHECK(odd.error() == errc::invalid_argument);
+  decode_result<int> more = need_input{testutil::at_run_time(std::size_t{3})};
+  more.set_consumed(5);  // nothing for an incomplete result
+  CHECK(more.needed() == 3);
+  CHECK(more.consumed() == 0);
+  decode_result<int> fail = decode_failure{testutil::at_run_time(errc::no_frame), 1};
+  fail.set_consumed(4);
+  CHECK(fail.consumed() == 4);
+  const decode_result<int> none;  // default-constructed: incomplete, at least one more byte
+  CHECK(none.is_incomplete());
+  CHECK(none.needed() == 1);
 }

@@ -318,3 +318,60 @@ TEST_CASE("ABSYS emulator: frame() into a plain array, decoded from it; the line
   CHECK(r->start == 6);  // the Start bit after both
   CHECK(d.single_turn == 0x0004CDEFU);
 }
+
+TEST_CASE("ABSYS emulator registers: what each bank and address allows, refused writes ignored") {
+  ab::emulator e;
+  ab::emulator::registers regs(e);
+  // the bank window: readable in the EDS and user banks only, writable in the user bank only
+  CHECK(regs.readable(0x00));
+  CHECK_FALSE(regs.writable(0x00));
+  regs.write(0x00, 0x55);  // the EDS common bank: ignored
+  CHECK(regs.read(0x00) != 0x55);
+  regs.write(ab::reg::bank_select, ab::bank::user);
+  CHECK(regs.writable(0x00));
+  regs.write(0x00, 0x55);
+  CHECK(regs.read(0x00) == 0x55);
+  regs.write(ab::reg::bank_select, 0x90);  // past the user bank: nothing in the window
+  CHECK(e.selected_bank() == 0x90);
+  CHECK_FALSE(regs.readable(0x00));
+  regs.write(ab::reg::bank_select, 0x7F);  // below the EDS banks
+  CHECK_FALSE(regs.readable(0x00));
+  regs.write(ab::reg::bank_select, ab::bank::not_allowed);  // 0xFF: ignored
+  CHECK(e.selected_bank() == 0x7F);
+  // the writable registers past the window, and some that are not
+  CHECK(regs.writable(ab::reg::bank_select));
+  CHECK(regs.writable(ab::reg::eds_bank));
+  CHECK(regs.writable(ab::reg::offset + 3U));
+  CHECK(regs.writable(ab::reg::command));
+  CHECK(regs.writable(ab::reg::preset_mode));
+  CHECK_FALSE(regs.writable(ab::reg::serial_number));
+  CHECK_FALSE(regs.writable(ab::reg::offset + 4U));
+  CHECK_FALSE(regs.writable(0x50));
+  // a write to a read-only or undefined address changes nothing
+  const std::uint8_t serial = regs.read(ab::reg::serial_number);
+  regs.write(ab::reg::serial_number, static_cast<std::uint8_t>(serial + 1U));
+  CHECK(regs.read(ab::reg::serial_number) == serial);
+  regs.write(0x50, 0x12);
+  CHECK(regs.read(0x50) == 0);
+  CHECK(e.offset() == 0);
+  // addresses past the 7-bit register map read 0
+  CHECK(e.read_register(0x80) == 0);
+  CHECK(e.read_register(0xFF) == 0);
+}
+
+TEST_CASE(
+    "ABSYS emulator: functional reserve clamped to 254, indicator 0 or 1; SIP_RES too large") {
+  ab::emulator e;
+  ab::emulator::registers regs(e);
+  e.set_functional_reserve(255, 0);
+  CHECK(regs.read(ab::reg::functional_reserve) == 254);
+  CHECK(regs.read(ab::reg::functional_reserve_indicator) == 0);
+  e.set_functional_reserve(7, 9);
+  CHECK(regs.read(ab::reg::functional_reserve) == 7);
+  CHECK(regs.read(ab::reg::functional_reserve_indicator) == 1);
+  ab::emulator_config cfg;
+  cfg.sip_resolution = 32;  // pulses per revolution would not fit 64 bits: 0
+  const ab::emulator wide(cfg);
+  CHECK(wide.pulses_per_revolution() == 0U);
+  CHECK(ab::emulator().pulses_per_revolution() == (std::uint64_t{512} << 10U));
+}

@@ -306,3 +306,39 @@ TEST_CASE("SM unit emulator: an exception leaves the unit as it was, unicast or 
   }
   CHECK(exceptions > 50);
 }
+
+TEST_CASE("SM unit emulator: a setting below its lower limit, a coil written OFF, odd passwords") {
+  bench b;
+  // setting 4 (a start time, 1..300): 0 is below its lower limit, 03
+  CHECK(b.pdu(1, {0x06, 0x00, 0x04, 0x00, 0x00}) == bytes{0x86, 0x03});
+  CHECK(b.pdu(1, {0x10, 0x00, 0x04, 0x00, 0x01, 0x02, 0x00, 0x00}) == bytes{0x90, 0x03});
+  CHECK(b.unit.setting(sm::holding::setting_count) == 0);  // no setting there
+  // logged in (at power-on), a coil written OFF (0x0000) clears nothing
+  REQUIRE(b.unit.logged_in());
+  b.unit.inject_warning(static_cast<std::uint16_t>(sm::warning::excessive_shock));
+  REQUIRE(b.unit.warning_count() == 1);
+  CHECK(b.pdu(1, {0x05, 0x00, 0x00, 0x00, 0x00}) == bytes{0x05, 0x00, 0x00, 0x00, 0x00});
+  CHECK(b.pdu(1, {0x05, 0x00, 0x64, 0x00, 0x00}) == bytes{0x05, 0x00, 0x64, 0x00, 0x00});
+  CHECK(b.unit.warning_count() == 1);
+  CHECK(b.unit.warning_status() != 0);
+  // a password with a control character (0x1F) or DEL (0x7F) in it, or a character after the
+  // padding, is malformed: 03, the login state kept
+  const bytes control = {0x10, 0x00, 0x64, 0x00, 0x08, 0x10, 'p', 'a', 's', 's', 'w', 'o', 'r',
+                         0x1F, 0,    0,    0,    0,    0,    0,   0,   0,   0,   0,   0};
+  CHECK(b.pdu(1, control) == bytes{0x90, 0x03});
+  bytes del = control;
+  del[13] = 0x7F;
+  CHECK(b.pdu(1, del) == bytes{0x90, 0x03});
+  bytes gap = control;
+  gap[13] = 'd';
+  gap[14] = 0x20;
+  gap[15] = 'x';  // a character after a space
+  CHECK(b.pdu(1, gap) == bytes{0x90, 0x03});
+  CHECK(b.unit.logged_in());
+}
+
+TEST_CASE("SM unit emulator: a channel outside the enumeration reads 0") {
+  const sm::emulator unit;
+  CHECK(unit.instantaneous_register(static_cast<sm::channel>(sm::channel_count)) == 0);
+  CHECK(unit.instantaneous_register(sm::channel::frequency) == 50);
+}

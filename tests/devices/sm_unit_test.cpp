@@ -176,3 +176,41 @@ TEST_CASE("unit table: a channel outside the enumeration has a neutral entry") {
   CHECK(u.numerator == 1);
   CHECK(u.denominator == 1);
 }
+
+TEST_CASE("SM unit: each bound of the request helpers alone") {
+  // log 1..3 and sample 0..19, each out of range alone
+  CHECK(sm::log_address(1, sm::channel::voltage, 0).ok());
+  CHECK(sm::log_address(0, sm::channel::voltage, 0).error() == errc::out_of_range);
+  CHECK(sm::log_address(4, sm::channel::voltage, 0).error() == errc::out_of_range);
+  CHECK(sm::log_address(1, sm::channel::voltage, 20).error() == errc::out_of_range);
+  // a password character above 0x7E, one below 0x21
+  CHECK(sm::check_password(text("abcdefg\x7f")) == errc::invalid_argument);
+  CHECK(sm::check_password(text("abcdefg\x20")) == errc::invalid_argument);
+  // password_registers fills no more registers than `out` holds
+  std::uint16_t regs[4] = {1, 2, 3, 4};
+  sm::password_registers(text("abcdefghijklmnop"), span<std::uint16_t>(regs, 3));
+  CHECK(regs[0] == 0x6162);
+  CHECK(regs[2] == 0x6566);
+  CHECK(regs[3] == 4);
+  // write_settings: an index past the settings, a value below its lower limit
+  std::uint8_t out[256] = {};
+  const std::uint16_t one[] = {100};
+  CHECK(sm::write_settings(1, 40, one, out).error() == errc::out_of_range);
+  const std::uint16_t zero_start[] = {0};
+  CHECK(sm::write_settings(1, 4, zero_start, out).error() == errc::out_of_range);
+}
+
+TEST_CASE("SM unit: responses of another function or another exception are no match") {
+  mo::response r;
+  r.function = 0x03;  // not FC04, not FC11, no exception
+  CHECK(sm::decode_instantaneous(r).error() == errc::modbus_mismatch);
+  CHECK(sm::decode_version(r).error() == errc::modbus_mismatch);
+  CHECK_FALSE(sm::is_login_error(r));
+  r.function = 0x04;
+  r.exception = true;
+  r.exception_code = 0x02;  // an exception, but not the login error (04)
+  CHECK_FALSE(sm::is_login_error(r));
+  CHECK(sm::decode_instantaneous(r).error() == errc::modbus_mismatch);
+  r.exception_code = 0x04;
+  CHECK(sm::is_login_error(r));
+}

@@ -440,3 +440,31 @@ TEST_CASE("TS5700N8500: over-heat threshold, temperature, alarms, timing") {
   CHECK(ts::field_ns(ts::fast_bit_rate) == 2000);
   CHECK(ts::transaction_ns(data_id::read_all, ts::fast_bit_rate) == 24000);
 }
+
+TEST_CASE("EEPROM outside the user pages reads 0; an over-heat threshold without bit 7 is off") {
+  ts::emulator enc;
+  master m{enc};
+  CHECK(m.ask(data_id::eeprom_write, 10, 0x42).is_complete());
+  CHECK(enc.eeprom(0, 10) == 0x42);
+  CHECK(enc.eeprom(6, 10) == 0);   // page 6 holds nothing
+  CHECK(enc.eeprom(0, 127) == 0);  // 127 is the page select, no cell
+  // page 7, threshold 0x7F: bit 7 clear, the check is off however hot the encoder is
+  CHECK(m.ask(data_id::eeprom_write, 127, 7, 18000).is_complete());
+  CHECK(m.ask(data_id::eeprom_write, 4, 0x7F, 18000).is_complete());
+  CHECK(enc.overheat_threshold() == 0x7F);
+  enc.set_temperature(120);
+  CHECK(!has_alarm(enc.almc(), almc_bit::oh));
+}
+
+TEST_CASE("emulator resolution: the readings keep their bits, up to 32 (no 32-bit shift)") {
+  ts::emulator factory;
+  factory.set_position(0xFFFFFFFFU, 0xFFFFFFFFU);
+  CHECK(factory.abs() == 0x1FFFFU);  // 17 bits
+  CHECK(factory.abm() == 0xFFFFU);   // 16 bits
+  ts::emulator_config cfg;
+  cfg.res = resolution{32, 32};  // beyond the 24 bits a T-format field holds: the emulator's own
+  ts::emulator wide(cfg);
+  wide.set_position(0xFFFFFFFFU, 0xFFFFFFFFU);
+  CHECK(wide.abs() == 0xFFFFFFFFU);
+  CHECK(wide.abm() == 0xFFFFFFFFU);
+}

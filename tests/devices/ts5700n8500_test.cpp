@@ -32,3 +32,16 @@ TEST_CASE("alarm table: an undefined ALMC bit pattern has the table's first row"
   // the caller passes single bits; anything else gets the first row, not a read past the end
   CHECK(&ts::info(static_cast<tf::almc_bit>(0x03)) == &ts::alarm_table[0]);
 }
+
+TEST_CASE("TS5700N8500: bit time of a bit rate (0 for none), page 6 and past 7 refused") {
+  volatile std::uint32_t none = 0;  // run time, not a constant initialiser
+  CHECK(ts::bit_ns(none) == 0U);
+  volatile std::uint32_t rate = 2500000;
+  CHECK(ts::bit_ns(rate) == 400U);
+  volatile std::uint8_t page = 6;
+  CHECK(ts::page_change_plan(page).error() == errc::out_of_range);
+  page = 8;
+  CHECK(ts::page_change_plan(page).error() == errc::out_of_range);
+  page = 7;
+  CHECK(ts::page_change_plan(page).ok());
+}

@@ -755,3 +755,38 @@ TEST_CASE("server framer: several addresses on one port (framer_options::last_ad
   static_assert(!o.serves(9) && o.serves(10) && o.serves(12) && !o.serves(13) && !o.serves(0),
                 "a range of addresses, broadcasts aside");
 }
+
+TEST_CASE("heard_response(): false for a server and a client framer, whatever they framed") {
+  rtu_framer server({0x11});
+  const bytes req = rtu(0x11, {0x03, 0x00, 0x00, 0x00, 0x01});
+  CHECK(server.feed(view(req)).is_complete());
+  CHECK_FALSE(server.heard_response());
+  rtu_framer client(framer_role::client, {0x11});
+  client.sent(view(req));
+  const bytes resp = rtu(0x11, {0x03, 0x02, 0x00, 0x07});
+  CHECK(client.feed(view(resp)).is_complete());
+  CHECK_FALSE(client.heard_response());
+}
+
+TEST_CASE("listener: a Return Query Data whose CRC never matches within 256 bytes, then a frame") {
+  // FC08 00 00 and 300 bytes no CRC confirms (checked below: no frame before the last): the
+  // listener's search for the length gives up at 256 bytes and resynchronises
+  bytes s = {0x11, 0x08, 0x00, 0x00};
+  for (unsigned i = 0; i < 300U; ++i) {
+    s.push_back(static_cast<std::uint8_t>((i * 37U + 11U) & 0xFFU));
+  }
+  const bytes frame = rtu(0x11, {0x03, 0x00, 0x00, 0x00, 0x01});
+  s.insert(s.end(), frame.begin(), frame.end());
+  rtu_listener l;
+  std::vector<event> events = fed_notes(l, view(s), 64, note);
+  for (auto r = l.idle(); !r.is_incomplete(); r = l.idle()) {  // the silence after it
+    events.push_back(note(r));
+  }
+  REQUIRE_FALSE(events.empty());
+  for (std::size_t i = 0; i + 1U < events.size(); ++i) {
+    CHECK_FALSE(events[i].ok);
+  }
+  CHECK(events.back().ok);
+  CHECK(events.back().slave == 0x11);
+  CHECK(events.back().pdu == bytes{0x03, 0x00, 0x00, 0x00, 0x01});
+}

@@ -799,3 +799,20 @@ TEST_CASE(
   CHECK(standard.replies[0][0].pdu == bytes{0x11, 0x02, 0x03});
   CHECK(standard.now - last_byte >= standard.options.line.t35_us);
 }
+
+TEST_CASE("gateway: read_only refuses the other diagnostics and an MEI request without its type") {
+  gateway_options o;
+  o.read_only = true;
+  harness<1, 2> h(o);
+  h.client(0, mbap(1, 1, {0x08, 0x00, 0x01, 0x00, 0x00}));  // Restart Communications
+  h.client(0, mbap(2, 1, {0x08, 0x01, 0x00, 0x00, 0x00}));  // sub-function 0x0100
+  h.client(0, mbap(3, 1, {0x2B}));                          // no MEI type
+  h.drain();
+  REQUIRE(h.replies[0].size() == 3);
+  for (std::size_t i = 0; i < 3; ++i) {
+    CAPTURE(i);
+    CHECK(h.replies[0][i].transaction == i + 1U);
+    CHECK(h.replies[0][i].exception == 0x01);
+  }
+  CHECK(h.line.empty());
+}

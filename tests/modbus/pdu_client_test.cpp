@@ -389,3 +389,89 @@ TEST_CASE("client: functions other than reads and writes, each length and echo r
   REQUIRE(r.is_complete());
   CHECK(r->data.size() == 2);
 }
+
+TEST_CASE("client encoders: each bound of each argument alone, at run time") {
+  std::uint8_t out[256] = {};
+  const std::uint8_t packed[250] = {};
+  // FC0F: 1..1968 coils
+  CHECK(encode_write_multiple_coils(0, 1968, byte_view(packed, 246), out).ok());
+  CHECK(encode_write_multiple_coils(0, 1969, byte_view(packed, 247), out).error() ==
+        errc::modbus_quantity);
+  CHECK(encode_write_multiple_coils(0, 0, byte_view(packed, 0), out).error() ==
+        errc::modbus_quantity);
+  // FC17: read 1..125, write 1..121
+  const std::vector<std::uint16_t> values(122, 0);
+  const span<const std::uint16_t> one(values.data(), 1);
+  CHECK(encode_read_write_multiple_registers(0, 125, 0, one, out).ok());
+  CHECK(encode_read_write_multiple_registers(0, 0, 0, one, out).error() == errc::modbus_quantity);
+  CHECK(encode_read_write_multiple_registers(0, 126, 0, one, out).error() == errc::modbus_quantity);
+  CHECK(encode_read_write_multiple_registers(0, 1, 0, span<const std::uint16_t>(), out).error() ==
+        errc::modbus_quantity);
+  CHECK(encode_read_write_multiple_registers(0, 1, 0, span<const std::uint16_t>(values.data(), 121),
+                                             out)
+            .ok());
+  CHECK(encode_read_write_multiple_registers(0, 1, 0, span<const std::uint16_t>(values.data(), 122),
+                                             out)
+            .error() == errc::modbus_quantity);
+  // a raw request: function 0 and exception responses are no requests
+  CHECK(encode_raw(0x41, byte_view(), out).ok());
+  CHECK(encode_raw(0x00, byte_view(), out).error() == errc::invalid_argument);
+  CHECK(encode_raw(0xC1, byte_view(), out).error() == errc::invalid_argument);
+  // FC2B/0E: read device ID codes 1..4
+  CHECK(encode_read_device_identification(4, 0, out).ok());
+  CHECK(encode_read_device_identification(0, 0, out).error() == errc::modbus_quantity);
+  CHECK(encode_read_device_identification(5, 0, out).error() == errc::modbus_quantity);
+}
+
+TEST_CASE("client decoders: the remaining checks, each alone") {
+  // a bit read of a whole number of bytes has no spare bits to check
+  const auto eight = decode_read_response(0x01, 8, view({0x01, 0x01, 0xFF}));
+  REQUIRE(eight.is_complete());
+  CHECK(eight->quantity == 8);
+  CHECK(decode_read_response(0x01, 7, view({0x01, 0x01, 0xFF})).error() == errc::reserved_bits);
+  // unpaired: FC04, FC17 and FC05 responses as they come
+  CHECK(decode_response_unpaired(view({0x04, 0x02, 0x00, 0x07})).value().quantity == 1);
+  CHECK(decode_response_unpaired(view({0x17, 0x02, 0x00, 0x07})).value().quantity == 1);
+  const auto coil = decode_response_unpaired(view({0x05, 0x00, 0xAC, 0xFF, 0x00}));
+  REQUIRE(coil.is_complete());
+  CHECK(coil->address == 0xAC);
+  CHECK(coil->value == 0xFF00);
+  // FC16: the echo checked field by field against the request
+  std::uint8_t req[8] = {};
+  const std::size_t n = encode_mask_write_register(0x0004, 0x00F2, 0x0025, req).value();
+  const byte_view sent(req, n);
+  CHECK(decode_response_for(sent, view({0x16, 0x00, 0x04, 0x00, 0xF2, 0x00, 0x25})).is_complete());
+  CHECK(decode_response_for(sent, view({0x16, 0x00, 0x05, 0x00, 0xF2, 0x00, 0x25})).error() ==
+        errc::modbus_mismatch);
+  CHECK(decode_response_for(sent, view({0x16, 0x00, 0x04, 0x00, 0xF3, 0x00, 0x25})).error() ==
+        errc::modbus_mismatch);
+  CHECK(decode_response_for(sent, view({0x16, 0x00, 0x04, 0x00, 0xF2, 0x00, 0x26})).error() ==
+        errc::modbus_mismatch);
+  // FC0C: a byte count above 6 + 64 bytes of events, though it matches the bytes present
+  bytes log(73, 0);
+  log[0] = 0x0C;
+  log[1] = 71;
+  CHECK(decode_response_unpaired(view(log)).error() == errc::modbus_byte_count);
+  // FC2B: another MEI type, unpaired, is raw data; another MEI type's response to an 0E
+  // request is a mismatch
+  const auto other = decode_response_unpaired(view({0x2B, 0x0D, 0x01, 0x02}));
+  REQUIRE(other.is_complete());
+  CHECK(other->function == 0x2B);
+  const auto bare = decode_response_unpaired(view({0x2B}));  // no MEI type: raw too
+  REQUIRE(bare.is_complete());
+  CHECK(bare->function == 0x2B);
+  CHECK(bare->data.empty());
+  std::uint8_t id_req[8] = {};
+  const std::size_t m = encode_read_device_identification(1, 0, id_req).value();
+  const bytes id_ok = {0x2B, 0x0E, 0x01, 0x01, 0x00, 0x00, 0x01, 0x00, 0x01, 'A'};
+  CHECK(decode_response_for(byte_view(id_req, m), view(id_ok)).is_complete());
+  bytes id_other = id_ok;
+  id_other[1] = 0x0D;
+  CHECK(decode_response_for(byte_view(id_req, m), view(id_other)).error() == errc::modbus_mismatch);
+  // the request's MEI type decides: to another MEI type's request the response is raw data
+  const bytes mei_0d = {0x2B, 0x0D, 0x01};
+  const auto raw = decode_response_for(view(mei_0d), view(id_ok));
+  REQUIRE(raw.is_complete());
+  CHECK(raw->object_count == 0);
+  CHECK(raw->data.size() == id_ok.size() - 1U);
+}

@@ -105,3 +105,27 @@ TEST_CASE("server encoders: each bad argument has its own error, and a short buf
   CHECK(encode_device_identification_response(1, 0x81, false, 0, 1, view(one_object), a.small)
             .error() == errc::buffer_too_small);
 }
+
+TEST_CASE("server responses: the bounds of each count, and FC2B's more-follows flag") {
+  std::uint8_t out[256] = {};
+  const std::uint8_t packed[251] = {};
+  CHECK(encode_read_bits_response(0x01, 2000, byte_view(packed, 250), out).ok());
+  CHECK(encode_read_bits_response(0x01, 2001, byte_view(packed, 251), out).error() ==
+        errc::modbus_quantity);
+  CHECK(encode_read_bits_response(0x01, 0, byte_view(), out).error() == errc::modbus_quantity);
+  const std::vector<std::uint16_t> values(126, 0);
+  CHECK(encode_read_registers_response(0x03, span<const std::uint16_t>(values.data(), 125), out)
+            .ok());
+  CHECK(encode_read_registers_response(0x03, span<const std::uint16_t>(values.data(), 126), out)
+            .error() == errc::modbus_quantity);
+  CHECK(encode_read_registers_response(0x03, span<const std::uint16_t>(), out).error() ==
+        errc::modbus_quantity);
+  const std::uint8_t object[] = {0x00, 0x01, 'A'};
+  const auto more =
+      encode_device_identification_response(1, 0x01, true, 0x01, 1, byte_view(object, 3), out);
+  REQUIRE(more.ok());
+  CHECK(out[4] == 0xFF);
+  REQUIRE(encode_device_identification_response(1, 0x01, false, 0x00, 1, byte_view(object, 3), out)
+              .ok());
+  CHECK(out[4] == 0x00);
+}

@@ -84,3 +84,110 @@ TEST_CASE("server: FC2B with another MEI type is passed on; a lone 0x2B is trunc
   CHECK(q->data.size() == 2);
   CHECK(decode_request(view({0x2B})).error() == errc::truncated);
 }
+
+namespace {
+
+// decode_request<Served> on `pdu`: for a function in Served, what decode_request<all> gives;
+// for one outside it, the raw request (the function and its data, unchecked).
+template <function_set Served>
+void check_served_set(const bytes& pdu) {
+  CAPTURE(static_cast<unsigned>(pdu[0]));
+  const auto all = decode_request(view(pdu));
+  const auto some = decode_request<Served>(view(pdu));
+  if (in_function_set<Served>(pdu[0])) {
+    REQUIRE(some.status() == all.status());
+    CHECK(some.error() == all.error());
+    if (all.is_complete()) {
+      CHECK(some->quantity == all->quantity);
+      CHECK(some->data.size() == all->data.size());
+    }
+  } else {
+    REQUIRE(some.is_complete());
+    CHECK(some->function == pdu[0]);
+    CHECK(some->data.size() == pdu.size() - 1U);
+  }
+}
+
+template <function_set Served>
+void check_served_set_all() {
+  // a valid request of each function the codec frames, and an invalid one of several
+  const bytes requests[] = {
+      {0x01, 0x00, 0x00, 0x00, 0x08},
+      {0x02, 0x00, 0x00, 0x00, 0x08},
+      {0x03, 0x00, 0x00, 0x00, 0x02},
+      {0x04, 0x00, 0x00, 0x00, 0x02},
+      {0x04, 0x00, 0x00, 0x00, 0x00},  // quantity 0
+      {0x05, 0x00, 0x01, 0xFF, 0x00},
+      {0x06, 0x00, 0x01, 0x12, 0x34},
+      {0x06, 0x00, 0x01, 0x12},  // short
+      {0x0F, 0x00, 0x00, 0x00, 0x08, 0x01, 0xFF},
+      {0x10, 0x00, 0x00, 0x00, 0x01, 0x02, 0x12, 0x34},
+      {0x10, 0x00, 0x00, 0x00, 0x01, 0x03, 0x12, 0x34, 0x56},  // byte count
+      {0x16, 0x00, 0x04, 0x00, 0xF2, 0x00, 0x25},
+      {0x17, 0x00, 0x00, 0x00, 0x01, 0x00, 0x00, 0x00, 0x01, 0x02, 0x12, 0x34},
+      {0x07},
+      {0x0B},
+      {0x0C},
+      {0x11},
+      {0x11, 0x00},  // data where none is
+      {0x08, 0x00, 0x00, 0x12, 0x34},
+      {0x18, 0x00, 0x04},
+      {0x2B, 0x0E, 0x01, 0x00},
+      {0x41, 0x01, 0x02}};
+  for (const bytes& pdu : requests) {
+    check_served_set<Served>(pdu);
+  }
+}
+
+}  // namespace
+
+TEST_CASE("decode_request<Served>: a function outside the set decodes raw, one in it as usual") {
+  // sets with one function of each branch (the others compiled out), and combinations
+  check_served_set_all<functions_of(0x01)>();
+  check_served_set_all<functions_of(0x02)>();
+  check_served_set_all<functions_of(0x04)>();
+  check_served_set_all<functions_of(0x06)>();
+  check_served_set_all<functions_of(0x0F)>();
+  check_served_set_all<functions_of(0x10)>();
+  check_served_set_all<functions_of(0x07)>();
+  check_served_set_all<functions_of(0x0B)>();
+  check_served_set_all<functions_of(0x0C)>();
+  check_served_set_all<functions_of(0x11)>();
+  check_served_set_all<functions_of(0x16, 0x17)>();
+  check_served_set_all<functions_of(0x08, 0x18, 0x2B)>();
+  check_served_set_all<function_set{0}>();
+}
+
+TEST_CASE("function sets and diagnostic sub-functions at run time, every code") {
+  // in_function_set against the set's bits; codes 64 and up are in no set
+  constexpr function_set set = functions_of(0x01, 0x1F, 0x20, 0x3F);
+  for (unsigned f = 0; f < 256U; ++f) {
+    CAPTURE(f);
+    const auto code = static_cast<std::uint8_t>(f);
+    const bool in = f < 64U && ((set >> f) & 1U) != 0U;
+    CHECK(in_function_set<set>(code) == in);
+    CHECK(in_function_set<all_functions>(code) == (f < 64U));
+  }
+  // the defined sub-functions: 00-04, 0A-12, 14 (Modbus over Serial Line §6.1)
+  for (unsigned sub = 0; sub < 0x40U; ++sub) {
+    CAPTURE(sub);
+    const bool defined = sub <= 0x04U || (sub >= 0x0AU && sub <= 0x12U) || sub == 0x14U;
+    CHECK(diagnostic::is_defined(static_cast<std::uint16_t>(sub)) == defined);
+  }
+}
+
+TEST_CASE("FC08 and FC2B requests: each check of the sub-function and the MEI request alone") {
+  auto err = [](const bytes& pdu) { return decode_request(view(pdu)).error(); };
+  CHECK(err({0x08, 0x00, 0x01, 0x00, 0x00}) == errc::ok);  // restart, log kept
+  CHECK(err({0x08, 0x00, 0x01, 0xFF, 0x00}) == errc::ok);  // restart, log cleared
+  CHECK(err({0x08, 0x00, 0x01, 0x12, 0x34}) == errc::modbus_coil_value);
+  CHECK(err({0x08, 0x00, 0x0A, 0x12, 0x34}) == errc::ok);  // any data for another one
+  CHECK(err({0x08, 0x00, 0x0A, 0x00}) == errc::modbus_byte_count);
+  CHECK(err({0x08, 0x00, 0x00, 0x12}) == errc::modbus_byte_count);  // query data: even
+  CHECK(err({0x08, 0x00, 0x05, 0x00, 0x00}) == errc::modbus_illegal_function);
+  CHECK(err({0x2B, 0x0E, 0x01, 0x00}) == errc::ok);
+  CHECK(err({0x2B, 0x0E, 0x00, 0x00}) == errc::modbus_quantity);  // read device ID code 0
+  CHECK(err({0x2B, 0x0E, 0x05, 0x00}) == errc::modbus_quantity);
+  CHECK(err({0x2B, 0x0E, 0x01, 0x00, 0x00}) == errc::modbus_byte_count);  // an extra byte
+  CHECK(err({0x2B, 0x0E, 0x01}) != errc::ok);                             // a byte short
+}

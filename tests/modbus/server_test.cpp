@@ -583,12 +583,13 @@ struct failing_after_write : u16_table {
   }
 };
 
-// A device that reports more identification bytes than a PDU holds.
+// A device that reports more identification bytes than a PDU holds, or an exception.
 struct huge_server_id {
   std::size_t report = 0;
+  std::uint8_t code = 0;
   std::uint8_t report_server_id(mutable_byte_view, std::size_t& size) const {
     size = report;
-    return 0;
+    return code;
   }
 };
 
@@ -725,4 +726,15 @@ TEST_CASE("server: serve_pdu serves a PDU with no address and CRC (Modbus TCP)")
   }
   CHECK(serve_pdu(dev, view(bytes{0x03, 0, 5, 0, 1}), mutable_byte_view(out, 252)).error() ==
         errc::buffer_too_small);
+}
+
+TEST_CASE("server: FC11 answered with the exception its accessor returns") {
+  huge_server_id id;
+  id.report = 3;
+  id.code = 0x04;
+  CHECK(call(id, 0x11, {0x11}) == bytes{0x91, 0x04});
+  id.code = 0x06;  // busy
+  CHECK(call(id, 0x11, {0x11}) == bytes{0x91, 0x06});
+  id.code = 0;
+  CHECK(call(id, 0x11, {0x11}).size() == 4U);
 }

@@ -67,3 +67,11 @@ TEST_CASE("tcp_adu_size: a stream's MBAP header checked as its bytes arrive") {
   store_be16(mutable_byte_view(out, 6), 4, 254);  // 260 bytes: the largest
   CHECK(tcp_adu_size(byte_view(out, 6)).value() == max_tcp_size);
 }
+
+TEST_CASE("TCP: a length field of 0 or 1 (no unit identifier, or no PDU) fails at once") {
+  CHECK(decode_tcp(view({0x00, 0x01, 0x00, 0x00, 0x00, 0x00, 0x11})).error() ==
+        errc::modbus_pdu_length);
+  CHECK(decode_tcp(view({0x00, 0x01, 0x00, 0x00, 0x00, 0x01, 0x11})).error() ==
+        errc::modbus_pdu_length);
+  CHECK(decode_tcp(view({0x00, 0x01, 0x00, 0x00, 0x00, 0x02, 0x11, 0x07})).is_complete());
+}

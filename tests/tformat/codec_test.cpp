@@ -336,3 +336,16 @@ TEST_CASE("decode_response_for: a short response needs more input") {
   CHECK(r.is_incomplete());
   CHECK(r.needed() == 8);
 }
+
+TEST_CASE("encode_response: an ABM above 24 bits is out of range, as an ABS is") {
+  response r;
+  r.id = data_id::read_all;
+  r.abs = 0x1FFFF;
+  r.abm = 0xFFFFFF;  // 24 bits: fits
+  std::uint8_t out[11] = {};
+  CHECK(encode_response(r, out).ok());
+  r.abm = 1U << 24U;
+  CHECK(encode_response(r, out).error() == errc::out_of_range);
+  r.id = data_id::read_abm;  // ABM alone
+  CHECK(encode_response(r, out).error() == errc::out_of_range);
+}

@@ -70,3 +70,10 @@ TEST_CASE("alarm symbols: an undefined bit value has none") {
   CHECK(std::strcmp(symbol(almc_bit::ba), "BA") == 0);
   CHECK(std::strcmp(symbol(static_cast<almc_bit>(0x03)), "??") == 0);
 }
+
+TEST_CASE("is_known: a code past the 4-bit Data ID field is no Data ID") {
+  CHECK(is_known(data_id::read_all));
+  CHECK_FALSE(is_known(static_cast<data_id>(9)));
+  CHECK_FALSE(is_known(static_cast<data_id>(16)));
+  CHECK_FALSE(is_known(static_cast<data_id>(0x13)));  // 3 in its low bits
+}

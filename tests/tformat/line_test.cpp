@@ -188,3 +188,28 @@ TEST_CASE("request line: too few bits, a CF with bad parity, a corrupted EEPROM 
   const auto r4 = decode_request_line(span<const std::uint8_t>(part.data(), part.size() - 1U));
   CHECK(r4.is_incomplete());
 }
+
+TEST_CASE("encode_line: a bit offset past the words is refused, as a frame too long is") {
+  const std::uint8_t cf[] = {0x02};
+  std::uint8_t words[2] = {};
+  CHECK(encode_line(byte_view(cf), span<std::uint8_t>(words, 2), bit_order::msb_first, 6).ok());
+  CHECK(
+      encode_line(byte_view(cf), span<std::uint8_t>(words, 2), bit_order::msb_first, 17).error() ==
+      errc::buffer_too_small);
+  CHECK(encode_line(byte_view(cf), span<std::uint8_t>(words, 2), bit_order::msb_first, 7).error() ==
+        errc::buffer_too_small);
+}
+
+TEST_CASE(
+    "request line: a start bit whose sync code breaks at its second or third bit is skipped") {
+  // 1111 0001: a start bit, then 0 0 1 (the sync code 010 broken at its second bit); 1111 0011:
+  // 0 1 1 (broken at its third); the request behind either is found
+  for (const std::uint8_t lead : {std::uint8_t{0xF1}, std::uint8_t{0xF3}}) {
+    CAPTURE(lead);
+    std::vector<std::uint8_t> bits = line_of({0x1A}, 2);
+    bits.insert(bits.begin(), lead);
+    const auto r = decode_request_line(span<const std::uint8_t>(bits.data(), bits.size()));
+    REQUIRE(r.is_complete());
+    CHECK(r->frame.id == data_id::read_all);
+  }
+}

@@ -246,3 +246,24 @@ TEST_CASE("ID1 polled: the turns alone, one count a turn; a run-time resolution"
   CHECK(c.max_step == 3U);
   CHECK(position_config_for(res, data_id::read_all).range() == (std::uint64_t{1} << 33U));
 }
+
+TEST_CASE("position_config_for: more than 24 bits in either field is an invalid configuration") {
+  CHECK(position_config_for(resolution{17, 16}, data_id::read_all).valid());
+  CHECK_FALSE(position_config_for(resolution{25, 16}, data_id::read_all).valid());
+  CHECK_FALSE(position_config_for(resolution{17, 25}, data_id::read_all).valid());
+  CHECK_FALSE(position_config_for(resolution{17, 25}, data_id::read_abm).valid());
+  CHECK(position_config_for(resolution{17, 25}, data_id::read_abs).valid());  // ABS alone
+}
+
+TEST_CASE("outcome_of: an EEPROM response carries no SF: no alarm is read from its fields") {
+  response e;
+  e.id = data_id::eeprom_read;
+  e.sf = sf::ca0 | sf::ea1;  // not on the wire for this layout: ignored
+  CHECK(outcome_of(decode_result<response>::complete(e, 4)) == link_outcome::ok);
+  response a;
+  a.id = data_id::read_abs;
+  a.sf = sf::ca0;
+  CHECK(outcome_of(decode_result<response>::complete(a, 6)) == link_outcome::invalid);
+  a.sf = sf::ea1;
+  CHECK(outcome_of(decode_result<response>::complete(a, 6)) == link_outcome::alarm);
+}

@@ -363,3 +363,52 @@ TEST_CASE("receiver: bytes that are not the awaited echo are parsed as the respo
   CHECK(r->edf == 0x77);
   CHECK(rx.echoes_skipped() == 0);
 }
+
+TEST_CASE("receiver: options() gives back each option it was built with") {
+  receiver_options opt;
+  opt.echo_mode = echo::expected;
+  opt.check_against_request = false;
+  CHECK(receiver(opt).options().echo_mode == echo::expected);
+  CHECK_FALSE(receiver(opt).options().check_against_request);
+  receiver_options mt;
+  mt.decode.res.multi_turn_bits = 20;  // the multi-turn width alone
+  CHECK(receiver(mt).options().decode.res.multi_turn_bits == 20);
+  CHECK(receiver(mt).options().decode.res.single_turn_bits == resolution{}.single_turn_bits);
+  receiver_options unused;
+  unused.decode.check_unused_bits = false;  // the unused-bits check alone
+  CHECK_FALSE(receiver(unused).options().decode.check_unused_bits);
+  CHECK(receiver(receiver_options{}).options().decode.check_unused_bits);
+}
+
+TEST_CASE("receiver: idle() with an echo awaited: part of it, or other bytes, are truncated") {
+  receiver_options opt;
+  opt.echo_mode = echo::expected;
+  receiver rx(opt);
+  std::uint8_t req[4] = {};
+  const std::size_t n = encode_request(data_id::eeprom_read, 5, 0, req).value();
+  REQUIRE(n == 3);
+  // one byte of the three-byte echo, then the silence: truncated, the byte dropped
+  rx.sent(byte_view(req, n));
+  CHECK(rx.feed(byte_view(req, 1)).is_incomplete());
+  auto r = rx.idle();
+  CHECK(r.error() == errc::truncated);
+  CHECK(r.consumed() == 1);
+  CHECK(rx.echoes_skipped() == 0);
+  // three bytes that are not the request (its last one changed): not the echo, truncated
+  rx.sent(byte_view(req, n));
+  std::uint8_t other[3] = {req[0], req[1], static_cast<std::uint8_t>(req[2] ^ 0x01U)};
+  CHECK(rx.feed(byte_view(other, 3)).is_incomplete());  // a response's first three bytes
+  REQUIRE(rx.pending() == 3);
+  r = rx.idle();
+  CHECK(r.error() == errc::truncated);
+  CHECK(r.consumed() == 3);
+  CHECK(rx.echoes_skipped() == 0);
+  // the whole echo then the silence: skipped, nothing to report
+  rx.sent(byte_view(req, n));
+  CHECK(rx.feed(byte_view(req, n)).is_incomplete());
+  CHECK(rx.idle().is_incomplete());
+  CHECK(rx.echoes_skipped() == 3);
+  // an empty request awaits no echo
+  rx.sent(byte_view());
+  CHECK(rx.idle().is_incomplete());
+}

@@ -211,7 +211,7 @@ class basic_control_master {
   // Interprets `cds`, the answer to the slot sent in the previous frame.
   constexpr void take_answer(bool cds) noexcept {
     const unsigned bit = cds ? 1U : 0U;
-    switch (sent_) {
+    switch (sent_) {  // coverage-branch: gcc's edge for a value outside the enum's seven
       case phase::header:
         if (sent_index_ >= 16U) {  // R and W echoes
           echo_ = (echo_ << 1U) | bit;
@@ -379,8 +379,10 @@ class control_slave {
       state_ = state::idle;  // preamble, or an abort
       return false;
     }
-    switch (state_) {
+    switch (state_) {  // coverage-branch: gcc's edge for a value outside the enum's eight
       case state::idle:
+        // idle starts, and is entered, with a full preamble of zeros, whose 0s return above:
+        // coverage-branch: here cdm is 1 and prior_zeros full (see above)
         if (cdm && prior_zeros >= preamble_frames) {  // S after the preamble
           state_ = state::header;
           index_ = 0;
@@ -586,8 +588,9 @@ class basic_control_observer {
     }
     const unsigned mb = m ? 1U : 0U;
     const unsigned sb = s ? 1U : 0U;
-    switch (state_) {
+    switch (state_) {  // coverage-branch: gcc's edge for a value outside the enum's seven
       case state::idle:
+        // coverage-branch: as the slave's: here m is 1 and prior_zeros full
         if (m && prior_zeros >= preamble_frames) {
           state_ = state::header;
           index_ = 0;

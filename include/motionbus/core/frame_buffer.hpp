@@ -140,6 +140,7 @@ class frame_buffer {
     if (n > in.size()) {
       n = in.size();
     }
+    // coverage-branch: never true, as the region below says
     if (end_ + n > N) {
       // coverage-begin: want() and drop() keep start + wanted() <= N, so what fill_and_decide asks
       make_room();

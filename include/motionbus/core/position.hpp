@@ -158,6 +158,7 @@ class position_tracker {
   /// (The bound grows by max_step a period up to (M - 1) / 2, beyond which a step cannot be
   /// told from its opposite: after that many missed periods a step is no longer checked.)
   constexpr void missed() noexcept {
+    // coverage-branch: saturation, after 2^32 - 1 missed periods in a row (minutes of a test)
     periods_ += periods_ != 0xFFFFFFFFU ? 1U : 0U;
     bound_ = limit_ - bound_ < max_step_ ? limit_ : bound_ + max_step_;
   }

@@ -83,6 +83,7 @@ class emulator {
       const std::uint32_t p = t % period;
       const std::int32_t half = static_cast<std::int32_t>(period / 2U);
       const std::int32_t x = static_cast<std::int32_t>(p);
+      // coverage-branch: every period below is 10 or more: half is never 0 (a division guard)
       return (x < half ? x : 2 * half - x) * amplitude / (half == 0 ? 1 : half);
     };
     std::int32_t v = 0;
@@ -192,6 +193,7 @@ class emulator {
     }
     for (std::size_t i = 0; i < values.size(); ++i) {  // settings 0..39: data first, then login
       const auto l = setting_limits(static_cast<std::uint16_t>(address + i));
+      // coverage-branch: !l: admit() lets writes through to settings 0..39 only, all limited
       if (!l || values[i] < l->lower || values[i] > l->upper) {
         return data_error;
       }
@@ -230,6 +232,7 @@ class emulator {
 
   constexpr bool area_ok(std::uint8_t f, std::uint16_t address,
                          std::uint16_t quantity) const noexcept {
+    // coverage-branch: the edge to the default, which admit() never lets a function reach
     switch (f) {
       case 0x01:
       case 0x05:
@@ -274,6 +277,7 @@ class emulator {
     if (a < input::set_parameter_count) {
       return settings_[a];  // the set values of DIP switch setting No.1
     }
+    // coverage-branch: admit() lets FC04 read 0..8 and from 100 on only: here a >= 100
     if (a >= input::instantaneous && a < input::instantaneous + input::instantaneous_count) {
       return instantaneous_register(static_cast<channel>(a - input::instantaneous));
     }
@@ -311,6 +315,7 @@ class emulator {
       return static_cast<std::uint16_t>((static_cast<unsigned>(product[i]) << 8U) |
                                         static_cast<unsigned>(product[i + 1U]));
     }
+    // coverage-branch: admit() lets FC03 read no block past 354 (the last of mfg_number)
     if (a >= holding::mfg_number && a < holding::mfg_number + holding::mfg_number_registers) {
       const std::size_t i = std::size_t{2} * (a - holding::mfg_number);
       return static_cast<std::uint16_t>((static_cast<unsigned>(mfg[i]) << 8U) |
@@ -322,6 +327,7 @@ class emulator {
   // 8 registers -> text; NUL or SP padding only at the end; 8..16 characters 0x21..0x7E.
   static constexpr bool unpack_password(span<const std::uint16_t> values, std::uint8_t (&text)[16],
                                         std::size_t& length) noexcept {
+    // coverage-branch: never true: admit() takes the password blocks only whole (below)
     if (values.size() != holding::password_registers) {
       // coverage: admit() takes the password blocks only whole (8 registers); kept for callers
       return false;

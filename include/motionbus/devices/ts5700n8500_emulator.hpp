@@ -269,6 +269,7 @@ class emulator {
       load_page();
     } else if (page_ < user_pages) {
       eeprom_[cell(page_, q.address)] = q.edf;
+      // coverage-branch: page_ is 0..5 or 7 (the page select refuses 6 and above 7): 7 here
     } else if (page_ == 7U && q.address == 4U) {
       threshold_x_ = static_cast<std::uint8_t>(q.edf ^ overheat_factory);
       update_overheat();
@@ -288,8 +289,10 @@ class emulator {
       value = page_;
     } else if (page_ < user_pages) {
       value = loaded_[q.address];
+      // coverage-branch: page_ is 0..5 or 7 (the page select refuses 6 and above 7): 7 here
     } else if (page_ == 7U && q.address == 4U) {
       value = static_cast<std::uint8_t>(loaded_threshold_x_ ^ overheat_factory);
+      // coverage-branch: page_ is 7 here, as above
     } else if (page_ == 7U && q.address == 5U) {
       value = static_cast<std::uint8_t>(temperature());
     } else {

@@ -218,6 +218,7 @@ class rtu_buffer : public frame_buffer<max_rtu_size> {
   static constexpr std::size_t max_fixed_request = 10;  // fixed_request_size's largest
   /// Makes room for max_fixed_request bytes from the front: moves the bytes held if needed.
   constexpr void reserve_fixed() noexcept {
+    // coverage-branch: true only 247+ bytes into the buffer, as the line below says
     if (static_cast<std::size_t>(start_) + max_fixed_request > max_rtu_size) {
       // coverage: a frame handed over 247+ bytes into the buffer; no test holds that many yet
       make_room();
@@ -227,6 +228,7 @@ class rtu_buffer : public frame_buffer<max_rtu_size> {
   constexpr void want_within(std::size_t n) noexcept {
     want_ = static_cast<index>(n);
     const std::size_t stop = static_cast<std::size_t>(start_) + n;
+    // coverage-branch: put() calls it with n = 4..10 (a function code's size): stop is never 0
     stop_ = static_cast<index>(stop - (stop != 0U ? 1U : 0U));
   }
   /// put_last() in two steps: the byte stored, then (unless restart() drops it all) counted.
@@ -368,6 +370,7 @@ class basic_rtu_framer {
         if (!scan(r, 0, true)) {
           r = need_input{1};
         }
+        // coverage-branch: a failing scan drops one of 2+ bytes held: never empty after one
         if (!r.is_failed() || buf_.empty()) {
           break;
         }
@@ -376,6 +379,7 @@ class basic_rtu_framer {
         }
       }
       if (!r.is_complete()) {
+        // coverage-branch: r is never failed: the loop above ends on a scan that did not fail
         r = first.is_failed() ? first : (r.is_failed() ? r : decode_failure{errc::truncated, 0});
       }
     }
@@ -517,6 +521,7 @@ class basic_rtu_framer {
 
   // inline: a compare or two in the CRC check of every frame's last byte.
   MOTIONBUS_INLINE constexpr bool for_us(std::uint8_t slave) const noexcept {
+    // coverage-branch: true in the listener only, which never calls it (the line below)
     if (listening()) {
       return true;  // coverage: the listener frames in listen(), which never asks
     }
@@ -647,6 +652,7 @@ class basic_rtu_framer {
           continue;  // garbage: resynchronise
         }
       }
+      // coverage-branch: never true, as the line below says
       if (total == 0U && size >= max_rtu_size) {
         // coverage: defensive; with 256 bytes held every rule gives a size (FC2B: too long)
         total = max_rtu_size + 1U;  // a rule never wants more than 256 bytes: too long
@@ -706,6 +712,8 @@ class basic_rtu_framer {
     for (;;) {
       const std::size_t size = buf_.size();
       if (size < 2U) {
+        // At a silence the bytes held go one at a time (at one, below) or with a frame:
+        // coverage-branch: at a silence (at_end) size is 1 here, never 0
         if (at_end && size != 0U) {  // one byte starts no frame: garbage
           drop_front(size);
           dropped_ += size;

@@ -167,6 +167,8 @@ constexpr line_result<response> decode_response_line(
   }
   const auto r = decode_response(byte_view(f.value().bytes, f.value().count), opt);
   if (!r.is_complete()) {
+    // collect_fields gives the bytes the CF's layout sizes, or a bad CF alone (refused):
+    // coverage-branch: r is failed, never incomplete
     return decode_failure{r.is_failed() ? r.error() : errc::truncated, f.consumed_bits(),
                           r.expected(), r.received()};
   }
