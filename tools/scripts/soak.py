@@ -227,17 +227,7 @@ def plan(frames, seed):
             pdu, answer = unit.request(rng)
             behind = bytes(rtu(1, pdu))
             while True:
-                if kind == "garbage":
-                    bad = bytes(rng.randrange(256) for _ in range(rng.randint(1, 16)))
-                else:
-                    victim = bytes(rtu(1, unit.request(rng, apply=False)[0]))
-                    if kind == "bitflip":
-                        at = rng.randrange(len(victim))
-                        bad = bytearray(victim)
-                        bad[at] ^= 1 << rng.randrange(8)
-                        bad = bytes(bad)
-                    else:
-                        bad = victim[:rng.randint(1, len(victim) - 1)]
+                bad = fault(kind, rng, unit)
                 if not crc_valid_run(bad + behind, len(bad)):
                     break
                 redrawn += 1
@@ -252,7 +242,33 @@ def plan(frames, seed):
             if kind == "split":
                 item["cut_at"] = rng.randint(1, len(item["bytes"]) - 1)
             out.append(item)
+    # A rule read from inside a fault may want up to 256 bytes, running into the frames and
+    # answers behind it: no such run may be CRC-valid either (the line's bytes are known).
+    for k, item in enumerate(out):
+        if item["kind"] not in FAULTS:
+            continue
+        after = b""
+        for later in out[k + 1:]:
+            after += later["bytes"] + (later["answer"] or b"")
+            if len(after) >= 256:
+                break
+        while crc_valid_run(item["bytes"] + after[:256], len(item["bytes"])):
+            item["bytes"] = fault(item["kind"], rng, unit)
+            redrawn += 1
     return out, {"faults": redrawn, "frames": unit.redrawn}
+
+
+def fault(kind, rng, unit):
+    """A fault's bytes: 1..16 random bytes, or a request to unit 1 (never executed: the model
+    is left as it is) with one bit flipped, or cut short."""
+    if kind == "garbage":
+        return bytes(rng.randrange(256) for _ in range(rng.randint(1, 16)))
+    victim = bytes(rtu(1, unit.request(rng, apply=False)[0]))
+    if kind == "bitflip":
+        bad = bytearray(victim)
+        bad[rng.randrange(len(victim))] ^= 1 << rng.randrange(8)
+        return bytes(bad)
+    return victim[:rng.randint(1, len(victim) - 1)]
 
 
 class Master:
