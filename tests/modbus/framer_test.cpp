@@ -216,6 +216,53 @@ TEST_CASE("framer resynchronises after garbage and a corrupted frame, bounded") 
   }
 }
 
+// issue 28's soak (tools/scripts/soak.py): a request cut short whose length rule wants more
+// bytes than the silence left (an FC10 cut after its byte count), with a request right behind
+// it and no silence between: the silence hands over the request behind (it was lost: the cut
+// frame's rule, still wanting bytes, ended the scan). The same for garbage that reads as the
+// start of a long frame, in both ends' modes, and a frame cut short alone still fails truncated.
+TEST_CASE("idle(): the request behind a frame cut short, with no silence between, is found") {
+  const bytes good = rtu(0x01, {0x03, 0x00, 0x00, 0x00, 0x01});
+  const bytes fc10 = rtu(0x01, {0x10, 0x00, 0x00, 0x00, 0x04, 0x08, 1, 2, 3, 4, 5, 6, 7, 8});
+  // cut after 3, 7 and 12 bytes; after 7 (its byte count, wanting 17 bytes where 15 are held)
+  // the request was lost; frame_end::length holds the same 15 bytes until idle() too
+  const struct {
+    std::size_t cut;
+    frame_end ends;
+  } cases[] = {{3, frame_end::silence},
+               {7, frame_end::silence},
+               {12, frame_end::silence},
+               {7, frame_end::length}};
+  for (const auto& k : cases) {
+    CAPTURE(k.cut);
+    bytes stream(fc10.begin(), fc10.begin() + static_cast<long>(k.cut));
+    stream.insert(stream.end(), good.begin(), good.end());
+    rtu_framer s(framer_role::server, {0x01, k.ends});
+    CHECK(run(s, stream, 1).empty());  // held: the cut frame's rule wants more, or its CRC failed
+    const auto found = s.idle();
+    REQUIRE(found.is_complete());
+    CHECK(bytes(found->pdu.begin(), found->pdu.end()) == bytes{0x03, 0x00, 0x00, 0x00, 0x01});
+    CHECK(s.pending() == 0);
+    CHECK(s.idle().is_incomplete());
+  }
+  // garbage whose second byte reads as FC10 with a byte count of 0xF0, then the request
+  bytes stream = {0x7F, 0x10, 0x00, 0x00, 0x00, 0x78, 0xF0};
+  stream.insert(stream.end(), good.begin(), good.end());
+  rtu_framer g(framer_role::server, {0x01});
+  CHECK(run(g, stream, 3).empty());
+  const auto found = g.idle();
+  REQUIRE(found.is_complete());
+  CHECK(found->pdu.size() == 5);
+  // a frame cut short alone: truncated, nothing held after
+  rtu_framer c(framer_role::server, {0x01});
+  CHECK(run(c, bytes(fc10.begin(), fc10.begin() + 9), 1).empty());
+  const auto cut_alone = c.idle();
+  REQUIRE(cut_alone.is_failed());
+  CHECK(cut_alone.error() == errc::truncated);
+  CHECK(c.pending() == 0);
+  CHECK(c.dropped() == 9);
+}
+
 TEST_CASE("client framer: response lengths follow the outstanding request") {
   rtu_framer f(framer_role::client, {0x11});
   testutil::sent_to(f, 0x11, 0x03);
@@ -504,6 +551,38 @@ TEST_CASE("listener: a corrupted request, then a request, its exception and a re
     rtu_listener g;
     CHECK(listen_bytes(g, line) == all);
   }
+}
+
+// issue 28's soak (tools/scripts/soak.py): with no request pending (the exchange before it
+// complete), an FC01-04 request whose address's high byte is 3 is also, byte for byte, a
+// response with a byte count of 3 and the same CRC; it was reported as an unpaired response,
+// and its own response then as a request. A request is tried first when none is pending.
+TEST_CASE("listener: with no request pending, a request that also reads as a response") {
+  for (const std::uint8_t function : {0x01, 0x02, 0x03, 0x04}) {
+    CAPTURE(function);
+    const bytes first = rtu(0x01, {0x03, 0x00, 0x00, 0x00, 0x01});
+    const bytes answer = rtu(0x01, {0x03, 0x02, 0x00, 0x00});
+    const bytes request = rtu(0x01, {function, 0x03, 0x7C, 0x00, 0x05});
+    const bytes reply = function <= 0x02
+                            ? rtu(0x01, {function, 0x01, 0x15})
+                            : rtu(0x01, {function, 0x0A, 0, 1, 0, 2, 0, 3, 0, 4, 0, 5});
+    const bytes line = cat({first, answer, request, reply});
+    for (const std::size_t chunk : {std::size_t{1}, std::size_t{5}, line.size()}) {
+      rtu_listener f;
+      const auto frames = frames_of(listen_chunks(f, line, chunk));
+      REQUIRE(frames.size() == 4U);
+      CHECK(!frames[0].response);
+      CHECK(frames[1].response);
+      CHECK(frames[2] == heard{{true, errc::ok, 0x01, {function, 0x03, 0x7C, 0x00, 0x05}}, false});
+      CHECK(frames[3].response);
+    }
+  }
+  // the response behind a lost request is still framed (the response rule, the fallback)
+  const bytes response = rtu(0x11, {0x03, 0x04, 0x00, 0x00, 0x00, 0x2A});
+  rtu_listener g;
+  const auto frames = frames_of(listen_chunks(g, response, 1));
+  REQUIRE(frames.size() == 1U);
+  CHECK(frames[0].response);
 }
 
 TEST_CASE("listener: an FC06 exchange after garbage (request and echo alike)") {

@@ -138,9 +138,16 @@ TEST_CASE("RTU over TCP: a bad length holds what follows until its bytes are in 
   CHECK(frames == std::vector<frame_note>(32, frame_event(0x41, {0x03, 0x00, 0x6B, 0x00, 0x03})));
   CHECK(got.front().error == errc::crc_mismatch);  // the long request, at its 255th byte
   CHECK(f.pending() == 0U);
-  // a quiet connection (the user's idle timer calls idle()) ends what is held instead
+  // a quiet connection (the user's idle timer calls idle()) ends what is held instead: the
+  // head is cut short, the request behind it is handed over (issue 28's soak: it was lost)
   rtu_server_framer quiet(over_tcp(0x41));
   CHECK(receive(quiet, cat({head, request}), {}).empty());
+  const auto behind = quiet.idle();
+  REQUIRE(behind.is_complete());
+  CHECK(bytes(behind->pdu.begin(), behind->pdu.end()) == bytes{0x03, 0x00, 0x6B, 0x00, 0x03});
+  CHECK(quiet.pending() == 0U);
+  CHECK(quiet.idle().is_incomplete());
+  CHECK(receive(quiet, head, {}).empty());  // a head alone: truncated at the silence
   CHECK(quiet.idle().error() == errc::truncated);
   CHECK(quiet.pending() == 0U);
   CHECK(receive(quiet, request, {3}) ==

@@ -217,9 +217,17 @@ int serve_line(const serve_modbus_options& opts, devices& units) {
         return true;
       }
       std::uint8_t out[mo::max_rtu_size] = {};
-      const std::size_t size =
-          mo::serve_units([&](std::uint8_t u) { return device_of(units, u); }, r.value(), out)
-              .value_or(0);
+      std::size_t size = 0;
+      if (r.value().broadcast()) {
+        // executed by every unit's device, never answered (as on ASCII); serve_units asks its
+        // lookup for unit 0, which no unit is (issue 28's soak: broadcasts were not executed)
+        for (auto& u : units) {
+          (void)mo::serve_units([&](std::uint8_t) { return &u.second; }, r.value(), out);
+        }
+      } else {
+        size = mo::serve_units([&](std::uint8_t u) { return device_of(units, u); }, r.value(), out)
+                   .value_or(0);
+      }
       if (size > 0 && !port.write_all(out, size)) {
         std::cerr << "motionbus: write error\n";
         return false;

@@ -328,10 +328,11 @@ class basic_rtu_framer {
 
   /// The user's t3.5 timer expired: the bytes held end a frame. Complete: the bytes held as
   /// one CRC-valid frame for this node (frame_end::silence), else the first frame the length
-  /// rule finds in them. Failed: truncated, crc_mismatch or modbus_pdu_length. Either way the
-  /// framer is empty afterwards. Incomplete: nothing was held, or only a frame for another
-  /// address (counted in skipped()). The same signal, and the same return type, as the
-  /// T-format receiver's idle().
+  /// rule finds in them (past garbage, a bad CRC, or bytes whose rule wants more than the
+  /// silence left: a frame cut short). Failed: truncated, crc_mismatch or modbus_pdu_length
+  /// (the first met). Either way the framer is empty afterwards. Incomplete: nothing was held,
+  /// or only a frame for another address (counted in skipped()). The same signal, and the
+  /// same return type, as the T-format receiver's idle().
   /// The listener's idle() settles one result at a time, like feed(): the first frame or
   /// failure in the bytes held, a frame's bytes cut short by the silence being truncated (one
   /// byte dropped); call it again until it reports incomplete (the framer is then empty), so
@@ -369,6 +370,13 @@ class basic_rtu_framer {
       for (;;) {
         if (!scan(r, 0, true)) {
           r = need_input{1};
+          if (buf_.size() >= 2U) {
+            // a rule wants more bytes than the silence left (a frame cut short, or garbage
+            // that reads as the start of a long one): a frame may start at the next byte
+            drop_front(1);
+            ++dropped_;
+            r = decode_failure{errc::truncated, 0};
+          }
         }
         // coverage-branch: a failing scan drops one of 2+ bytes held: never empty after one
         if (!r.is_failed() || buf_.empty()) {
@@ -732,7 +740,15 @@ class basic_rtu_framer {
       std::size_t need = 0;       // the smallest frame size still to be held
       std::size_t query_end = 0;  // FC08 Return Query Data: see query_data_end()
       decode_failure failure{errc::ok, used};
-      for (unsigned rule = response_possible ? 0U : 1U; rule < 2U; ++rule) {
+      // With a request pending its response is tried first; with none (the last frame was a
+      // response, or a broadcast) a request is what comes next, and the response rule is the
+      // fallback for a response whose request was lost: an FC01-04 request whose address's
+      // high byte is 3 is also, byte for byte, a response with a byte count of 3 and the same
+      // CRC (issue 28's soak: such requests were reported as unpaired responses).
+      const unsigned first_rule = response_possible && function_ != 0U ? 0U : 1U;
+      const unsigned rules = response_possible ? 2U : 1U;
+      for (unsigned k = 0; k < rules; ++k) {
+        const unsigned rule = k == 0U ? first_rule : 1U - first_rule;
         std::size_t total = rule == 0U ? predict_response_size(held, asked, options_.fc11)
                                        : predict_request_size(held);
         if (total == unknown_length) {
