@@ -558,7 +558,8 @@ TEST_CASE("listener: a corrupted request, then a request, its exception and a re
 // response with a byte count of 3 and the same CRC; it was reported as an unpaired response,
 // and its own response then as a request. A request is tried first when none is pending.
 TEST_CASE("listener: with no request pending, a request that also reads as a response") {
-  for (const std::uint8_t function : {0x01, 0x02, 0x03, 0x04}) {
+  for (const std::uint8_t function :
+       {std::uint8_t{0x01}, std::uint8_t{0x02}, std::uint8_t{0x03}, std::uint8_t{0x04}}) {
     CAPTURE(function);
     const bytes first = rtu(0x01, {0x03, 0x00, 0x00, 0x00, 0x01});
     const bytes answer = rtu(0x01, {0x03, 0x02, 0x00, 0x00});
