@@ -10,6 +10,7 @@
 
 #include "../support/prng.hpp"
 #include "../support/reference_crc.hpp"
+#include "../support/run_time.hpp"
 
 using namespace motionbus;
 
@@ -171,9 +172,10 @@ TEST_CASE("BiSS CRC6 of a sensor frame's bits, inverted on the wire") {
 
 namespace {
 
-// update_bits with a count that is a compile-time constant once inlined (the byte-step path
-// of the MSB-first 8-bit-register kernels, at -O1 and above) after a first field that leaves
-// the register non-zero, against the reference fed the same bits.
+// update_bits in the byte steps of the MSB-first 8-bit-register kernels (every count of 8 and
+// more) after a first field that leaves the register non-zero, against the reference fed the
+// same bits: with the count a compile-time constant once inlined (the steps unrolled inline, at
+// -O1 and above) and with the same count known only at run time (the shared kernel's loop).
 template <class Spec, unsigned Count>
 void constant_count_matches_reference(std::uint64_t first, std::uint64_t second) {
   using engine = crc<Spec, crc_table_size::byte>;
@@ -184,6 +186,8 @@ void constant_count_matches_reference(std::uint64_t first, std::uint64_t second)
   CHECK(got == ref::crc_of_bits(model_of<Spec>(), bits));
   CHECK(engine::compute_bits(second, Count) ==
         ref::crc_of_bits(model_of<Spec>(), fed_order<Spec>(second, Count)));
+  const unsigned run_time_count = testutil::at_run_time(Count);
+  CHECK(engine().update_bits(first, 13).update_bits(second, run_time_count).value() == got);
 }
 
 template <class Spec, unsigned... Counts>
@@ -198,7 +202,7 @@ void every_constant_count(std::integer_sequence<unsigned, Counts...>) {
 
 }  // namespace
 
-TEST_CASE("update_bits with a compile-time count of 8..64 bits: byte steps vs the reference") {
+TEST_CASE("update_bits with a count of 8..64 bits, constant or not: byte steps vs the reference") {
   every_constant_count<crc6_biss_spec>(std::make_integer_sequence<unsigned, 57>());
   every_constant_count<crc4_biss_spec>(std::make_integer_sequence<unsigned, 57>());
 }

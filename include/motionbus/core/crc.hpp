@@ -279,6 +279,21 @@ struct crc_kernel {
   template <unsigned Chunk>
   static constexpr std::uint32_t feed(std::uint32_t reg, std::uint64_t bits,
                                       unsigned count) noexcept {
+    if constexpr (Chunk == 8U && can_slice_bits) {
+      if (count >= 8U) {
+        // Byte steps only, no bit steps: the register folded into the top byte of the field,
+        // which is then fed from a zero register rounded up to whole bytes (crc::update_bits).
+        const unsigned bytes = (count + 7U) / 8U;
+        std::uint64_t m = (bits ^ (static_cast<std::uint64_t>(reg) << (count - 8U)))
+                          << (64U - 8U * bytes);
+        std::uint32_t r = 0;
+        for (unsigned k = 0; k < bytes; ++k) {
+          r = step_chunk<8>(r, static_cast<std::uint32_t>(m >> 56U));
+          m <<= 8U;
+        }
+        return r;
+      }
+    }
     if constexpr (Chunk > 1U) {
       while (count >= Chunk) {
         std::uint32_t chunk = 0;

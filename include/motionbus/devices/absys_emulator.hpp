@@ -20,7 +20,7 @@
 // (register file, two EDS banks, the control slave). It refers to itself (its control slave
 // holds its register file), so it cannot be copied, and a `static` one is in .data: 296 bytes
 // of flash copied to RAM at boot. frame() and control() run once a frame in that order, from
-// one context: 2151 instructions and 280 bytes of stack at worst for both (meter, Cortex-M4
+// one context: 2127 instructions and 280 bytes of stack at worst for both (meter, Cortex-M4
 // -Os; most of it the 64-bit remainder of the rotary position, a library call on a 32-bit
 // core). The setters (set_position, set_error, ...) must not run in between.
 #ifndef MOTIONBUS_DEVICES_ABSYS_EMULATOR_HPP
