@@ -14,22 +14,27 @@ totals, and fails
 
 Lines and branches are gcov's, read from its JSON rather than through gcovr: gcovr 5.2 reads
 gcov's text output, where the branches of some template instances are lost (an instance the
-linker kept, whose branches the tests take, showed them untaken). gcov's JSON lists, for each
-object file, a record of a line for each function instance that has code on it (a template's
-instances, a constructor's complete and base variants) with that instance's count and branches,
-each branch with its count and its `throw` and `fallthrough` flags. Records are merged per line
-of a header, over every object file and every instance:
+linker kept, whose branches the tests take, showed them untaken). For each object file, gcov's
+JSON has a record of a line for each function instance with code on it (a template's
+instances, a constructor's variants), with that instance's count and its branches in the order
+of the line's blocks, each with its count and its `fallthrough` and `throw` flags; the lines
+of functions that are not grouped (one function starting at their first line) come as one
+record for the object file, the branches of each such function on the line appended one
+function after another. Records are merged per line of a header, over every object file and
+every instance:
   - the line's count is the sum of its records' counts; it is executed when one of them is;
-  - its branches: the records are grouped by their shape, the sequence of their branches'
-    (fallthrough, throw) flags. Records of one shape are the same code of the line (the same
-    function in another object file, or another instance of a template whose decisions on
-    that line are the same): their branches are paired by position, and a position is taken
-    when any record of the shape took it (a per-line union over instances and object files of
-    each branch position; gcov orders a line's branches by the blocks of the line, the same in
-    every copy of the same code). Records of different shapes (an instance where the compiler
-    folded a condition that another evaluates) are not paired: each shape's branches count on
-    their own, and each must be taken by a record of that shape. The line's branches are the
-    union of its shapes'.
+  - branches: first each record loses its throw edges (below); its shape is then the sequence
+    of its branches' fallthrough flags. Records of one shape are the same code of the line
+    (the same function in another object file, or another instance of a template making the
+    same decisions there): they are paired by position, and a position is taken when any
+    record of the shape took it (a per-line union over instances and object files of each
+    branch position). A record whose shape is k copies of a shorter shape of the line (a
+    record of k functions appended, e.g. a lambda's instances) folds onto it, its position i
+    onto i mod the shorter length; the report lists each fold (a fold would pair a decision
+    with another only where an instance with a condition folded away by the compiler sits
+    next to one whose two decisions repeat it: the listed folds are checked by hand). Any
+    other shapes of a line count on their own, each taken only by records of that shape.
+    The line's branches are its shapes' positions.
 Two kinds of branch are not counted, with the meaning gcovr's options gave them:
   - unreachable: every branch of a line that holds no code of its own, whose text outside
     comments is empty, `{`, `}` or `{}` (gcovr's --exclude-unreachable-branches): gcc gives
@@ -37,10 +42,11 @@ Two kinds of branch are not counted, with the meaning gcovr's options gave them:
     destructors), counted where that code is; such a line is not counted as a line either
     when no test executed it (a `{`, `}`, `else` or comment line, as gcovr);
   - throw: a branch gcov flags `throw`, the edge to the exception path of a call that may
-    throw (gcovr's --exclude-throw-branches). include/ never throws, but the tests' doctest
-    checks and the standard library may: those edges are the compiler's, not the library's
-    decisions. The flag is part of a record's shape, so a throw edge is never paired with a
-    decision's.
+    throw (gcovr's --exclude-throw-branches), and with it the call's return edge, the branch
+    listed just before it: with its throw edge gone it is no decision, taken whenever the
+    line runs (gcovr counted it). include/ never throws, but the tests' doctest checks, their
+    callbacks and the standard library may: those edges are the compiler's, not the
+    library's decisions.
 Every other branch counts.
 
 A justification is a comment in the header itself:
