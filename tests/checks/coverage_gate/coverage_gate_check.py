@@ -90,10 +90,31 @@ rc, out, _ = run(base([1, 1, 1, 1, 1, 0]))
 expect("below 90 %", rc == 1, f"exit {rc}, expected 1\n{out}")
 expect("below 90 %", "branch coverage of include/ 80.0 % is below 90 %" in out, out)
 expect("below 90 %", "h.hpp:9: 1 of 6 branches not taken" in _, "the open branch is not listed")
-# an executed line with an untaken branch and no justification: listed, not a failure by itself
+# an executed line with an untaken branch and no justification fails, though 20 of 22 branches
+# (above the floor) are taken: the scratch-commit case, a decision no test takes both ways
 rc, out, report = run(base([1] * 17 + [0]))
-expect("open branch", rc == 0, f"exit {rc}, expected 0 (20 of 22 taken)\n{out}")
+expect("open branch", rc == 1, f"exit {rc}, expected 1 (20 of 22 taken, one unjustified)\n{out}")
+expect("open branch", "h.hpp:9: 1 of 18 branches not taken and not justified: return b;" in out,
+       out)
 expect("open branch", "lines with untaken branches, not justified: 1" in report, report)
+expect("open branch", "problems: 1" in report, report)
+# the same report with that line justified in the header passes, the reason in the report
+rc, out, report = run(base([1] * 17 + [0]),
+                      HEADER.replace("  return b;", "  return b;  // coverage-branch: JUSTIFIED_9"))
+expect("justified branch", rc == 0, f"exit {rc}, expected 0\n{out}")
+expect("justified branch", "h.hpp:9: 1 of 18 branches not taken: JUSTIFIED_9" in report, report)
+expect("justified branch", "lines with untaken branches, not justified: 0" in report, report)
+# ... and so does a justification on a comment line of its own directly above the line (now
+# line 10), but not one with a blank line between (the line is then 11)
+lines = base([1] * 17 + [0])
+lines[5] = line(10, 3, [1] * 17 + [0])
+above = HEADER.replace("  return b;", "  // coverage-branch: JUSTIFIED_10\n  return b;")
+rc, out, report = run(lines, above)
+expect("justified above", rc == 0 and "JUSTIFIED_10" in report, f"exit {rc}\n{out}")
+lines[5] = line(11, 3, [1] * 17 + [0])
+rc, out, _ = run(lines, above.replace("JUSTIFIED_10\n", "JUSTIFIED_10\n\n"))
+expect("justified too far above", rc == 1 and "h.hpp:11: 1 of 18 branches not taken and not "
+       "justified" in out, f"exit {rc}\n{out}")
 # the merge of gcov's records: line 5's decision taken one way by an instance in one object
 # file and the other way by another instance in another: both ways taken, 9 of 10
 lines = base([1, 1, 1, 1, 1, 1])
@@ -141,4 +162,4 @@ expect("stale line justification", rc == 1 and "stale justification" in out, out
 if failures:
     print("\n".join(failures))
     sys.exit(1)
-print("coverage gate: 12 cases as expected")
+print("coverage gate: 15 cases as expected")
