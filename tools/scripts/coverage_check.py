@@ -31,10 +31,11 @@ every instance:
     record of the shape took it (a per-line union over instances and object files of each
     branch position). A record whose shape is k copies of a shorter shape of the line (a
     record of k functions appended, e.g. a lambda's instances) folds onto it, its position i
-    onto i mod the shorter length; the report lists each fold (a fold would pair a decision
-    with another only where an instance with a condition folded away by the compiler sits
-    next to one whose two decisions repeat it: the listed folds are checked by hand). Any
-    other shapes of a line count on their own, each taken only by records of that shape.
+    onto i mod the shorter length; the report lists each fold. A fold or a pairing credits a
+    decision with another's outcome only where instances of a line differ in code (a
+    condition the compiler folded in one, an `if constexpr` that empties a branch in one):
+    the listed folds are to be checked by hand. Any other shapes of a line count on their
+    own, each taken only by records of that shape.
     The line's branches are its shapes' positions.
 Two kinds of branch are not counted, with the meaning gcovr's options gave them:
   - unreachable: every branch of a line that holds no code of its own, whose text outside
