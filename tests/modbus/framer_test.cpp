@@ -913,7 +913,15 @@ TEST_CASE("client framer: put() frames an FC08 response (the echo) byte by byte"
       rtu_framer f(framer_role::client, {0x01, ends});
       testutil::sent_to(f, 0x01, 0x08);
       // one byte at a time, then the silence after it
-      const std::vector<event> ev = put_notes(f, view(*frame), note, then::idle);
+      std::vector<event> ev;
+      for (const std::uint8_t b : *frame) {
+        if (f.put(b)) {
+          ev.push_back(note(f.result()));
+        }
+      }
+      for (auto r = f.idle(); !r.is_incomplete(); r = f.idle()) {
+        ev.push_back(note(r));
+      }
       REQUIRE(ev.size() == 1);
       CHECK(ev[0].ok);
       CHECK(ev[0].pdu == bytes(frame->begin() + 1, frame->end() - 2));
