@@ -21,6 +21,12 @@ if(TARGET motionbus_cli)
     set_tests_properties(cli.monitor.${protocol} PROPERTIES LABELS "cli" TIMEOUT 120
       RUN_SERIAL TRUE)
   endforeach()
+  # serve modbus executes broadcasts (FC06, FC10 to unit 0) on an RTU line, a pty: never
+  # answered, read back from each unit (tests/cli/serve_broadcast_checks.py): timed, alone.
+  add_test(NAME cli.serve.broadcast
+    COMMAND /usr/bin/python3 "${CMAKE_CURRENT_SOURCE_DIR}/cli/serve_broadcast_checks.py"
+            "$<TARGET_FILE:motionbus_cli>")
+  set_tests_properties(cli.serve.broadcast PROPERTIES LABELS "cli" TIMEOUT 60 RUN_SERIAL TRUE)
   # monitor modbus --ascii on a pty pair (tests/cli/monitor_ascii_checks.py): timed, alone.
   add_test(NAME cli.monitor.ascii
     COMMAND /usr/bin/python3 "${CMAKE_CURRENT_SOURCE_DIR}/cli/monitor_ascii_checks.py"

@@ -10,8 +10,9 @@
 #         MOTIONBUS_FUZZ_SECONDS (default 10) seconds
 #   s390x (big-endian) and armhf (32-bit ARM): doctest, static and replay suites under qemu-user
 #   coverage: gcc at -O0 with gcov; every test that executes library code, then the line and
-#         branch coverage of include/ (tools/scripts/coverage_check.py): fails when a line no
-#         test executes is not justified in the header; report in <build>/coverage/
+#         branch coverage of include/ (tools/scripts/coverage_check.py, from gcov's JSON):
+#         fails below 90 % of branches, or when a line no test executes or a branch no test
+#         takes is not justified in the header; report in <build>/coverage/
 # Environment: MOTIONBUS_BUILD_DIR (default ./build), MOTIONBUS_FUZZ_SECONDS.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"

@@ -718,3 +718,31 @@ TEST_CASE("encode_frame: each argument check alone; decode_frame: two bad CRCs i
   CHECK(r.error() == errc::crc_mismatch);
   CHECK(r.expected() != r.received());
 }
+
+TEST_CASE("decode_frame: an empty capture, and 64 samples with the Ack but no Start, need more") {
+  // no samples, in each bit order and with words of 8 and 64 bits (the window is built three
+  // ways): one more sample needed
+  const std::uint8_t none8[1] = {0xFF};
+  const std::uint64_t none64[1] = {~std::uint64_t{0}};
+  for (const bit_order order : {bit_order::msb_first, bit_order::lsb_first}) {
+    CAPTURE(static_cast<int>(order));
+    const auto a = decode_frame(none8, 0, absys_layout, {}, order);
+    CHECK(a.is_incomplete());
+    CHECK(a.needed_bits() == 1);
+    const auto b = decode_frame(none64, 0, absys_layout, {}, order);
+    CHECK(b.is_incomplete());
+    CHECK(b.needed_bits() == 1);
+  }
+  // exactly one window of 64 samples: the line high, the Ack from sample 2 on and no Start
+  // yet: nothing past the window to search, one more sample needed (62 zeros are within
+  // max_ack_bits)
+  const std::uint8_t ack_only[8] = {0xC0, 0, 0, 0, 0, 0, 0, 0};
+  const auto c = decode_frame(ack_only, 64, absys_layout);
+  CHECK(c.is_incomplete());
+  CHECK(c.needed_bits() == 1);
+  // the same with a Start in the 65th sample: the search goes on past the window and finds it
+  const std::uint8_t start_after[9] = {0xC0, 0, 0, 0, 0, 0, 0, 0, 0x80};
+  const auto d = decode_frame(start_after, 65, absys_layout);
+  CHECK(d.is_incomplete());
+  CHECK(d.needed_bits() > 1);  // the Start found: the frame's fields still to come
+}

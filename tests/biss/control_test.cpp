@@ -536,3 +536,69 @@ TEST_CASE("abort() with no access running changes nothing") {
   CHECK(m.state() == control_state::idle);
   CHECK(m.error() == errc::ok);
 }
+
+TEST_CASE(
+    "write echo with a bad CRC, a 1 in the P slot, sequential access past 0x7F and into a "
+    "read-only register") {
+  test_registers regs;
+  control_master m;
+  control_slave<test_registers> s(regs);
+  // the slave echoes the written value right but a CRC bit flipped (CDS, frames 27..30): the
+  // master does not take the write as confirmed, though the slave, which got it right, wrote it
+  const std::uint8_t data[1] = {0x3C};
+  for (std::size_t k = 27; k < 31; ++k) {
+    frame_link l{m, s, regs};
+    l.cds_fault = [k](std::size_t f, bool b) { return f == k ? !b : b; };
+    REQUIRE(m.start_write(0, 0x21, byte_view(data, 1)) == errc::ok);
+    l.run();
+    CAPTURE(k);
+    CHECK(m.error() == errc::biss_write_not_confirmed);
+    CHECK(regs.mem[0x21] == 0x3C);
+    regs.mem[0x21] = 0;
+    frame_link quiet{m, s, regs};
+    quiet.idle(preamble_frames);
+  }
+  // a 1 from the master in the P slot (frame 31) of a read: the slave takes it as no P and
+  // ignores the rest of the access. Shown by a 1 in the frame after P: after a normal P the S
+  // of the next address (0x21, readable and ready: the slave answers its S with 1), after the
+  // 1 in P nothing (0)
+  regs.mem[0x20] = 0x5A;
+  std::uint8_t out[2] = {};
+  for (const bool flip : {false, true}) {
+    frame_link l{m, s, regs};
+    l.cdm_fault = [flip](std::size_t f, bool b) { return flip && f == 31 ? !b : b; };
+    REQUIRE(m.start_read(0, 0x20, mutable_byte_view(out, 1)) == errc::ok);
+    REQUIRE(l.run(32) == 32);  // up to P
+    CAPTURE(flip);
+    CHECK(l.cdm_log[18] == 1);  // the byte's S
+    CHECK(l.cdm_log[31] == (flip ? 1 : 0));
+    CHECK(s.step(true) == !flip);  // frame 32, in the master's place
+    m.abort();
+    frame_link quiet{m, s, regs};
+    quiet.idle(preamble_frames);
+  }
+  // a read of the last register (0x7F) up to P, then an S for the next address: no register
+  // past 0x7F, the slave ignores it (answers 0) and reads nothing
+  regs.mem[0x7F] = 0x99;
+  {
+    frame_link l{m, s, regs};
+    REQUIRE(m.start_read(0, 0x7F, mutable_byte_view(out, 1)) == errc::ok);
+    REQUIRE(l.run(32) == 32);
+    CHECK(!s.step(true));  // frame 32, in the master's place
+    CHECK(!s.step(true));
+    m.abort();
+    l.idle(preamble_frames);
+  }
+  // a sequential write of two bytes whose second register is read-only: the first is written,
+  // the slave stops at the second, the master fails
+  regs.read_only[0x31] = true;
+  const std::uint8_t two[2] = {0x12, 0x34};
+  {
+    frame_link l{m, s, regs};
+    REQUIRE(m.start_write(0, 0x30, byte_view(two, 2)) == errc::ok);
+    l.run();
+    CHECK(m.state() == control_state::failed);
+    CHECK(regs.mem[0x30] == 0x12);
+    CHECK(regs.mem[0x31] == 0);
+  }
+}

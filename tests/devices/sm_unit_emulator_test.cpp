@@ -197,6 +197,14 @@ TEST_CASE("SM unit emulator: coils, short requests, state registers, login block
   CHECK(serve_pdu(unit, 1, {0x10, 0x00, 0xC8, 0x00, 0x08, 0x10, 'a', 'b', 'c', 'd', ' ',
                             ' ',  'e',  'f',  'g',  'h',  'i',  'j', 'k', 'l', 'm', 'n'}) ==
         bytes{0x90, 0x03});
+  // ...and so is one with a character outside the printable 0x21..0x7E (a control
+  // character, DEL), where the padding does not come in
+  CHECK(serve_pdu(unit, 1, {0x10, 0x00, 0xC8, 0x00, 0x08, 0x10, 'a', 'b', 'c', 0x07, 'e',
+                            'f',  'g',  'h',  'i',  'j',  'k',  'l', 'm', 'n', 'o',  'p'}) ==
+        bytes{0x90, 0x03});
+  CHECK(serve_pdu(unit, 1, {0x10, 0x00, 0xC8, 0x00, 0x08, 0x10, 'a', 'b', 'c', 'd', 'e',
+                            'f',  'g',  'h',  0x7F, 'j',  'k',  'l', 'm', 'n', 'o', 'p'}) ==
+        bytes{0x90, 0x03});
   // logged out, a settings write by FC10 is a login error
   std::uint8_t out[256] = {};
   const auto n = sm::login(1, text("password"), mutable_byte_view(out, sizeof out));

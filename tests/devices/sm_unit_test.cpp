@@ -198,6 +198,10 @@ TEST_CASE("SM unit: each bound of the request helpers alone") {
   CHECK(sm::write_settings(1, 40, one, out).error() == errc::out_of_range);
   const std::uint16_t zero_start[] = {0};
   CHECK(sm::write_settings(1, 4, zero_start, out).error() == errc::out_of_range);
+  // ...and a value above its upper limit (a torque limit: 0..200 %), 200 itself taken
+  const std::uint16_t torque_over[] = {200, 201};
+  CHECK(sm::write_settings(1, 0, torque_over, out).error() == errc::out_of_range);
+  CHECK(sm::write_settings(1, 0, span<const std::uint16_t>(torque_over, 1), out).ok());
 }
 
 TEST_CASE("SM unit: responses of another function or another exception are no match") {

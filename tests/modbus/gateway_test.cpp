@@ -816,3 +816,27 @@ TEST_CASE("gateway: read_only refuses the other diagnostics and an MEI request w
   }
   CHECK(h.line.empty());
 }
+
+TEST_CASE("gateway: a response cut short, then silence past the last call: dropped, then 0B") {
+  gateway_options o;
+  o.response_timeout_us = 10000;
+  harness<1, 2> h(o);
+  h.client(0, mbap(1, 9, fc03(0, 1)), false);
+  REQUIRE(h.gw.poll(0).action == gateway_action::to_line);
+  const std::uint32_t deadline = 8U * o.line.char_us + o.response_timeout_us;
+  const std::uint32_t last_call = deadline + 256U * o.line.char_us;
+  // the first 3 of a response's 7 bytes, then nothing: held (the framer cannot end it)
+  const bytes part = {0x09, 0x03, 0x02};
+  const std::uint32_t heard = 12U * o.line.char_us;
+  CHECK(h.gw.from_line(view(part), heard).action == gateway_action::none);
+  CHECK(h.gw.wait_us(heard) == o.line.t35_us);  // the silence that ends what is held
+  // the I/O wakes up only past the last call (a time already reached: wait 0), where the
+  // bytes held are too late to be a response: dropped, and the timeout answers
+  CHECK(h.gw.wait_us(last_call) == 0);
+  const gateway_step s = h.gw.poll(last_call);
+  REQUIRE(s.action == gateway_action::to_client);
+  CHECK(s.exception == 0x0B);
+  CHECK(h.gw.discarded() == 1);
+  CHECK(h.gw.timeouts() == 1);
+  CHECK(!h.gw.awaiting());
+}

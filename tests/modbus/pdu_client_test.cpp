@@ -381,6 +381,11 @@ TEST_CASE("client: functions other than reads and writes, each length and echo r
   bad.object_count = 1;
   bad.data = view(objects);
   CHECK(object_at(bad, 0).error() == errc::modbus_byte_count);
+  // ...and an index past the last object of such data: the bad data is told, not the index
+  CHECK(object_at(bad, 1).error() == errc::modbus_byte_count);
+  const bytes one = {0x00, 0x01, 'A'};
+  bad.data = view(one);
+  CHECK(object_at(bad, 1).error() == errc::out_of_range);
   // FC11 standard form: byte count, then that many bytes
   CHECK(decode_error({0x11}, {0x11}) == errc::truncated);
   // any other function: the data, raw

@@ -265,6 +265,7 @@ class basic_control_master {
 
   // The CDM bit of the next slot (only while busy).
   constexpr bool next_cdm() noexcept {
+    // coverage-branch: the edges to phase::end (see below) and to a value outside the enum
     switch (sent_) {
       case phase::preamble:
         if (quiet_needed_ > 0U) {

@@ -204,9 +204,11 @@ class emulator {
       case reg::manufacturer_id + 1U: return static_cast<std::uint8_t>(manufacturer[1]);
       default: break;
     }
+    // coverage-branch: a >= 0x44 here: the bank window and the switch answer all below
     if (a >= reg::serial_number && a < reg::serial_number + serial_number_size) {
       return cfg_.serial_number[a - reg::serial_number];
     }
+    // coverage-branch: a >= 0x4C here: 0x44..0x4B answered just above
     if (a >= reg::offset && a < reg::offset + 4U) {
       return static_cast<std::uint8_t>((offset_ >> (8U * (3U - (a - reg::offset)))) & 0xFFU);
     }

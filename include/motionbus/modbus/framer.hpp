@@ -629,6 +629,7 @@ class basic_rtu_framer {
     phase_ = phase::scanning;
     if constexpr (Role == framer_role::listener) {
       const decode_result<rtu_frame> r = listen(used, at_end);
+      // coverage-branch: settled() always returns true (it only stores the result)
       return !r.is_incomplete() && settled(out, r);
     }
     if (waiting_ != 0U) {

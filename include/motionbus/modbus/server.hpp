@@ -433,6 +433,7 @@ constexpr std::uint8_t read_registers_into(Device& dev, std::uint8_t f, std::uin
     return dev.read_registers_be(f, address, quantity,
                                  pdu_out.subspan(2, std::size_t{2} * quantity));
   } else {
+    // coverage-branch: false only in constant evaluation, which gcov does not count
     if (!MOTIONBUS_CONSTANT_EVALUATED()) {
       return read_through_uncleared(dev, f, address, quantity, pdu_out);
     }
@@ -476,6 +477,7 @@ constexpr std::size_t serve_file_records(Device& dev, std::uint8_t f, byte_view 
   }
   constexpr bool reads = has_read_file_record<Device>::value;
   constexpr bool writes = has_write_file_record<Device>::value;
+  // coverage-branch: never true: serve_frame answers a function without its accessor (01)
   if (f == read_file_record_function ? !reads : !writes) {
     // coverage: serve_frame answers a function without its accessor with 01 before this
     code = illegal_function_code;
@@ -603,10 +605,12 @@ constexpr std::size_t serve_pdu(Device& dev, const request& q, mutable_byte_view
         }
       }
     }
+    // coverage-branch: the dispatch's last tests: serve_pdu gets only the functions served
   } else if (f == 0x14 || f == 0x15) {
     if constexpr (serves(0x14) || serves(0x15)) {
       return serve_file_records(dev, f, q.data, pdu_out);  // raw in q: decoded there
     }
+    // coverage-branch: the dispatch's last test: no function served is left past FC11
   } else if (f == 0x11) {
     if constexpr (serves(0x11)) {
       std::size_t size = 0;

@@ -191,6 +191,8 @@ constexpr line_result<request> decode_request_line(
   }
   const auto r = decode_request(byte_view(f.value().bytes, f.value().count));
   if (!r.is_complete()) {
+    // collect_fields gives the bytes the CF's request sizes, or a bad CF alone (refused):
+    // coverage-branch: r is failed, never incomplete
     return decode_failure{r.is_failed() ? r.error() : errc::truncated, f.consumed_bits(),
                           r.expected(), r.received()};
   }
