@@ -315,6 +315,21 @@ struct read_only_device : array_device {
 
 }  // namespace
 
+namespace {
+
+// The array device serving input registers alone (FC04, not FC03).
+struct input_only_device : array_device {
+  static constexpr function_set functions = functions_of(0x04);
+};
+
+}  // namespace
+
+TEST_CASE("server: a device serving FC04 and not FC03 answers FC04 reads") {
+  input_only_device dev;  // input register a reads 1000 + a
+  CHECK(call(dev, 0x11, {0x04, 0x00, 0x02, 0x00, 0x01}) == bytes{0x04, 0x02, 0x03, 0xEA});
+  CHECK(call(dev, 0x11, {0x03, 0x00, 0x02, 0x00, 0x01}) == bytes{0x83, 0x01});
+}
+
 TEST_CASE("server: a device's own function set narrows what its accessors allow") {
   read_only_device dev;
   dev.holding[1] = 0x0102;

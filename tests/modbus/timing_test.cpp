@@ -19,3 +19,11 @@ TEST_CASE("RTU timing: t1.5 and t3.5 from baud, parity and stop bits") {
   CHECK(character_time_us(9600, parity::none, 1) == 1042);
   CHECK(character_time_us(0, parity::none, 1) == 0);
 }
+
+TEST_CASE("parity: none, even and odd are three values") {
+  // the library's timing counts a parity bit alike for both; a caller that configures a port
+  // tells them apart
+  CHECK(parity::even != parity::odd);
+  CHECK(parity::none != parity::even);
+  CHECK(parity::none != parity::odd);
+}
