@@ -17,6 +17,9 @@ case that can execute the header's code is never left out (the library is header
 is compiled into the test sources that include it). --all-tests runs the whole suite instead.
 --site TEXT (repeatable) takes, instead of a sample, every mutant whose listing line
 (`path:line: kind: before  ->  after`) contains TEXT: to check one mutant again.
+The report gives, for each mutant, the wall time of its build and run and their CPU time
+(the finished child processes' user + system time: not inflated by a shared machine's load),
+and for each killed one the test cases that failed.
 
 Mutations (on code lines: not comments, preprocessor lines or static_asserts), each site one
 mutant:
@@ -36,6 +39,7 @@ import json
 import os
 import random
 import re
+import resource
 import subprocess
 import sys
 import time
@@ -147,6 +151,12 @@ def tests_including(build):
     return {h: sorted(s) for h, s in users.items()}
 
 
+def children_cpu():
+    """CPU seconds (user + system) of the finished child processes so far."""
+    r = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return r.ru_utime + r.ru_stime
+
+
 def run(cmd, timeout, cwd=None):
     try:
         p = subprocess.run(cmd, cwd=cwd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
@@ -221,6 +231,8 @@ def main():
                 else "--source-file=-none-")
         build_s = run_s = 0.0
         failed = []
+        cpu0 = children_cpu()
+        build_cpu = 0.0
         with open(path, encoding="utf-8") as f:
             original = f.read()
         lines = original.splitlines(keepends=True)
@@ -231,6 +243,7 @@ def main():
             t0 = time.time()
             rc, out = run(build_cmd, args.timeout)
             build_s = time.time() - t0
+            build_cpu = children_cpu() - cpu0
             if rc is None:
                 status = "timeout"
             elif rc != 0:
@@ -245,14 +258,19 @@ def main():
         finally:
             with open(path, "w", encoding="utf-8") as f:
                 f.write(original)
+        cpu_s = children_cpu() - cpu0  # load-independent, unlike the wall times
+        run_cpu = cpu_s - build_cpu
         counts[status] += 1
         where = f"{os.path.relpath(path, ROOT)}:{i + 1}"
         results.append({"where": where, "kind": kind, "before": before.strip(),
                         "after": after.strip(), "status": status,
                         "build_s": round(build_s, 1), "run_s": round(run_s, 1),
+                        "build_cpu_s": round(build_cpu, 1), "run_cpu_s": round(run_cpu, 1),
                         "failed": failed})
         print(f"[{n}/{len(sample)}] {status:9} {where} {kind}: {before.strip()}  ->  "
-              f"{after.strip()}  (build {build_s:.1f} s, run {run_s:.1f} s)", flush=True)
+              f"{after.strip()}  (build {build_s:.1f} s, run {run_s:.1f} s; CPU {build_cpu:.1f} s "
+              f"+ {run_cpu:.1f} s)",
+              flush=True)
         for name in failed[:8]:
             print(f"      failed: {name}", flush=True)
     # the headers restored: rebuild once so that the build matches the sources again
@@ -264,6 +282,8 @@ def main():
                "seconds": round(time.time() - started),
                "build_seconds": round(sum(r["build_s"] for r in results), 1),
                "run_seconds": round(sum(r["run_s"] for r in results), 1),
+               "build_cpu_seconds": round(sum(r["build_cpu_s"] for r in results), 1),
+               "run_cpu_seconds": round(sum(r["run_cpu_s"] for r in results), 1),
                "tests": "all" if users is None else "the test sources including the header"}
     report = args.report or os.path.join(build, "mutants.json")
     with open(report, "w", encoding="utf-8") as f:
