@@ -204,6 +204,26 @@ TEST_CASE("start search at every line delay and Ack length, CDS 0 and 1, 8/16/32
   }
 }
 
+TEST_CASE("a line delay of 60 to 80 samples: the Ack at, and past, the end of the first 64") {
+  // With max_line_delay above 64 the Ack is searched for past the first 64 samples: at
+  // sample 64 itself (a delay of 64), and where sample 64 is still idle (a delay past 64).
+  const std::vector<slave_layout> chain{absys_layout};
+  const slave_bits v{0, 0x2468ACEU, false, true};
+  for (std::size_t idle = 60; idle <= 80; ++idle) {
+    for (std::size_t ack = 1; ack <= 3; ++ack) {
+      CAPTURE(idle);
+      CAPTURE(ack);
+      const std::string s = frame_string(idle, ack, true, chain, {v}, "1011");
+      std::vector<slave_data> out;
+      const auto r = decode_string<std::uint32_t>(s, chain, out, decode_options{128, 256});
+      REQUIRE(r.is_complete());
+      CHECK(r->line_delay == idle);
+      CHECK(r->start == idle + ack);
+      CHECK(out[0].single_turn == 0x2468ACEU);
+    }
+  }
+}
+
 namespace {
 
 // Decodes the first n samples of `s` packed in Word, the samples from n on set to `fill`.

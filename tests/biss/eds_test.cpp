@@ -115,3 +115,25 @@ TEST_CASE("EDS common part: each invalid field alone is biss_eds") {
   CHECK(with(0x15, 65).error() == errc::biss_eds);
   CHECK(with(0x17, 0).error() == errc::biss_eds);
 }
+
+TEST_CASE("BP3 profile: each one-byte field written at its offset and read back from it") {
+  struct at {
+    std::uint8_t bp3_profile::*field;
+    std::size_t offset;
+  };
+  const at fields[] = {{&bp3_profile::feedback1, 0x04},     {&bp3_profile::feedback2, 0x05},
+                       {&bp3_profile::positions, 0x09},     {&bp3_profile::mt_format, 0x0B},
+                       {&bp3_profile::coarse_format, 0x0D}, {&bp3_profile::fine_format, 0x0F}};
+  for (const at& f : fields) {
+    CAPTURE(f.offset);
+    bp3_profile p;
+    p.*f.field = 0x5A;  // a value no other field of the default profile holds
+    std::uint8_t bank[bank_size] = {};
+    REQUIRE(encode_bp3(p, bank) == errc::ok);
+    CHECK(bank[f.offset] == 0x5A);
+    const auto back = decode_bp3(bank);
+    REQUIRE(back.is_complete());
+    CHECK(back.value().*f.field == 0x5A);
+    CHECK(back.value() == p);
+  }
+}

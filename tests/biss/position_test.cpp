@@ -263,3 +263,16 @@ TEST_CASE("outcome_of: nW alone is an alarm; frame_timing_for refuses an empty c
       bs::frame_timing_for(span<const bs::slave_layout>(many, bs::max_chain + 1), 2500000, 0, 1, 0)
           .error() == errc::invalid_argument);
 }
+
+TEST_CASE("position_config_for(layout) without max_step: any step unwrapping can tell") {
+  bs::slave_layout l;
+  l.single_turn_bits = 12;
+  l.multi_turn_bits = 4;  // M = 2^16
+  const position_config pc = bs::position_config_for(l);
+  REQUIRE(pc.valid());
+  position_tracker t(pc);
+  CHECK(t.max_step() == 32767U);  // (M - 1) / 2
+  REQUIRE(t.update(100) == position_status::seeded);
+  CHECK(t.update(100 + 32767) == position_status::accepted);
+  CHECK(t.counts() == 100 + 32767);
+}

@@ -218,3 +218,16 @@ TEST_CASE("SM unit: responses of another function or another exception are no ma
   r.exception_code = 0x04;
   CHECK(sm::is_login_error(r));
 }
+
+TEST_CASE("SM unit: password_registers pads with NUL, whatever follows the password in memory") {
+  // "password12" (10 characters) the start of a longer buffer: the registers past it are 0
+  const std::uint8_t memory[] = {'p', 'a', 's', 's', 'w', 'o', 'r', 'd', '1', '2', 'X', 'Y'};
+  std::uint16_t regs[8] = {};
+  sm::password_registers(byte_view(memory, 10), regs);
+  CHECK(regs[0] == 0x7061);  // "pa"
+  CHECK(regs[4] == 0x3132);  // "12"
+  for (std::size_t r = 5; r < 8; ++r) {
+    CAPTURE(r);
+    CHECK(regs[r] == 0);
+  }
+}

@@ -840,3 +840,18 @@ TEST_CASE("gateway: a response cut short, then silence past the last call: dropp
   CHECK(h.gw.timeouts() == 1);
   CHECK(!h.gw.awaiting());
 }
+
+TEST_CASE("unit_set: removing a unit removes that unit alone, for each of the 256") {
+  for (unsigned u = 0; u < 256U; ++u) {
+    CAPTURE(u);
+    unit_set s;  // all
+    s.remove(static_cast<std::uint8_t>(u));
+    unsigned wrong = 0;
+    for (unsigned v = 0; v < 256U; ++v) {
+      wrong += s.contains(static_cast<std::uint8_t>(v)) == (v != u) ? 0U : 1U;
+    }
+    CHECK(wrong == 0U);
+    s.add(static_cast<std::uint8_t>(u));
+    CHECK(s.contains(static_cast<std::uint8_t>(u)));
+  }
+}

@@ -480,3 +480,22 @@ TEST_CASE("client decoders: the remaining checks, each alone") {
   CHECK(raw->object_count == 0);
   CHECK(raw->data.size() == id_ok.size() - 1U);
 }
+
+TEST_CASE("encode_write_file_record writes the request and not a byte past it") {
+  // the record's data a view of the first four bytes of six: the two behind it are not its own
+  const std::uint8_t memory[6] = {0x06, 0xAF, 0x04, 0xBE, 0x5A, 0x5A};
+  const file_record rec{byte_view(memory, 4), 4, 7, 2};
+  std::uint8_t out[32];
+  for (std::uint8_t& b : out) {
+    b = 0xEE;
+  }
+  const auto n = encode_write_file_record(span<const file_record>(&rec, 1), out);
+  REQUIRE(n.ok());
+  REQUIRE(n.value() == 13U);  // 15, byte count 11, one sub-request of 7 + 4 bytes
+  CHECK(bytes(out, out + 13) ==
+        bytes{0x15, 0x0B, 0x06, 0x00, 0x04, 0x00, 0x07, 0x00, 0x02, 0x06, 0xAF, 0x04, 0xBE});
+  for (std::size_t i = 13; i < sizeof out; ++i) {
+    CAPTURE(i);
+    CHECK(out[i] == 0xEE);
+  }
+}

@@ -191,3 +191,24 @@ TEST_CASE("FC08 and FC2B requests: each check of the sub-function and the MEI re
   CHECK(err({0x2B, 0x0E, 0x01, 0x00, 0x00}) == errc::modbus_byte_count);  // an extra byte
   CHECK(err({0x2B, 0x0E, 0x01}) != errc::ok);                             // a byte short
 }
+
+TEST_CASE("FC08 sub-function codes: the specification's table (App. Protocol §6.8.1)") {
+  // The table's codes as it prints them, in decimal (Modbus Application Protocol V1.1b3
+  // §6.8.1; the same in pymodbus's diag_message): a wrong constant would send another
+  // counter's request.
+  CHECK(diagnostic::return_query_data == 0);
+  CHECK(diagnostic::restart_communications == 1);
+  CHECK(diagnostic::return_diagnostic_register == 2);
+  CHECK(diagnostic::change_ascii_delimiter == 3);
+  CHECK(diagnostic::force_listen_only == 4);
+  CHECK(diagnostic::clear_counters == 10);
+  CHECK(diagnostic::return_bus_message_count == 11);
+  CHECK(diagnostic::return_bus_error_count == 12);
+  CHECK(diagnostic::return_exception_count == 13);
+  CHECK(diagnostic::return_server_message_count == 14);
+  CHECK(diagnostic::return_no_response_count == 15);
+  CHECK(diagnostic::return_nak_count == 16);
+  CHECK(diagnostic::return_busy_count == 17);
+  CHECK(diagnostic::return_overrun_count == 18);
+  CHECK(diagnostic::clear_overrun_counter == 20);
+}

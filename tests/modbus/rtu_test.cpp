@@ -48,3 +48,21 @@ TEST_CASE("RTU: the serial-line example, CRC low byte first, addresses and lengt
   std::uint8_t huge[257] = {};
   CHECK(decode_rtu(byte_view(huge, 257)).error() == errc::modbus_pdu_length);
 }
+
+TEST_CASE("encode_rtu: a PDU inside the output behind the address (a TCP ADU converted in place)") {
+  // FC03 of 10 registers from 0x6B, as a TCP ADU: MBAP (7 bytes), then the PDU
+  const bytes pdu = {0x03, 0x00, 0x6B, 0x00, 0x0A};
+  std::uint8_t apart[16] = {};
+  const std::size_t n = encode_rtu(0x11, view(pdu), apart).value();
+  REQUIRE(n == 8U);
+  for (std::size_t behind = 1; behind <= 7; ++behind) {
+    CAPTURE(behind);
+    std::uint8_t buf[16] = {};
+    for (std::size_t i = 0; i < pdu.size(); ++i) {
+      buf[behind + i] = pdu[i];
+    }
+    const auto r = encode_rtu(0x11, byte_view(buf + behind, pdu.size()), buf);
+    REQUIRE(r.ok());
+    CHECK(bytes(buf, buf + r.value()) == bytes(apart, apart + n));
+  }
+}

@@ -315,6 +315,45 @@ struct read_only_device : array_device {
 
 }  // namespace
 
+namespace {
+
+// The array device serving input registers alone (FC04, not FC03).
+struct input_only_device : array_device {
+  static constexpr function_set functions = functions_of(0x04);
+};
+
+}  // namespace
+
+TEST_CASE("server: a device serving FC04 and not FC03 answers FC04 reads") {
+  input_only_device dev;  // input register a reads 1000 + a
+  CHECK(call(dev, 0x11, {0x04, 0x00, 0x02, 0x00, 0x01}) == bytes{0x04, 0x02, 0x03, 0xEA});
+  CHECK(call(dev, 0x11, {0x03, 0x00, 0x02, 0x00, 0x01}) == bytes{0x83, 0x01});
+}
+
+namespace {
+
+// The array device, noting the size of the packed coils each write is handed.
+struct packed_size_device : array_device {
+  std::size_t packed_size = 0;
+  std::uint8_t write_coils(std::uint16_t address, std::uint16_t quantity, byte_view packed) {
+    packed_size = packed.size();
+    return array_device::write_coils(address, quantity, packed);
+  }
+};
+
+}  // namespace
+
+TEST_CASE("server: write_coils is handed the coils' bytes and no more (FC05: one byte)") {
+  packed_size_device dev;
+  CHECK(call(dev, 0x11, {0x05, 0x00, 0x03, 0xFF, 0x00}) == bytes{0x05, 0x00, 0x03, 0xFF, 0x00});
+  CHECK(dev.packed_size == 1U);
+  CHECK(dev.coils[3]);
+  // FC0F, 10 coils: two bytes
+  CHECK(call(dev, 0x11, {0x0F, 0x00, 0x00, 0x00, 0x0A, 0x02, 0xFF, 0x03}) ==
+        bytes{0x0F, 0x00, 0x00, 0x00, 0x0A});
+  CHECK(dev.packed_size == 2U);
+}
+
 TEST_CASE("server: a device's own function set narrows what its accessors allow") {
   read_only_device dev;
   dev.holding[1] = 0x0102;

@@ -75,3 +75,11 @@ TEST_CASE("TCP: a length field of 0 or 1 (no unit identifier, or no PDU) fails a
         errc::modbus_pdu_length);
   CHECK(decode_tcp(view({0x00, 0x01, 0x00, 0x00, 0x00, 0x02, 0x11, 0x07})).is_complete());
 }
+
+TEST_CASE("tcp_frame: a default frame is transaction 0, Modbus, unit 0, no PDU") {
+  const tcp_frame f{};
+  CHECK(f.transaction == 0);
+  CHECK(f.protocol == 0);
+  CHECK(f.unit == 0);
+  CHECK(f.pdu.empty());
+}

@@ -19,3 +19,20 @@ TEST_CASE("RTU timing: t1.5 and t3.5 from baud, parity and stop bits") {
   CHECK(character_time_us(9600, parity::none, 1) == 1042);
   CHECK(character_time_us(0, parity::none, 1) == 0);
 }
+
+TEST_CASE("parity: none, even and odd are three values") {
+  // the library's timing counts a parity bit alike for both; a caller that configures a port
+  // tells them apart
+  CHECK(parity::even != parity::odd);
+  CHECK(parity::none != parity::even);
+  CHECK(parity::none != parity::odd);
+}
+
+TEST_CASE("RTU timing: at 19200 baud t1.5 and t3.5 are computed; the fixed values only above") {
+  // 19200 8E1: t1.5 = 1.5 x 11 bits = 859.4 us, t3.5 = 2005.2 us (Serial Line §2.5.1.1 fixes
+  // 750 and 1750 us for rates above 19200)
+  CHECK(t15_us(19200) == 860);
+  CHECK(t35_us(19200) == 2006);
+  CHECK(t15_us(19201) == 750);
+  CHECK(t35_us(19201) == 1750);
+}

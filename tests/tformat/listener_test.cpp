@@ -251,3 +251,40 @@ TEST_CASE("listener: a response that does not answer its request (another EEPROM
   line_listener b;
   CHECK(one_by_one(b, line) == out);
 }
+
+TEST_CASE("listener: a request heard whole reports its decoded fields") {
+  struct fields {
+    bool ok = false;
+    data_id id = data_id::read_abs;
+    std::uint8_t address = 0;
+    std::uint8_t edf = 0;
+    std::uint8_t crc = 0;
+  };
+  const auto first_request = [](const bytes& line) {
+    line_listener l;
+    const auto out = fed_notes(
+        l, view(line), line.size(),
+        [](const decode_result<heard>& r) {
+          fields f;
+          if (r && !r->is_response) {
+            f = fields{true, r->req.id, r->req.address, r->req.edf, r->req.crc};
+          }
+          return f;
+        },
+        then::idle);
+    return out.empty() ? fields{} : out[0];
+  };
+  const bytes write = with_crc({0x32, 0x05, 0x12});  // ID6: address 5, data 0x12
+  const fields w = first_request(write);
+  CHECK(w.ok);
+  CHECK(w.id == data_id::eeprom_write);
+  CHECK(w.address == 0x05);
+  CHECK(w.edf == 0x12);
+  CHECK(w.crc == write[3]);
+  const bytes read = with_crc({0xEA, 0x7F});  // IDD: address 127
+  const fields r = first_request(read);
+  CHECK(r.ok);
+  CHECK(r.id == data_id::eeprom_read);
+  CHECK(r.address == 0x7F);
+  CHECK(r.crc == read[2]);
+}

@@ -412,3 +412,25 @@ TEST_CASE("receiver: idle() with an echo awaited: part of it, or other bytes, ar
   rx.sent(byte_view());
   CHECK(rx.idle().is_incomplete());
 }
+
+TEST_CASE("receiver: echo expected, no echo, an IDD response whose EDF is the request's CRC") {
+  // The request EA 06 EC; the response's first three bytes repeat it (its EDF 0xEC is the
+  // request's CRC), its fourth is its CRC (0): the response, not an echo (an echo's next byte
+  // would be a CF, never 0).
+  receiver_options opt;
+  opt.echo_mode = echo::expected;
+  receiver rx(opt);
+  std::uint8_t req[3] = {};
+  REQUIRE(encode_request(data_id::eeprom_read, 6, 0, req).value() == 3);
+  REQUIRE(req[2] == 0xEC);
+  rx.sent(byte_view(req, 3));
+  const auto resp = with_crc({0xEA, 0x06, 0xEC});
+  REQUIRE(resp[3] == 0x00);
+  const auto r = rx.feed(view(resp));
+  REQUIRE(r.is_complete());
+  CHECK(r->address == 0x06);
+  CHECK(r->edf == 0xEC);
+  CHECK(r.consumed() == 4);
+  CHECK(rx.echo_missed());
+  CHECK(rx.echoes_skipped() == 0);
+}

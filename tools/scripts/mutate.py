@@ -5,13 +5,21 @@ not fail survives. Reports every mutant (killed, survived, stillborn: it does no
 or timed out) and the score, killed / (killed + survived).
 
 Usage: mutate.py --build DIR [--seed N] [--count N] [--files GLOB ...] [--timeout S]
-                 [--report FILE] [--list]
+                 [--report FILE] [--list] [--site TEXT ...] [--all-tests] [--jobs N]
 
 DIR: a configured build of this source tree with the target motionbus_tests (fast: gcc -O0,
 no tools, e.g. cmake -S . -B build/mut -G Ninja -DCMAKE_CXX_COMPILER=g++
 -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS=-O0 -DMOTIONBUS_BUILD_TOOLS=OFF; ccache, when
 installed, is used through CMAKE_CXX_COMPILER_LAUNCHER if the build sets it). Ninja rebuilds
-only the test sources that include the mutated header.
+only the test sources that include the mutated header, and only their test cases run (doctest
+--source-file): the test sources come from Ninja's dependency log (`ninja -t deps`), so a test
+case that can execute the header's code is never left out (the library is header-only: its code
+is compiled into the test sources that include it). --all-tests runs the whole suite instead.
+--site TEXT (repeatable) takes, instead of a sample, every mutant whose listing line
+(`path:line: kind: before  ->  after`) contains TEXT: to check one mutant again.
+The report gives, for each mutant, the wall time of its build and run and their CPU time
+(the finished child processes' user + system time: not inflated by a shared machine's load),
+and for each killed one the test cases that failed.
 
 Mutations (on code lines: not comments, preprocessor lines or static_asserts), each site one
 mutant:
@@ -31,6 +39,7 @@ import json
 import os
 import random
 import re
+import resource
 import subprocess
 import sys
 import time
@@ -120,6 +129,34 @@ def sites(path):
     return out
 
 
+def tests_including(build):
+    """{header path: [test source path, ...]} from Ninja's dependency log of motionbus_tests."""
+    rc, out = run(["ninja", "-C", build, "-t", "deps"], 60)
+    if rc != 0:
+        return None
+    users = {}
+    source = None
+    for line in out.splitlines():
+        if not line.startswith(" "):
+            obj = line.split(":", 1)[0]
+            source = None if "motionbus_tests.dir" not in obj else ""
+            continue
+        dep = line.strip()
+        if source is None or not dep:
+            continue
+        if source == "":
+            source = dep  # the first dependency is the source itself
+            continue
+        users.setdefault(os.path.realpath(dep), set()).add(source)
+    return {h: sorted(s) for h, s in users.items()}
+
+
+def children_cpu():
+    """CPU seconds (user + system) of the finished child processes so far."""
+    r = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return r.ru_utime + r.ru_stime
+
+
 def run(cmd, timeout, cwd=None):
     try:
         p = subprocess.run(cmd, cwd=cwd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
@@ -138,24 +175,39 @@ def main():
     ap.add_argument("--timeout", type=float, default=300, help="seconds per build and per run")
     ap.add_argument("--report", default=None, help="JSON report (default: BUILD/mutants.json)")
     ap.add_argument("--list", action="store_true", help="list the sample, mutate nothing")
+    ap.add_argument("--site", action="append", default=[],
+                    help="every mutant whose listing line contains TEXT, instead of a sample")
+    ap.add_argument("--all-tests", action="store_true",
+                    help="run the whole suite, not only the test sources including the header")
+    ap.add_argument("--jobs", type=int, default=2, help="build jobs (default 2)")
     args = ap.parse_args()
     build = os.path.abspath(args.build)
     headers = sorted({p for g in args.files
                       for p in glob.glob(os.path.join(ROOT, g), recursive=True)})
     everything = [s for h in headers for s in sites(h)]
-    rng = random.Random(args.seed)
-    sample = list(everything)
-    rng.shuffle(sample)
-    sample = sample[:args.count]
-    print(f"mutate: {len(everything)} mutants in {len(headers)} headers; "
-          f"sample of {len(sample)} (seed {args.seed})", flush=True)
+    def listing(site):
+        path, i, kind, before, after = site
+        return f"{os.path.relpath(path, ROOT)}:{i + 1}: {kind}: {before.strip()}  ->  " \
+            f"{after.strip()}"
+
+    if args.site:
+        sample = [s for s in everything if any(t in listing(s) for t in args.site)]
+        print(f"mutate: {len(everything)} mutants in {len(headers)} headers; "
+              f"{len(sample)} selected by --site", flush=True)
+    else:
+        rng = random.Random(args.seed)
+        sample = list(everything)
+        rng.shuffle(sample)
+        sample = sample[:args.count]
+        print(f"mutate: {len(everything)} mutants in {len(headers)} headers; "
+              f"sample of {len(sample)} (seed {args.seed})", flush=True)
     if args.list:
-        for path, i, kind, before, after in sample:
-            print(f"{os.path.relpath(path, ROOT)}:{i + 1}: {kind}: {before.strip()}  ->  "
-                  f"{after.strip()}")
+        for site in sample:
+            print(listing(site))
         return 0
     tests = os.path.join(build, "tests", "motionbus_tests")
-    rc, out = run(["cmake", "--build", build, "--target", "motionbus_tests"], args.timeout * 4)
+    build_cmd = ["cmake", "--build", build, "--target", "motionbus_tests", "-j", str(args.jobs)]
+    rc, out = run(build_cmd, args.timeout * 4)
     if rc != 0:
         print("mutate: the unmutated build fails:\n" + out[-3000:], file=sys.stderr)
         return 2
@@ -163,10 +215,24 @@ def main():
     if rc != 0:
         print("mutate: the unmutated tests fail:\n" + out[-3000:], file=sys.stderr)
         return 2
+    users = None if args.all_tests else tests_including(build)
+    if users is None and not args.all_tests:
+        print("mutate: no dependency log (ninja -t deps): the whole suite runs", file=sys.stderr)
     results = []
     counts = {"killed": 0, "survived": 0, "stillborn": 0, "timeout": 0}
     started = time.time()
     for n, (path, i, kind, before, after) in enumerate(sample, start=1):
+        run_cmd = [tests, "--no-version"]
+        if users is not None:
+            sources = users.get(os.path.realpath(path), [])
+            # doctest matches a test case's file name against each comma-separated pattern
+            run_cmd.append("--source-file=" + ",".join(
+                "*" + os.path.relpath(src, ROOT) for src in sources) if sources
+                else "--source-file=-none-")
+        build_s = run_s = 0.0
+        failed = []
+        cpu0 = children_cpu()
+        build_cpu = 0.0
         with open(path, encoding="utf-8") as f:
             original = f.read()
         lines = original.splitlines(keepends=True)
@@ -174,31 +240,51 @@ def main():
         try:
             with open(path, "w", encoding="utf-8") as f:
                 f.write("".join(lines))
-            rc, out = run(["cmake", "--build", build, "--target", "motionbus_tests"],
-                          args.timeout)
+            t0 = time.time()
+            rc, out = run(build_cmd, args.timeout)
+            build_s = time.time() - t0
+            build_cpu = children_cpu() - cpu0
             if rc is None:
                 status = "timeout"
             elif rc != 0:
                 status = "stillborn"
             else:
-                rc, out = run([tests, "--no-version"], args.timeout)
+                t0 = time.time()
+                rc, out = run(run_cmd, args.timeout)
+                run_s = time.time() - t0
                 status = "timeout" if rc is None else ("killed" if rc != 0 else "survived")
+                if status == "killed":  # the test cases that failed: which test kills it
+                    failed = sorted(set(re.findall(r"^TEST CASE:\s+(.*)$", out, re.M)))
         finally:
             with open(path, "w", encoding="utf-8") as f:
                 f.write(original)
+        cpu_s = children_cpu() - cpu0  # load-independent, unlike the wall times
+        run_cpu = cpu_s - build_cpu
         counts[status] += 1
         where = f"{os.path.relpath(path, ROOT)}:{i + 1}"
         results.append({"where": where, "kind": kind, "before": before.strip(),
-                        "after": after.strip(), "status": status})
+                        "after": after.strip(), "status": status,
+                        "build_s": round(build_s, 1), "run_s": round(run_s, 1),
+                        "build_cpu_s": round(build_cpu, 1), "run_cpu_s": round(run_cpu, 1),
+                        "failed": failed})
         print(f"[{n}/{len(sample)}] {status:9} {where} {kind}: {before.strip()}  ->  "
-              f"{after.strip()}", flush=True)
+              f"{after.strip()}  (build {build_s:.1f} s, run {run_s:.1f} s; CPU {build_cpu:.1f} s "
+              f"+ {run_cpu:.1f} s)",
+              flush=True)
+        for name in failed[:8]:
+            print(f"      failed: {name}", flush=True)
     # the headers restored: rebuild once so that the build matches the sources again
-    run(["cmake", "--build", build, "--target", "motionbus_tests"], args.timeout * 4)
+    run(build_cmd, args.timeout * 4)
     decided = counts["killed"] + counts["survived"]
     score = 100.0 * counts["killed"] / decided if decided else 0.0
-    summary = {"seed": args.seed, "population": len(everything), "sample": len(sample),
-               "counts": counts, "score": round(score, 1),
-               "seconds": round(time.time() - started)}
+    summary = {"seed": None if args.site else args.seed, "population": len(everything),
+               "sample": len(sample), "counts": counts, "score": round(score, 1),
+               "seconds": round(time.time() - started),
+               "build_seconds": round(sum(r["build_s"] for r in results), 1),
+               "run_seconds": round(sum(r["run_s"] for r in results), 1),
+               "build_cpu_seconds": round(sum(r["build_cpu_s"] for r in results), 1),
+               "run_cpu_seconds": round(sum(r["run_cpu_s"] for r in results), 1),
+               "tests": "all" if users is None else "the test sources including the header"}
     report = args.report or os.path.join(build, "mutants.json")
     with open(report, "w", encoding="utf-8") as f:
         json.dump({"summary": summary, "mutants": results}, f, indent=1)
