@@ -12,7 +12,8 @@
 #   e.g. tools/scripts/fuzz_campaign.sh build/clang 600
 #        tools/scripts/fuzz_campaign.sh build/clang 30 'cli_'
 #        tools/scripts/fuzz_campaign.sh --runs 10000000 build/clang 0 '^(core_crc|cli_sr)$'
-# Targets run in the order of the build's file names; TARGET_REGEX picks them (bash =~).
+# Targets run in the order of the build's file names; TARGET_REGEX picks them (bash =~). A
+# target whose source has a line `// fuzz-max-len: N` runs with -max_len=N (as under ctest).
 # Environment: MOTIONBUS_CAMPAIGN_DIR (default BUILD_DIR/campaign), MOTIONBUS_CAMPAIGN_JOBS
 # (libFuzzer -jobs/-workers per target, default 1). Runs under nice; one target at a time (run
 # two instances with disjoint regexes to use two cores). Each target's row is also kept in
@@ -56,6 +57,12 @@ for bin in "$build"/fuzz/motionbus_fuzz_*; do
   fi
   if [ "$seconds" -gt 0 ]; then
     limits+=(-max_total_time="$seconds")
+  fi
+  # the input length the target's source names (`// fuzz-max-len: N`), as under ctest
+  src="$root/fuzz/${name%%_*}/${name#*_}_fuzz.cpp"
+  max_len=$(sed -nE 's|^// fuzz-max-len: ([0-9]+).*|\1|p' "$src" 2>/dev/null | head -n 1 || true)
+  if [ -n "$max_len" ]; then
+    limits+=(-max_len="$max_len")
   fi
   rc=0
   parallel=()
