@@ -1,6 +1,9 @@
 // CRC oracle: for every named CRC, the 256-entry, 16-entry and bitwise engines agree; any split
 // of the input gives the one-shot value; a CRC over an arbitrary bit range of the input equals
 // the bitwise engine fed one bit at a time through the bit reader.
+
+// fuzz-max-len: 512 (every derived parameter reaches its whole range by 256 bytes: the split
+// is at most 255 bytes in, the bit range starts at most 255 bits in and is at most 1785 long)
 #include <motionbus/core/crc.hpp>
 
 #include "../fuzz_check.hpp"

@@ -10,6 +10,9 @@
 // the role and, for a client, how its slave is chosen (sent() of a request for one slave, of
 // a broadcast or of an unreadable address, options.address, or nothing) are taken from the
 // input's first byte. idle() ends any frame; a clean frame after it is delivered exactly once.
+
+// fuzz-max-len: 2048 (four of the longest frame, 513 characters: the framer holds at most 255
+// bytes; a longer stream only repeats its states)
 #include <motionbus/modbus/ascii.hpp>
 
 #include <tuple>

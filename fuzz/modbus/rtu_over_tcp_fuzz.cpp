@@ -7,6 +7,8 @@
 // unsettled as the framer holds; put() byte by byte reports the same (stream_oracle.hpp); the
 // role fixed by the type reports the same; never more than 256 bytes held or wanted; after
 // idle(), a clean frame is delivered exactly once.
+
+// fuzz-max-len: 1024 (a stream four times the 256 bytes the framer holds or wants at most)
 #include <motionbus/modbus/framer.hpp>
 
 #include <tuple>

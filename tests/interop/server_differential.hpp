@@ -143,6 +143,14 @@ struct libmodbus_server {
     std::memcpy(dev.bits.data(), map->tab_bits, dev.bits.size());
     std::memcpy(dev.registers.data(), map->tab_registers, dev.registers.size() * 2U);
   }
+  /// libmodbus's image becomes `from` (every table).
+  void load(const image& from) {
+    std::memcpy(map->tab_bits, from.bits.data(), from.bits.size());
+    std::memcpy(map->tab_input_bits, from.input_bits.data(), from.input_bits.size());
+    std::memcpy(map->tab_registers, from.registers.data(), from.registers.size() * 2U);
+    std::memcpy(map->tab_input_registers, from.input_registers.data(),
+                from.input_registers.size() * 2U);
+  }
   /// Both images from `next()` (a source of random 64-bit values).
   template <class Next>
   void fill(image& dev, Next&& next) {
