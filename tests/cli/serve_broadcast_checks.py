@@ -15,6 +15,9 @@ import sys
 import time
 import tty
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "support"))
+import reference  # noqa: E402
+
 failures = []
 
 
@@ -24,19 +27,9 @@ def check(name, condition, detail=""):
         failures.append(name)
 
 
-def crc16(data):
-    crc = 0xFFFF
-    for b in data:
-        crc ^= b
-        for _ in range(8):
-            crc = (crc >> 1) ^ 0xA001 if crc & 1 else crc >> 1
-    return crc
-
-
 def rtu(unit, pdu):
-    frame = bytes([unit]) + bytes(pdu)
-    c = crc16(frame)
-    return frame + bytes([c & 0xFF, c >> 8])
+    """The RTU ADU as bytes (tests/support/reference.py's independent CRC)."""
+    return bytes(reference.rtu(unit, pdu))
 
 
 def heard(fd, seconds, want=None):
