@@ -96,6 +96,15 @@ else
   status=1
 fi
 
+# The failures again, at the end where a long log is read from: each failed test, and its
+# failed checks (doctest's test case and check lines, the scripts' FAIL lines).
+for log in "$build"/*.ctest.log; do
+  if grep -qE '\*\*\*(Failed|Timeout|Exception)' "$log"; then
+    echo "=== failed in $(basename "$log" .ctest.log)"
+    grep -E '\*\*\*(Failed|Timeout|Exception)|TEST CASE:|ERROR:|^FAIL|  values: |logged: ' "$log" |
+      head -n 80 || true
+  fi
+done
 echo "=== summary"
 printf '%s' "$summary"
 echo "motionbus: $passed passed, $failed failed"

@@ -123,50 +123,55 @@ TEST_CASE("decode/encode tformat: fields as JSON integers, errors as codes") {
 
 TEST_CASE("serve tformat-encoder: a master talks to the emulator over a pseudo-terminal") {
   pty_pair pty;
+  int started[2] = {-1, -1};  // the emulator's stderr: its first line says the port is open
+  REQUIRE(pipe(started) == 0);
   const pid_t pid = fork();
   REQUIRE(pid >= 0);
   if (pid == 0) {
+    dup2(started[1], STDERR_FILENO);
     execl(MOTIONBUS_CLI_PATH, "motionbus", "serve", "tformat-encoder", "--device", pty.path.c_str(),
           static_cast<char*>(nullptr));
     _exit(127);
   }
+  close(started[1]);
   struct reaper {  // stops the emulator even when an assertion ends the test case early
     pid_t pid;
+    int fd;
     ~reaper() {
+      close(fd);
       if (pid > 0) {
         kill(pid, SIGKILL);
         waitpid(pid, nullptr, 0);
       }
     }
-  } guard{pid};
+  } guard{pid, started[0]};
+  // Every request is sent once, after the emulator has opened the port: an answer is waited
+  // for (2 s, a loaded machine's allowance), never asked for again.
+  std::string banner;
+  for (char c = 0; banner.find('\n') == std::string::npos;) {
+    pollfd p{started[0], POLLIN, 0};
+    REQUIRE(poll(&p, 1, 10000) > 0);
+    REQUIRE(read(started[0], &c, 1) == 1);
+    banner += c;
+  }
+  REQUIRE(banner.find("T-format encoder emulator on") != std::string::npos);
   auto transact = [&](tf::data_id id, std::uint8_t address, std::uint8_t data) {
     std::uint8_t req[4] = {};
     const std::size_t n = tf::encode_request(id, address, data, req).value();
-    for (int attempt = 0; attempt < 50; ++attempt) {  // until the emulator is up
-      REQUIRE(write(pty.master, req, n) == static_cast<ssize_t>(n));
-      tf::receiver rx;
-      rx.sent(mb::byte_view(req, n));
-      std::uint8_t buffer[32];
-      for (int reads = 0; reads < 20; ++reads) {
-        const long got = pty.read_for(buffer, sizeof buffer, 20);
-        if (got <= 0) {
-          break;
-        }
-        // The first result for this request; a late answer to an earlier attempt or request
-        // (a slow start under load) fails the check against this request and is skipped.
-        bool found = false;
-        mb::decode_result<tf::response> answer;
-        mb::feed_all(rx, mb::byte_view(buffer, static_cast<std::size_t>(got)), [&](const auto& r) {
-          if (r.error() == mb::errc::tformat_cf_mismatch) {
-            return true;
-          }
-          answer = r;
-          found = true;
-          return false;
-        });
-        if (found) {
-          return answer;
-        }
+    REQUIRE(write(pty.master, req, n) == static_cast<ssize_t>(n));
+    tf::receiver rx;
+    rx.sent(mb::byte_view(req, n));
+    std::uint8_t buffer[32];
+    for (long got = 0; (got = pty.read_for(buffer, sizeof buffer, 2000)) > 0;) {
+      mb::decode_result<tf::response> answer;
+      bool found = false;
+      mb::feed_all(rx, mb::byte_view(buffer, static_cast<std::size_t>(got)), [&](const auto& r) {
+        answer = r;
+        found = true;
+        return false;
+      });
+      if (found) {
+        return answer;
       }
     }
     FAIL("no response from the emulator");
@@ -223,11 +228,12 @@ TEST_CASE("read tformat: one transaction with an encoder on a pseudo-terminal") 
     }
   });
   int status = 0;
-  const std::string out = run_cli("read tformat --device " + pty.path + " --id 3", &status);
+  const std::string out =
+      run_cli("read tformat --device " + pty.path + " --id 3 --timeout-ms 2000", &status);
   // and as a person reads it: hex where the specification writes hex, the alarm by name
   int text_status = 0;
-  const std::string text =
-      testcli::run_as_is("read tformat --device " + pty.path + " --id 3", &text_status);
+  const std::string text = testcli::run_as_is(
+      "read tformat --device " + pty.path + " --id 3 --timeout-ms 2000", &text_status);
   done = true;
   encoder.join();
   CHECK(text_status == 0);
