@@ -16,6 +16,12 @@ source "$here/qemu_board.sh"
 qemu_start "$qemu" "$image" pty
 qemu_pty
 echo "== $image on $pty"
+# QEMU reads the terminal only once it has noticed a reader, which it looks for once a second:
+# a request sent before then waits up to a second, beyond the gateway's response timeout. One
+# read on the pty (5 s allowed) before anything is timed; no answer fails the run.
+"$cli" read modbus --device "$pty" --slave 1 --function 3 --address 0 --quantity 1 \
+  --timeout-ms 5000 >"$dir/ready.log" 2>&1 ||
+  { echo "FAIL the image did not answer on $pty"; cat "$dir/ready.log"; exit 1; }
 status=0
 run_peer() {
   case "$1" in
@@ -32,6 +38,7 @@ for peer in "$@"; do
   esac
 done
 # The gateway's response timeout is below the clients' (3 s): a silent unit is its 0B.
+: >"$dir/gateway.log"  # there before the loop below reads it
 "$cli" gateway --listen 127.0.0.1:0 --device "$pty" --timeout-ms 800 --json \
   >"$dir/gateway.log" 2>&1 &
 peer_pid=$!
