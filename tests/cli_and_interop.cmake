@@ -140,7 +140,8 @@ if(pymodbus_framers_rc EQUAL 0)
   add_test(NAME interop.pymodbus_framer_differential
     COMMAND /usr/bin/python3
             "${CMAKE_CURRENT_SOURCE_DIR}/interop/pymodbus_framer_differential.py"
-            "$<TARGET_FILE:motionbus_interop_framers>" --seed 28 --frames 3000 --exchanges 1500)
+            "$<TARGET_FILE:motionbus_interop_framers>" --seed 28 --frames 3000 --exchanges 1500
+            --docs "${PROJECT_SOURCE_DIR}/docs/modbus.md")
   set_tests_properties(interop.pymodbus_framer_differential PROPERTIES LABELS "interop"
     TIMEOUT 120)
 elseif(MOTIONBUS_REQUIRE_ALL_CHECKS)
