@@ -18,21 +18,12 @@
 #include <string>
 #include <vector>
 
+#include "../support/hex.hpp"
 #include "client_differential.hpp"
 
 namespace {
 
 using namespace client_diff;  // NOLINT(google-build-using-namespace)
-
-std::string hex(const std::vector<std::uint8_t>& v) {
-  std::string s;
-  char two[3];
-  for (const std::uint8_t b : v) {
-    std::snprintf(two, sizeof two, "%02x", b);
-    s += two;
-  }
-  return s;
-}
 
 // The response to `q`: valid one time in five, else one to three mutations of a valid one.
 std::vector<std::uint8_t> random_response(testutil::splitmix64& rng, const request& q) {
@@ -122,7 +113,7 @@ int main(int argc, char** argv) {
     if (sent.size() < 4U || sent[0] != q.slave || sent[1] != q.function) {
       ++failures;
       std::printf("libmodbus sent no request for #%lu (function %02x): %s\n", k, q.function,
-                  hex(sent).c_str());
+                  testutil::to_hex(sent).c_str());
       continue;
     }
     const outcome o = library_client(sent, response);
@@ -143,8 +134,8 @@ int main(int argc, char** argv) {
       ++failures;
       if (failures <= 10) {
         std::printf("DIFFERENT #%lu: request %s\n  response  %s\n  motionbus %s\n  libmodbus %s\n",
-                    k, hex(sent).c_str(), hex(response).c_str(), o.text().c_str(),
-                    t.text().c_str());
+                    k, testutil::to_hex(sent).c_str(), testutil::to_hex(response).c_str(),
+                    o.text().c_str(), t.text().c_str());
       }
     } else {
       ++classes[cls];

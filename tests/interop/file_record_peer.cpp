@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "../support/hex.hpp"
 #include "motionbus/modbus/file_record.hpp"
 #include "motionbus/modbus/pdu_client.hpp"
 #include "motionbus/modbus/rtu.hpp"
@@ -31,16 +32,6 @@ std::vector<std::uint8_t> unhex(const std::string& s) {
   }
   return out;
 }
-std::string hex(const std::uint8_t* p, std::size_t n) {
-  std::string s;
-  char b[3];
-  for (std::size_t i = 0; i < n; ++i) {
-    std::snprintf(b, sizeof b, "%02x", p[i]);
-    s += b;
-  }
-  return s;
-}
-
 struct store {
   std::uint8_t read_file_record(std::uint16_t file, std::uint16_t record,
                                 mb::mutable_byte_view out) {
@@ -92,7 +83,8 @@ int main() {
       const mb::span<const mo::file_record> view(recs.data(), recs.size());
       const auto n = op == "encode14" ? mo::encode_read_file_record(view, out)
                                       : mo::encode_write_file_record(view, out);
-      std::printf("%s\n", n.ok() ? hex(out, n.value()).c_str() : mb::to_string(n.error()));
+      std::printf("%s\n",
+                  n.ok() ? testutil::to_hex(out, n.value()).c_str() : mb::to_string(n.error()));
     } else if (op == "serve") {
       const auto pdu = unhex(a);
       const auto d = mo::decode_file_record_request(mb::byte_view(pdu.data(), pdu.size()));
@@ -104,7 +96,8 @@ int main() {
       const auto k = mo::encode_rtu(1, mb::byte_view(pdu.data(), pdu.size()), adu);
       store dev;
       const auto n = mo::serve_rtu(dev, 1, mb::byte_view(adu, k.value_or(0)), out);
-      std::printf("%s\n", n.value_or(0) < 5U ? "none" : hex(out + 1, n.value() - 3U).c_str());
+      std::printf("%s\n",
+                  n.value_or(0) < 5U ? "none" : testutil::to_hex(out + 1, n.value() - 3U).c_str());
     } else if (op == "check14" || op == "check15") {
       const auto q = unhex(a);
       const auto r = unhex(b);
@@ -119,7 +112,7 @@ int main() {
       std::string s = "ok";
       for (std::size_t i = 0; op == "check14" && i < d->count; ++i) {
         const auto rec = mo::file_record_at(d.value(), i).value();
-        s += " " + hex(rec.data.data(), rec.data.size());
+        s += " " + testutil::to_hex(rec.data.data(), rec.data.size());
       }
       std::printf("%s\n", s.c_str());
     } else {

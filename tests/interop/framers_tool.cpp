@@ -20,6 +20,8 @@
 #include <string>
 #include <vector>
 
+#include "../support/hex.hpp"
+
 namespace mb = motionbus;
 namespace mo = motionbus::modbus;
 
@@ -33,20 +35,11 @@ std::vector<std::uint8_t> from_hex(const std::string& s) {
   return out;
 }
 
-std::string to_hex(mb::byte_view v) {
-  std::string s;
-  char two[3];
-  for (const std::uint8_t b : v) {
-    std::snprintf(two, sizeof two, "%02x", b);
-    s += two;
-  }
-  return s;
-}
-
 template <class Result>
 bool print(const Result& r) {
   if (r.is_complete()) {
-    std::cout << "frame " << unsigned{r.value().slave} << ' ' << to_hex(r.value().pdu) << '\n';
+    std::cout << "frame " << unsigned{r.value().slave} << ' ' << testutil::to_hex(r.value().pdu)
+              << '\n';
   } else if (r.is_failed()) {
     std::cout << "error " << mb::to_string(r.error()) << '\n';
   }
@@ -92,7 +85,7 @@ int run(Framer& f, Encode&& encode) {
       const auto n = encode(static_cast<std::uint8_t>(slave), mb::byte_view(pdu.data(), pdu.size()),
                             mb::mutable_byte_view(out, sizeof out));
       if (n.ok()) {
-        std::cout << "encoded " << to_hex(mb::byte_view(out, n.value())) << '\n';
+        std::cout << "encoded " << testutil::to_hex(mb::byte_view(out, n.value())) << '\n';
       } else {
         std::cout << "error " << mb::to_string(n.error()) << '\n';
       }
