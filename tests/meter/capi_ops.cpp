@@ -142,6 +142,14 @@ METER_OP void op_capi_report_framer(unsigned ready) {
     meter_out[5] = frame.crc;
   }
 }
+// The silence after bytes the framer could not frame: its result as op_capi_report_framer
+// reports one (measure_framer_noise in meter.py).
+METER_OP void op_capi_framer_idle() {
+  const mb_result r = mb_modbus_server_framer_idle(&framer, &frame);
+  meter_out[0] = 0;
+  meter_out[1] = 0;
+  put_result(r);
+}
 // The frame the framer handed over, served through the callback table; the reply in meter_adu.
 METER_OP void op_capi_serve_frame() {
   std::size_t n = 0;

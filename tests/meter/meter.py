@@ -501,6 +501,31 @@ def measure_server_framer(m, record, prefix, report, suffix):
             record("modbus.framer.inside_byte.fc03", *inside)
 
 
+def measure_framer_noise(m, record):
+    """The server's framer on 256 bytes of noise (rng(11): no frame in them, as the checks say)
+    and the silence after them, through the C API (its image links idle(), as every server's
+    firmware does; the main image's framer figures are measured without it): instructions a
+    byte on average and at the costliest byte, and the idle() call that ends the noise (the
+    bytes held rescanned, a frame looked for at each of them)."""
+    r = rng(11)
+    noise = [next(r) for _ in range(256)]
+    m.call("op_capi_framer_start")
+    total, worst, costliest = 0, 0, 0
+    for b in noise:
+        ready, n, s = m.call("op_capi_framer_byte", b)
+        total, worst, costliest = total + n, max(worst, s), max(costliest, n)
+        m.call("op_capi_report_framer", ready & 0xFF)
+        if m.out(1)[0] == STATUS_COMPLETE:
+            raise MeterError("capi.modbus.framer.per_byte.noise256: a frame in the noise")
+    record("capi.modbus.framer.per_byte.noise256", round(total / len(noise), 1), worst,
+           per="byte", units=len(noise), total=total)
+    record("capi.modbus.framer.worst_byte.noise256", costliest, worst)
+    m.clear_out()
+    _, n, s = m.call("op_capi_framer_idle")
+    expect("capi.modbus.framer.idle.noise256", m.out(1)[0], STATUS_FAILED)
+    record("capi.modbus.framer.idle.noise256", n, s)
+
+
 def measure_alone(m):
     """The stream objects, each alone in its translation unit (tests/meter/alone_*.cpp), as in
     a firmware whose receive interrupt's file holds nothing else: the compiler's inlining, and
@@ -909,6 +934,7 @@ def measure_capi(m):
            [2, regs[0x42], regs[0x43], 0])
     record("capi.biss.control_master.per_frame", round(total / frames, 1), worst, per="frame",
            units=frames, total=total)
+    measure_framer_noise(m, record)  # last: it leaves the framer's frame buffer on the noise
     return results
 
 
