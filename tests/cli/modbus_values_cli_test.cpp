@@ -84,8 +84,7 @@ TEST_CASE("read modbus --type: refused arguments send nothing, each with its rea
     CAPTURE(c.first);
     int status = 0;
     const std::string out = testcli::output_of(
-        std::string("'") + MOTIONBUS_CLI_PATH + "' read modbus " + c.first + dev + " 2>&1",
-        &status);
+        testcli::cli_command() + "read modbus " + c.first + dev + " 2>&1", &status);
     CHECK_MESSAGE(out.find(c.second) != std::string::npos, out);
     CHECK(status == 2);
   }

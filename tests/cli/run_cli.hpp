@@ -22,6 +22,15 @@
 
 namespace testcli {
 
+/// The shell words that run the CLI, bounded: a CLI that has not ended after
+/// `cli_time_limit_s` seconds is stopped (SIGTERM, then SIGKILL 5 s later) and its run fails
+/// naming the command, so that a hang is one failed check, not the suite's time-out.
+constexpr int cli_time_limit_s = 45;
+inline std::string cli_command() {
+  return "timeout --foreground -k 5 " + std::to_string(cli_time_limit_s) + " '" +
+         MOTIONBUS_CLI_PATH + "' ";
+}
+
 /// What the shell command prints on its standard output, and its exit status.
 inline std::string output_of(const std::string& command, int* status) {
   FILE* pipe = popen(command.c_str(), "r");
@@ -33,8 +42,11 @@ inline std::string output_of(const std::string& command, int* status) {
     out.append(buffer, n);
   }
   const int s = pclose(pipe);
+  const int code = WIFEXITED(s) ? WEXITSTATUS(s) : -1;
+  // timeout(1)'s statuses: the CLI (whose own are 0, 1 and 2) was stopped
+  CHECK_MESSAGE((code != 124 && code != 137), "timed out: " << command);
   if (status != nullptr) {
-    *status = WIFEXITED(s) ? WEXITSTATUS(s) : -1;
+    *status = code;
   }
   return out;
 }
@@ -47,7 +59,7 @@ inline std::string run_as_is(const std::string& args, int* status = nullptr,
   if (!stdin_text.empty()) {
     command = "printf '" + stdin_text + "' | ";
   }
-  return output_of(command + "'" + MOTIONBUS_CLI_PATH + "' " + args + " 2>/dev/null", status);
+  return output_of(command + cli_command() + args + " 2>/dev/null", status);
 }
 
 /// run_as_is with --json: one JSON object per line, as scripts read the tool.
@@ -59,16 +71,16 @@ inline std::string run(const std::string& args, int* status = nullptr,
 /// The exit status of `motionbus <args>`, killed after `seconds` (status 124 then, as
 /// timeout(1) reports it): for a command that would run until stopped when it is wrong.
 inline void run_bounded(const std::string& args, int seconds, int* status) {
-  const std::string command = "timeout " + std::to_string(seconds) + " '" + MOTIONBUS_CLI_PATH +
-                              "' " + args + " >/dev/null 2>&1";
+  // SIGKILL 5 s after the SIGTERM: a CLI that ignored it ends the run (status 137), not the suite
+  const std::string command = "timeout -k 5 " + std::to_string(seconds) + " '" +
+                              MOTIONBUS_CLI_PATH + "' " + args + " >/dev/null 2>&1";
   const int s = std::system(command.c_str());
   *status = WIFEXITED(s) ? WEXITSTATUS(s) : -1;
 }
 
 /// Stderr of `motionbus <args>` (stdout discarded): the messages of usage errors.
 inline std::string run_stderr(const std::string& args, int* status = nullptr) {
-  return output_of(std::string("'") + MOTIONBUS_CLI_PATH + "' " + args + " 2>&1 >/dev/null",
-                   status);
+  return output_of(cli_command() + args + " 2>&1 >/dev/null", status);
 }
 
 /// The JSON objects of `out`, one a line (blank lines skipped); a line that is not JSON is a

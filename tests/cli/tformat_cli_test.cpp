@@ -196,7 +196,12 @@ TEST_CASE("serve tformat-encoder: a master talks to the emulator over a pseudo-t
   CHECK(rd->edf == 0x77);
   kill(pid, SIGTERM);
   int status = 0;
-  waitpid(pid, &status, 0);
+  bool exited = false;
+  for (int waited_ms = 0; !exited && waited_ms < 10000; waited_ms += 10) {  // it polls each 100 ms
+    exited = waitpid(pid, &status, WNOHANG) == pid;
+    usleep(exited ? 0 : 10000);
+  }
+  REQUIRE_MESSAGE(exited, "the emulator did not end within 10 s of SIGTERM");
   guard.pid = -1;
   CHECK(WIFEXITED(status));
   CHECK(WEXITSTATUS(status) == 0);

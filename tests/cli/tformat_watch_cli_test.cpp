@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <functional>
@@ -127,6 +128,64 @@ watch_run run_watch(const std::string& args) {
   return w;
 }
 
+// Starts the CLI with `args`, its standard output on `out_fd` and its stderr discarded: its pid.
+pid_t spawn_cli(const std::vector<std::string>& args, int out_fd) {
+  const int null = open("/dev/null", O_WRONLY);
+  REQUIRE(null >= 0);
+  std::vector<char*> argv;  // made before fork(): the child only calls async-signal-safe code
+  argv.push_back(const_cast<char*>("motionbus"));
+  for (const std::string& a : args) {
+    argv.push_back(const_cast<char*>(a.c_str()));
+  }
+  argv.push_back(nullptr);
+  const pid_t pid = fork();
+  REQUIRE(pid >= 0);
+  if (pid == 0) {
+    if (dup2(out_fd, STDOUT_FILENO) < 0 || dup2(null, STDERR_FILENO) < 0) {
+      _exit(127);
+    }
+    execv(MOTIONBUS_CLI_PATH, argv.data());
+    _exit(127);
+  }
+  close(null);
+  return pid;
+}
+
+// Reads `fd` until `ended()` says the CLI is done; `on_output` sees what was read so far. A CLI
+// still running after testcli::cli_time_limit_s seconds is killed and the run fails.
+template <typename Ended, typename OnOutput>
+std::string read_cli_output(int fd, pid_t pid, Ended ended, OnOutput on_output) {
+  const auto start = std::chrono::steady_clock::now();
+  bool killed = false;
+  std::string out;
+  for (;;) {
+    if (!killed && std::chrono::steady_clock::now() - start >
+                       std::chrono::seconds(testcli::cli_time_limit_s)) {
+      kill(pid, SIGKILL);
+      killed = true;
+    }
+    pollfd p{fd, POLLIN, 0};
+    if (poll(&p, 1, 50) > 0 && (p.revents & POLLIN) != 0) {
+      char buffer[512];
+      const ssize_t n = read(fd, buffer, sizeof buffer);
+      if (n > 0) {
+        out.append(buffer, static_cast<std::size_t>(n));
+        on_output(out);
+        continue;
+      }
+    }
+    if (ended(p)) {
+      break;
+    }
+  }
+  CHECK_MESSAGE(!killed, "the CLI did not end within " << testcli::cli_time_limit_s << " s");
+  return out;
+}
+
+int exit_status(int s) {
+  return WIFEXITED(s) ? WEXITSTATUS(s) : -1;
+}
+
 // Runs the CLI with its standard output on a new pseudo-terminal (stderr discarded); returns
 // what the terminal received and the exit status.
 std::string run_on_terminal(const std::vector<std::string>& args, int* status) {
@@ -137,54 +196,24 @@ std::string run_on_terminal(const std::vector<std::string>& args, int* status) {
   // the terminal's slave side stays open here too, so that its output is read to the end
   // (with no slave open the master side reads as hung up)
   const int slave = open(ptsname(master), O_RDWR | O_NOCTTY);
-  const int null = open("/dev/null", O_WRONLY);
   REQUIRE(slave >= 0);
-  REQUIRE(null >= 0);
-  std::vector<char*> argv;  // made before fork(): the child only calls async-signal-safe code
-  argv.push_back(const_cast<char*>("motionbus"));
-  for (const std::string& a : args) {
-    argv.push_back(const_cast<char*>(a.c_str()));
-  }
-  argv.push_back(nullptr);
-  const pid_t pid = fork();
-  REQUIRE(pid >= 0);
-  if (pid == 0) {
-    if (dup2(slave, STDOUT_FILENO) < 0 || dup2(null, STDERR_FILENO) < 0) {
-      _exit(127);
-    }
-    execv(MOTIONBUS_CLI_PATH, argv.data());
-    _exit(127);
-  }
-  close(null);
-  std::string out;
-  bool exited = false;
+  const pid_t pid = spawn_cli(args, slave);
   int s = 0;
-  int waited_ms = 0;
+  bool exited = false;
   // read until the child has exited and nothing more arrives for 50 ms
-  for (;;) {
-    pollfd p{master, POLLIN, 0};
-    if (poll(&p, 1, 50) > 0 && (p.revents & POLLIN) != 0) {
-      char buffer[512];
-      const ssize_t n = read(master, buffer, sizeof buffer);
-      if (n > 0) {
-        out.append(buffer, static_cast<std::size_t>(n));
-        continue;
-      }
-    }
-    if (exited) {
-      break;
-    }
-    exited = waitpid(pid, &s, WNOHANG) == pid;
-    waited_ms += 50;
-    if (!exited && waited_ms > 60000) {  // a hung CLI: stop it, the checks fail
-      kill(pid, SIGKILL);
-      waitpid(pid, &s, 0);
-      exited = true;
-    }
-  }
+  const std::string out = read_cli_output(
+      master, pid,
+      [&](const pollfd&) {
+        if (exited) {
+          return true;
+        }
+        exited = waitpid(pid, &s, WNOHANG) == pid;
+        return false;
+      },
+      [](const std::string&) {});
   close(slave);
   close(master);
-  *status = WIFEXITED(s) ? WEXITSTATUS(s) : -1;
+  *status = exit_status(s);
   return out;
 }
 
@@ -192,54 +221,25 @@ std::string run_on_terminal(const std::vector<std::string>& args, int* status) {
 // once it has printed `lines` lines: what it printed to the end, and its exit status.
 std::string run_interrupted(const std::vector<std::string>& args, std::size_t lines, int* status) {
   int out_pipe[2] = {-1, -1};
-  REQUIRE(pipe(out_pipe) == 0);
-  const int null = open("/dev/null", O_WRONLY);
-  REQUIRE(null >= 0);
-  std::vector<char*> argv;  // made before fork(): the child only calls async-signal-safe code
-  argv.push_back(const_cast<char*>("motionbus"));
-  for (const std::string& a : args) {
-    argv.push_back(const_cast<char*>(a.c_str()));
-  }
-  argv.push_back(nullptr);
-  const pid_t pid = fork();
-  REQUIRE(pid >= 0);
-  if (pid == 0) {
-    if (dup2(out_pipe[1], STDOUT_FILENO) < 0 || dup2(null, STDERR_FILENO) < 0) {
-      _exit(127);
-    }
-    close(out_pipe[0]);
-    execv(MOTIONBUS_CLI_PATH, argv.data());
-    _exit(127);
-  }
-  close(null);
+  REQUIRE(pipe2(out_pipe, O_CLOEXEC) == 0);
+  const pid_t pid = spawn_cli(args, out_pipe[1]);
   close(out_pipe[1]);
-  std::string out;
   bool interrupted = false;
-  for (int waited_ms = 0;;) {
-    pollfd p{out_pipe[0], POLLIN, 0};
-    if (poll(&p, 1, 50) <= 0) {
-      waited_ms += 50;
-      if (waited_ms > 60000) {  // a hung CLI: stop it, the checks fail
-        kill(pid, SIGKILL);
-      }
-      continue;
-    }
-    char buffer[512];
-    const ssize_t n = read(out_pipe[0], buffer, sizeof buffer);
-    if (n <= 0) {
-      break;  // the CLI has ended
-    }
-    out.append(buffer, static_cast<std::size_t>(n));
-    if (!interrupted &&
-        static_cast<std::size_t>(std::count(out.begin(), out.end(), '\n')) >= lines) {
-      kill(pid, SIGINT);
-      interrupted = true;
-    }
-  }
+  const std::string out = read_cli_output(
+      out_pipe[0], pid,
+      // the pipe reads as hung up, or at its end, once the CLI has ended
+      [](const pollfd& p) { return (p.revents & (POLLHUP | POLLIN)) != 0; },
+      [&](const std::string& so_far) {
+        if (!interrupted &&
+            static_cast<std::size_t>(std::count(so_far.begin(), so_far.end(), '\n')) >= lines) {
+          kill(pid, SIGINT);
+          interrupted = true;
+        }
+      });
   close(out_pipe[0]);
   int s = 0;
   waitpid(pid, &s, 0);
-  *status = WIFEXITED(s) ? WEXITSTATUS(s) : -1;
+  *status = exit_status(s);
   return out;
 }
 
