@@ -103,6 +103,8 @@ for log in "$build"/*.ctest.log; do
     echo "=== failed in $(basename "$log" .ctest.log)"
     grep -E '\*\*\*(Failed|Timeout|Exception)|TEST CASE:|ERROR:|^FAIL|  values: |logged: ' "$log" |
       head -n 80 || true
+    # a suite stopped by its time-out reports no check: the case it was in (its listener's line)
+    grep -E '^cli test case: ' "$log" | tail -n 1 | sed 's/^/last started: /' || true
   fi
 done
 echo "=== summary"
