@@ -229,6 +229,44 @@ TEST_CASE("random longer inputs: tables, reference, incremental and bit-stream p
   random_long_inputs<crc4_biss_spec>(4);
 }
 
+TEST_CASE(
+    "value_before: the last byte's step run backwards; from 0, init exactly where a frame starts") {
+  testutil::splitmix64 rng(5);
+  for (int k = 0; k < 2000; ++k) {
+    std::vector<std::uint8_t> m(1U + rng.below(40));
+    for (auto& b : m) {
+      b = rng.byte();
+    }
+    const auto all = crc16_modbus<>::compute(byte_view(m.data(), m.size()));
+    const auto but_last = crc16_modbus<>::compute(byte_view(m.data(), m.size() - 1U));
+    CHECK(crc16_modbus<>::value_before(all, m.back()) == but_last);
+    CHECK(crc16_modbus<crc_table_size::bitwise>::value_before(all, m.back()) == but_last);
+  }
+  // noise, then a message and its CRC (low byte first): taken back from 0 over the bytes, the
+  // value is the CRC of nothing (init) where the message starts, and (this seed) nowhere else
+  std::vector<std::uint8_t> line(60);
+  for (auto& b : line) {
+    b = rng.byte();
+  }
+  const std::vector<std::uint8_t> message = {0x11, 0x41, 0x01, 0x02};
+  const auto c = crc16_modbus<>::compute(byte_view(message.data(), message.size()));
+  line.insert(line.end(), message.begin(), message.end());
+  line.push_back(static_cast<std::uint8_t>(c & 0xFFU));
+  line.push_back(static_cast<std::uint8_t>(c >> 8U));
+  std::vector<std::size_t> starts;
+  std::uint32_t v = 0;
+  for (std::size_t i = line.size(); i > 0U; --i) {
+    v = crc16_modbus<>::value_before(v, line[i - 1U]);
+    if (v == crc16_modbus_spec::init) {
+      starts.push_back(i - 1U);
+    }
+  }
+  CHECK(starts == std::vector<std::size_t>{60});
+  static_assert(crc16_modbus<>::value_before(0x4B37, '9') ==
+                    crc16_modbus<>::compute(byte_view(check_input, 8)),
+                "constant-evaluated");
+}
+
 namespace {
 
 // Catalogued CRCs (reveng CRC catalogue) covering widths 3..32, both reflections, refin !=

@@ -93,6 +93,15 @@ constexpr std::uint32_t crc_step_reflected(std::uint32_t reg, std::uint32_t bit,
   return feedback ? (reg ^ poly) : reg;
 }
 
+/// crc_step_reflected with bit 0 run backwards: the register before the step from the one
+/// after it. The step's feedback shows in the top bit: `poly` reflected has it set (every CRC
+/// polynomial has its x^0 term), a plain shift never does.
+constexpr std::uint32_t crc_unstep_reflected(std::uint32_t reg, std::uint32_t poly,
+                                             unsigned reg_bits) noexcept {
+  const std::uint32_t feedback = (reg >> (reg_bits - 1U)) & 1U;
+  return (((feedback != 0U ? reg ^ poly : reg) << 1U) | feedback) & low_mask32(reg_bits);
+}
+
 /// The register's starting value for `init` (register layout as in crc_kernel).
 constexpr std::uint32_t crc_initial_register(std::uint32_t init, unsigned width, unsigned align,
                                              bool refin) noexcept {
@@ -580,6 +589,23 @@ class crc {
   /// One-shot CRC of the low `count` (<= 64) bits of `bits`, fed in the CRC's bit order.
   static constexpr value_type compute_bits(std::uint64_t bits, unsigned count) noexcept {
     return crc().update_bits(bits, count).value();
+  }
+
+  /// For a reflected CRC with no final XOR (CRC-16/MODBUS): the CRC of a message from the CRC
+  /// of that message followed by `last_byte`: the byte's step run backwards, eight shifts and
+  /// XORs (no table). A message followed by its CRC, low byte first, has the CRC 0, and the
+  /// empty message has Spec::init; so the values before the last bytes of a buffer, taken back
+  /// from 0, show where a CRC-valid message starts that ends at the buffer's end: wherever the
+  /// value reached is Spec::init. One pass for every start (the RTU framer's idle()).
+  static constexpr value_type value_before(std::uint32_t value_after,
+                                           std::uint8_t last_byte) noexcept {
+    static_assert(Spec::refin && Spec::refout && Spec::xorout == 0U,
+                  "value_before() is for reflected CRCs with no final XOR");
+    std::uint32_t reg = value_after;  // reflected, no final XOR: the register is the value
+    for (unsigned k = 0; k < 8U; ++k) {
+      reg = detail::crc_unstep_reflected(reg, kernel::poly, kernel::reg_bits);
+    }
+    return static_cast<value_type>(reg ^ last_byte);
   }
 
   /// Entries of the tables this engine uses (0 for bitwise). Exposed for size reports and tests.

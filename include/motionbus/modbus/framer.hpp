@@ -367,7 +367,25 @@ class basic_rtu_framer {
       // the first frame the length rule finds in the bytes held, past any garbage; else the
       // first failure met on the way
       decode_result<rtu_frame> first = need_input{1};
+      std::uint32_t valid[max_rtu_size / 32U] = {};
+      std::size_t marked = 0;  // the bytes held when `valid` was marked (0: not yet)
       for (;;) {
+        // Past the first failure (the one reported), a start with no length rule whose bytes
+        // to the end fail the CRC fails in scan() as here, one byte dropped: the marks say so
+        // without scan()'s CRC over the rest at each start (quadratic in the bytes held).
+        if (first.is_failed() && buf_.size() >= 2U) {
+          if (marked == 0U) {
+            marked = buf_.size();
+            mark_valid_suffixes(buf_.view(), valid);
+          }
+          const std::size_t at = marked - buf_.size();
+          if (((valid[at / 32U] >> (at % 32U)) & 1U) == 0U &&
+              predict(buf_.view()) == unknown_length) {
+            drop_front(1);
+            ++dropped_;
+            continue;
+          }
+        }
         if (!scan(r, 0, true)) {
           r = need_input{1};
           if (buf_.size() >= 2U) {
@@ -410,6 +428,19 @@ class basic_rtu_framer {
   constexpr bool heard_response() const noexcept { return listening() && heard_response_ != 0U; }
 
  private:
+  // Bit i of `valid` (valid[i / 32], bit i % 32) set: the bytes held from i to their end are
+  // one CRC-valid frame. One pass back from the end (crc::value_before), 8 bit steps a byte.
+  static constexpr void mark_valid_suffixes(byte_view held,
+                                            std::uint32_t (&valid)[max_rtu_size / 32U]) noexcept {
+    std::uint16_t c = 0;  // a frame followed by its CRC: the CRC of it all is 0
+    for (std::size_t i = held.size(); i > 0U; --i) {
+      c = crc16_modbus<Table>::value_before(c, held[i - 1U]);
+      if (c == crc16_modbus_spec::init) {  // the CRC of nothing: a frame starts here
+        valid[(i - 1U) / 32U] |= 1U << ((i - 1U) % 32U);
+      }
+    }
+  }
+
   // put() of the last byte of a frame whose size the length rule gave: a frame for this node
   // whose CRC matches is handed over; anything else goes to scan().
   MOTIONBUS_NOINLINE constexpr bool last_byte(std::uint8_t byte) noexcept {
