@@ -5,6 +5,8 @@
 #include <doctest/doctest.h>
 #include <fcntl.h>
 #include <poll.h>
+#include <signal.h>
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <termios.h>
 #include <unistd.h>
@@ -25,7 +27,7 @@ namespace testcli {
 /// The shell words that run the CLI, bounded: a CLI that has not ended after
 /// `cli_time_limit_s` seconds is stopped (SIGTERM, then SIGKILL 5 s later) and its run fails
 /// naming the command, so that a hang is one failed check, not the suite's time-out.
-constexpr int cli_time_limit_s = 45;
+constexpr int cli_time_limit_s = 30;
 inline std::string cli_command() {
   return "timeout --foreground -k 5 " + std::to_string(cli_time_limit_s) + " '" +
          MOTIONBUS_CLI_PATH + "' ";
@@ -49,6 +51,22 @@ inline std::string output_of(const std::string& command, int* status) {
     *status = code;
   }
   return out;
+}
+
+/// What ps shows of process `pid` and its children (state, the kernel function it waits in):
+/// the evidence a run stopped at its time limit leaves.
+inline std::string process_state(pid_t pid) {
+  const std::string p = std::to_string(pid);
+  return output_of("ps -o pid,ppid,stat,wchan:24,args -p " + p + " --ppid " + p + " 2>&1", nullptr);
+}
+
+/// In a child after fork(): it is killed when the test process ends, however that ends (so a
+/// device emulator can never outlive the suite holding ctest's output pipe open).
+inline void die_with_parent(pid_t parent) {
+  prctl(PR_SET_PDEATHSIG, SIGKILL);
+  if (getppid() != parent) {  // the parent ended before the line above
+    _exit(127);
+  }
 }
 
 /// Stdout of `motionbus <args>` (args already shell-quoted); stderr is discarded. `stdin_text`,

@@ -125,9 +125,11 @@ TEST_CASE("serve tformat-encoder: a master talks to the emulator over a pseudo-t
   pty_pair pty;
   int started[2] = {-1, -1};  // the emulator's stderr: its first line says the port is open
   REQUIRE(pipe(started) == 0);
+  const pid_t parent = getpid();
   const pid_t pid = fork();
   REQUIRE(pid >= 0);
   if (pid == 0) {
+    testcli::die_with_parent(parent);
     dup2(started[1], STDERR_FILENO);
     execl(MOTIONBUS_CLI_PATH, "motionbus", "serve", "tformat-encoder", "--device", pty.path.c_str(),
           static_cast<char*>(nullptr));
@@ -201,7 +203,8 @@ TEST_CASE("serve tformat-encoder: a master talks to the emulator over a pseudo-t
     exited = waitpid(pid, &status, WNOHANG) == pid;
     usleep(exited ? 0 : 10000);
   }
-  REQUIRE_MESSAGE(exited, "the emulator did not end within 10 s of SIGTERM");
+  REQUIRE_MESSAGE(exited, "the emulator did not end within 10 s of SIGTERM; it is:\n"
+                              << testcli::process_state(pid));
   guard.pid = -1;
   CHECK(WIFEXITED(status));
   CHECK(WEXITSTATUS(status) == 0);

@@ -138,9 +138,11 @@ pid_t spawn_cli(const std::vector<std::string>& args, int out_fd) {
     argv.push_back(const_cast<char*>(a.c_str()));
   }
   argv.push_back(nullptr);
+  const pid_t parent = getpid();
   const pid_t pid = fork();
   REQUIRE(pid >= 0);
   if (pid == 0) {
+    testcli::die_with_parent(parent);
     if (dup2(out_fd, STDOUT_FILENO) < 0 || dup2(null, STDERR_FILENO) < 0) {
       _exit(127);
     }
@@ -157,10 +159,12 @@ template <typename Ended, typename OnOutput>
 std::string read_cli_output(int fd, pid_t pid, Ended ended, OnOutput on_output) {
   const auto start = std::chrono::steady_clock::now();
   bool killed = false;
+  std::string state;  // ps of the CLI when it was killed
   std::string out;
   for (;;) {
     if (!killed && std::chrono::steady_clock::now() - start >
                        std::chrono::seconds(testcli::cli_time_limit_s)) {
+      state = testcli::process_state(pid);
       kill(pid, SIGKILL);
       killed = true;
     }
@@ -178,7 +182,9 @@ std::string read_cli_output(int fd, pid_t pid, Ended ended, OnOutput on_output) 
       break;
     }
   }
-  CHECK_MESSAGE(!killed, "the CLI did not end within " << testcli::cli_time_limit_s << " s");
+  CHECK_MESSAGE(!killed, "the CLI did not end within " << testcli::cli_time_limit_s
+                                                       << " s; it was:\n"
+                                                       << state);
   return out;
 }
 

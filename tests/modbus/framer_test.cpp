@@ -4,6 +4,7 @@
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -340,7 +341,7 @@ TEST_CASE(
   splitmix64 rng(28);
   for (int k = 0; k < 400; ++k) {
     CAPTURE(k);
-    const std::size_t n = rng.below(240);
+    const auto n = static_cast<std::size_t>(rng.below(240));
     const bool client = (k & 1) != 0;
     const bool ours = (k & 2) != 0;
     const bytes pdu = {0x41, rng.byte(), rng.byte()};
@@ -353,7 +354,14 @@ TEST_CASE(
       for (auto& b : line) {
         b = rng.byte();
       }
-      line.insert(line.end(), frame.begin(), frame.end());
+      if (k % 3 == 0 && n >= 7U) {  // first an FC10 request cut after a byte count of 247:
+        // the first failure is then `truncated` (its rule wants more than the silence left)
+        const bytes cut = {0x11, 0x10, 0x00, 0x00, 0x00, 0x00, 0xF7};
+        std::copy(cut.begin(), cut.end(), line.begin());
+      }
+      for (const std::uint8_t b : frame) {  // push_back: gcc 12's -Warray-bounds and insert()
+        line.push_back(b);
+      }
       chance_match = false;
       for (std::size_t s = 0; s < n && !chance_match; ++s) {
         chance_match = decode_rtu(byte_view(line.data() + s, line.size() - s)).is_complete();

@@ -591,16 +591,20 @@ class crc {
     return crc().update_bits(bits, count).value();
   }
 
-  /// For a reflected CRC with no final XOR (CRC-16/MODBUS): the CRC of a message from the CRC
-  /// of that message followed by `last_byte`: the byte's step run backwards, eight shifts and
-  /// XORs (no table). A message followed by its CRC, low byte first, has the CRC 0, and the
-  /// empty message has Spec::init; so the values before the last bytes of a buffer, taken back
-  /// from 0, show where a CRC-valid message starts that ends at the buffer's end: wherever the
-  /// value reached is Spec::init. One pass for every start (the RTU framer's idle()).
+  /// For a reflected CRC of 8 bits or more with no final XOR (CRC-16/MODBUS): the CRC of a
+  /// message from the CRC of that message followed by `last_byte`: the byte's step run
+  /// backwards, eight shifts and XORs (no table). A message followed by its CRC, low byte first,
+  /// has the CRC 0, and the empty message has Spec::init; so the values before the last bytes of a
+  /// buffer, taken back from 0, show where a CRC-valid message starts that ends at the buffer's
+  /// end: wherever the value reached is Spec::init. One pass for every start (the RTU framer's
+  /// idle()).
   static constexpr value_type value_before(std::uint32_t value_after,
                                            std::uint8_t last_byte) noexcept {
-    static_assert(Spec::refin && Spec::refout && Spec::xorout == 0U,
-                  "value_before() is for reflected CRCs with no final XOR");
+    // a register of 8 bits or more takes a byte whole; an odd polynomial (its x^0 term) shows
+    // the step's feedback in the register's top bit
+    static_assert(Spec::refin && Spec::refout && Spec::xorout == 0U && Spec::width >= 8U &&
+                      (Spec::poly & 1U) != 0U,
+                  "value_before() is for reflected CRCs of 8 bits or more, no final XOR");
     std::uint32_t reg = value_after;  // reflected, no final XOR: the register is the value
     for (unsigned k = 0; k < 8U; ++k) {
       reg = detail::crc_unstep_reflected(reg, kernel::poly, kernel::reg_bits);

@@ -390,8 +390,11 @@ class basic_rtu_framer {
           r = need_input{1};
           if (buf_.size() >= 2U) {
             // a rule wants more bytes than the silence left (a frame cut short, or garbage
-            // that reads as the start of a long one): a frame may start at the next byte
-            drop_front(1);
+            // that reads as the start of a long one): a frame may start at the next byte.
+            // 2 wanted, not the cut frame's total: with a total near 256 each later drop would
+            // move the bytes held to the front (quadratic again)
+            buf_.drop(1, 2);
+            waiting_ = 0;
             ++dropped_;
             r = decode_failure{errc::truncated, 0};
           }
@@ -436,7 +439,7 @@ class basic_rtu_framer {
     for (std::size_t i = held.size(); i > 0U; --i) {
       c = crc16_modbus<Table>::value_before(c, held[i - 1U]);
       if (c == crc16_modbus_spec::init) {  // the CRC of nothing: a frame starts here
-        valid[(i - 1U) / 32U] |= 1U << ((i - 1U) % 32U);
+        valid[(i - 1U) / 32U] |= std::uint32_t{1} << ((i - 1U) % 32U);
       }
     }
   }
