@@ -24,13 +24,12 @@
 
 namespace testcli {
 
-/// The shell words that run the CLI, bounded: a CLI that has not ended after
-/// `cli_time_limit_s` seconds is stopped (SIGTERM, then SIGKILL 5 s later) and its run fails
-/// naming the command, so that a hang is one failed check, not the suite's time-out.
+/// The shell words that run the CLI, bounded: a CLI that has not ended after `seconds`
+/// (cli_time_limit_s unless told) is stopped (SIGTERM, then SIGKILL 5 s later), status 124 or
+/// 137, so that a hang is one failed check, not the suite's time-out.
 constexpr int cli_time_limit_s = 30;
-inline std::string cli_command() {
-  return "timeout --foreground -k 5 " + std::to_string(cli_time_limit_s) + " '" +
-         MOTIONBUS_CLI_PATH + "' ";
+inline std::string cli_command(int seconds = cli_time_limit_s) {
+  return "timeout --foreground -k 5 " + std::to_string(seconds) + " '" + MOTIONBUS_CLI_PATH + "' ";
 }
 
 /// What the shell command prints on its standard output, and its exit status.
@@ -89,9 +88,7 @@ inline std::string run(const std::string& args, int* status = nullptr,
 /// The exit status of `motionbus <args>`, killed after `seconds` (status 124 then, as
 /// timeout(1) reports it): for a command that would run until stopped when it is wrong.
 inline void run_bounded(const std::string& args, int seconds, int* status) {
-  // SIGKILL 5 s after the SIGTERM: a CLI that ignored it ends the run (status 137), not the suite
-  const std::string command = "timeout -k 5 " + std::to_string(seconds) + " '" +
-                              MOTIONBUS_CLI_PATH + "' " + args + " >/dev/null 2>&1";
+  const std::string command = cli_command(seconds) + args + " >/dev/null 2>&1";
   const int s = std::system(command.c_str());
   *status = WIFEXITED(s) ? WEXITSTATUS(s) : -1;
 }

@@ -372,7 +372,8 @@ class basic_rtu_framer {
       for (;;) {
         // Past the first failure (the one reported), a start with no length rule whose bytes
         // to the end fail the CRC fails in scan() as here, one byte dropped: the marks say so
-        // without scan()'s CRC over the rest at each start (quadratic in the bytes held).
+        // without scan()'s CRC over the rest at each start (quadratic in the bytes held). Here,
+        // not in scan(): there the check would cost every put() that scans.
         if (first.is_failed() && buf_.size() >= 2U) {
           if (marked == 0U) {
             marked = buf_.size();
