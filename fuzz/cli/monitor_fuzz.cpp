@@ -2,14 +2,16 @@
 // line of bytes, silences and UART errors. The first byte: bit 0 the protocol (Modbus RTU,
 // T-format), bit 1 the output (text, JSON lines), bit 2 Modbus's FC 11 format, bits 3-7 the
 // gap (in byte times, 1 to 32). Then operations, each a header byte h and its bytes:
-//   h & 3 == 0: (h >> 2) + 1 bytes read from the port at once (monitor's bytes())
+//   h & 3 == 0: (h >> 2) + 1 bytes read from the port at once (monitor's bytes()); the first
+//               operation's are handed over at time 0 (bytes waiting when the watch began)
 //   h & 3 == 1: a silence of (h >> 2) byte times (tick())
 //   h & 3 == 2: one byte a capture's UART decoder found, with a parity error when h & 4, a
 //               framing error when h & 8, else none (byte_at())
 //   h & 3 == 3: a silence of (h >> 2) * 1000 byte times (tick(), past the response time)
 // then end(). Oracles: after end() no byte is held; one output line for each frame settled
 // and each missing response (every record printed, one per line), each JSON line an object
-// that parses with an "ok" field; the tally consistent (frames at most the bytes heard,
+// that parses with an "ok" field, its times (time_us, latency_us, request_time_us) no later
+// than the end (none wrapped below 0); the tally consistent (frames at most the bytes heard,
 // garbage bytes at most the bytes heard).
 #include <cstdint>
 #include <iostream>
@@ -27,8 +29,8 @@ void run(Monitor& m, const std::uint8_t* data, std::size_t size, std::uint32_t b
          std::uint32_t gap_us, bool json) {
   std::ostringstream out;
   std::streambuf* const saved = std::cout.rdbuf(out.rdbuf());
-  std::uint32_t now = 0;
-  std::uint32_t last = 0;
+  std::uint64_t now = 0;
+  std::uint64_t last = 0;
   std::uint64_t heard = 0;
   std::size_t i = 0;
   while (i < size) {
@@ -40,7 +42,9 @@ void run(Monitor& m, const std::uint8_t* data, std::size_t size, std::uint32_t b
         if (n == 0) {
           break;
         }
-        now += static_cast<std::uint32_t>(n) * byte_us;
+        if (i != 1) {  // not the first operation
+          now += std::uint64_t{n} * byte_us;
+        }
         m.bytes(data + i, n, now);
         heard += n;
         i += n;
@@ -50,7 +54,8 @@ void run(Monitor& m, const std::uint8_t* data, std::size_t size, std::uint32_t b
       }
       case 1:
       case 3: {
-        const std::uint32_t silence = (h >> 2U) * byte_us * ((h & 3U) == 3U ? 1000U : 1U);
+        const std::uint64_t silence =
+            std::uint64_t{h} / 4U * byte_us * ((h & 3U) == 3U ? 1000U : 1U);
         now += silence;
         m.tick(now, now - last);
         break;
@@ -69,7 +74,8 @@ void run(Monitor& m, const std::uint8_t* data, std::size_t size, std::uint32_t b
       }
     }
   }
-  m.end(now + gap_us);
+  const std::uint64_t end = now + gap_us;
+  m.end(end);
   std::cout.rdbuf(saved);
   MOTIONBUS_FUZZ_CHECK(m.held() == 0);
   const bus_monitor::tally& t = m.counts();
@@ -84,6 +90,9 @@ void run(Monitor& m, const std::uint8_t* data, std::size_t size, std::uint32_t b
     if (json) {
       const auto j = nlohmann::json::parse(line, nullptr, false);
       MOTIONBUS_FUZZ_CHECK(!j.is_discarded() && j.is_object() && j.contains("ok"));
+      for (const char* key : {"time_us", "latency_us", "request_time_us"}) {
+        MOTIONBUS_FUZZ_CHECK(!j.contains(key) || j[key].get<std::uint64_t>() <= end);
+      }
     }
   }
   MOTIONBUS_FUZZ_CHECK(printed == t.frames + t.missing);

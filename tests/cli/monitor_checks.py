@@ -79,6 +79,25 @@ def start(cmd):
     return subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
 
 
+def wait_open(*pairs):
+    """Waits until each (process, device) pair's CLI holds its device open (it is listening),
+    10 s at most each: a fixed sleep was not always enough on a loaded machine (a monitor
+    that opened its pty after the first request timed it before its own start)."""
+    for proc, path in pairs:
+        target = os.path.realpath(path)
+        deadline = time.monotonic() + 10
+        held = False
+        while not held and proc.poll() is None and time.monotonic() < deadline:
+            try:
+                fds = os.listdir(f"/proc/{proc.pid}/fd")
+                held = any(os.path.realpath(f"/proc/{proc.pid}/fd/{fd}") == target for fd in fds)
+            except OSError:
+                pass
+            time.sleep(0.02)
+        check(f"the CLI (pid {proc.pid}) opened {path}", held, "not within 10 s")
+    time.sleep(0.1)  # (its line settings follow the open)
+
+
 def run(cmd):
     return subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True,
                           timeout=20).stdout
@@ -105,7 +124,7 @@ def modbus(cli):
     server = start([cli, "serve", "sm-unit", "--device", tap.path("device"), "--json"])
     monitor = start([cli, "monitor", "modbus", "--device", tap.path("monitor"), "--json",
                      "--response-ms", "300"])
-    time.sleep(0.5)
+    wait_open((server, tap.path("device")), (monitor, tap.path("monitor")))
     client = [cli, "read", "modbus", "--device", tap.path("client"), "--json"]
 
     def ask(*args):
@@ -173,7 +192,7 @@ def modbus_text(cli):
     tap.start()
     server = start([cli, "serve", "sm-unit", "--device", tap.path("device")])
     monitor = start([cli, "monitor", "modbus", "--device", tap.path("monitor")])
-    time.sleep(0.5)
+    wait_open((server, tap.path("device")), (monitor, tap.path("monitor")))
     run([cli, "read", "modbus", "--device", tap.path("client"), "--slave", "1", "--function",
          "3", "--address", "36", "--quantity", "1"])
     time.sleep(0.3)
@@ -204,7 +223,7 @@ def tformat(cli):
     encoder = start([cli, "serve", "tformat-encoder", "--device", tap.path("device"), "--json"])
     monitor = start([cli, "monitor", "tformat", "--device", tap.path("monitor"), "--json",
                      "--response-ms", "300"])
-    time.sleep(0.5)
+    wait_open((encoder, tap.path("device")), (monitor, tap.path("monitor")))
 
     def ask(*args):
         out = run([cli, "read", "tformat", "--device", tap.path("client"), "--json"] +
@@ -273,7 +292,7 @@ def monitor_written(cli, protocol, writes, *options):
     tap = Tap()  # (its thread is not started: only the monitor's pty is used)
     monitor = start([cli, "monitor", protocol, "--device", tap.path("monitor"), "--json",
                      *options])
-    time.sleep(0.5)
+    wait_open((monitor, tap.path("monitor")))
     for data, wait in writes:
         tap.noise(data)
         time.sleep(wait)
@@ -354,7 +373,7 @@ def tformat_echo_missing(cli):
     tap = Tap()
     tap.start()
     encoder = start([cli, "serve", "tformat-encoder", "--device", tap.path("device"), "--json"])
-    time.sleep(0.5)
+    wait_open((encoder, tap.path("device")))
     out = run([cli, "read", "tformat", "--device", tap.path("client"), "--json", "--id", "3",
                "--echo"])
     stop_server(encoder)

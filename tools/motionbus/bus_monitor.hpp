@@ -69,7 +69,7 @@ struct tally {
   }
 };
 
-inline cli::record at(std::uint32_t time_us, const char* direction) {
+inline cli::record at(std::uint64_t time_us, const char* direction) {
   cli::record p;
   p.add("time_us", time_us).add("dir", direction);
   return p;
@@ -79,7 +79,7 @@ inline cli::record at(std::uint32_t time_us, const char* direction) {
 // decoder found in it (parity_error, framing_error; nullptr: none).
 struct heard_byte {
   std::uint8_t value;
-  std::uint32_t start;
+  std::uint64_t start;
   const char* uart_error;
 };
 
@@ -97,20 +97,22 @@ class line_monitor {
                std::uint32_t response_us)
       : listener_(listener), gap_us_(gap_us), byte_us_(byte_us), response_us_(response_us) {}
 
-  /// Bytes read from a port, with their arrival time: each byte's start is moved back by the
-  /// bytes' time on the wire (a driver hands bytes over after they arrived), never before the
-  /// last byte's.
-  void bytes(const std::uint8_t* data, std::size_t n, std::uint32_t time_us) {
+  /// Bytes read from a port, with their arrival time (microseconds since the watch began): each
+  /// byte's start is moved back by the bytes' time on the wire (a driver hands bytes over after
+  /// they arrived), never before the last byte's, nor before the watch began (bytes waiting in
+  /// the driver when it began are timed 0).
+  void bytes(const std::uint8_t* data, std::size_t n, std::uint64_t time_us) {
     for (std::size_t i = 0; i < n; ++i) {
-      std::uint32_t start = time_us - static_cast<std::uint32_t>(n - i) * byte_us_;
-      if (!first_ && static_cast<std::int32_t>(start - last_start_) < 0) {
+      const std::uint64_t on_wire = std::uint64_t{n - i} * byte_us_;
+      std::uint64_t start = time_us > on_wire ? time_us - on_wire : 0;
+      if (!first_ && start < last_start_) {
         start = last_start_;
       }
       byte_at(data[i], start, nullptr);
     }
   }
   /// A byte a UART decoder found (its start), with the UART error it found, if any.
-  void byte_at(std::uint8_t byte, std::uint32_t start_us, const char* uart_error) {
+  void byte_at(std::uint8_t byte, std::uint64_t start_us, const char* uart_error) {
     first_ = false;
     last_start_ = start_us;
     heard_.push_back({byte, start_us, uart_error});
@@ -120,7 +122,7 @@ class line_monitor {
     });
   }
   /// Time passes: `silent_us` since the last byte. A silence of the gap settles what is held.
-  void tick(std::uint32_t time_us, std::uint32_t silent_us) {
+  void tick(std::uint64_t time_us, std::uint64_t silent_us) {
     if (!heard_.empty() && silent_us >= gap_us_) {
       silence();
     }
@@ -129,7 +131,7 @@ class line_monitor {
     }
   }
   /// The line is no longer watched: what is held is settled.
-  void end(std::uint32_t time_us) {
+  void end(std::uint64_t time_us) {
     silence();
     if (pending_) {
       self().missing(time_us);
@@ -167,7 +169,7 @@ class line_monitor {
     std::vector<std::uint8_t> frame;
     const char* uart_error = nullptr;
     std::size_t error_at = 0;
-    const std::uint32_t time = heard_.front().start;
+    const std::uint64_t time = heard_.front().start;
     for (std::size_t i = 0; i < n; ++i) {
       frame.push_back(heard_.front().value);
       if (uart_error == nullptr && heard_.front().uart_error != nullptr) {
@@ -197,7 +199,7 @@ class line_monitor {
     }
     std::vector<std::uint8_t> bad;
     const char* uart_error = nullptr;
-    const std::uint32_t time = heard_.front().start;
+    const std::uint64_t time = heard_.front().start;
     for (std::size_t i = 0; i < n; ++i) {
       bad.push_back(heard_.front().value);
       if (uart_error == nullptr) {
@@ -231,13 +233,13 @@ class line_monitor {
   std::uint32_t response_us_;
   std::deque<heard_byte> heard_;
   bool first_ = true;
-  std::uint32_t last_start_ = 0;
+  std::uint64_t last_start_ = 0;
   std::string failure_;  // the first failure among the bytes dropped since the last frame
   std::uint32_t expected_ = 0;
   std::uint32_t received_ = 0;
   std::vector<std::uint8_t> request_;
   bool pending_ = false;
-  std::uint32_t pending_time_ = 0;
+  std::uint64_t pending_time_ = 0;
   tally t_;
 };
 
@@ -269,7 +271,7 @@ class modbus_monitor : public line_monitor<modbus_monitor, mo::rtu_listener> {
 
   // A frame that failed for a UART error: the pairing follows the listener's reading of it.
   void rejected(const mo::rtu_frame& f, const std::vector<std::uint8_t>& bytes,
-                std::uint32_t time) {
+                std::uint64_t time) {
     ++t_.by_key[f.slave].errors;
     if (listener_.heard_response()) {
       pending_ = false;
@@ -279,7 +281,7 @@ class modbus_monitor : public line_monitor<modbus_monitor, mo::rtu_listener> {
   }
 
   void note_request(const mo::rtu_frame& f, const std::vector<std::uint8_t>& bytes,
-                    std::uint32_t time) {
+                    std::uint64_t time) {
     if (pending_) {
       missing(time);  // a request follows a request
     }
@@ -290,7 +292,7 @@ class modbus_monitor : public line_monitor<modbus_monitor, mo::rtu_listener> {
     }
   }
 
-  void frame(const mo::rtu_frame& f, const std::vector<std::uint8_t>& bytes, std::uint32_t time) {
+  void frame(const mo::rtu_frame& f, const std::vector<std::uint8_t>& bytes, std::uint64_t time) {
     if (listener_.heard_response()) {
       const auto request = mo::decode_rtu(mb::byte_view(request_.data(), request_.size()));
       const bool paired = pending_ && request.is_complete();
@@ -322,7 +324,7 @@ class modbus_monitor : public line_monitor<modbus_monitor, mo::rtu_listener> {
     note_request(f, bytes, time);
   }
 
-  void missing(std::uint32_t time) {
+  void missing(std::uint64_t time) {
     ++t_.missing;
     ++t_.by_key[request_[0]].errors;
     cli::record e;
@@ -366,7 +368,7 @@ class tformat_monitor : public line_monitor<tformat_monitor, tf::line_listener> 
     return "response";
   }
 
-  void rejected(const tf::heard& h, const std::vector<std::uint8_t>& bytes, std::uint32_t time) {
+  void rejected(const tf::heard& h, const std::vector<std::uint8_t>& bytes, std::uint64_t time) {
     const unsigned id = tf::data_id_code(bytes[0]);
     ++t_.by_key[id].errors;
     if (h.is_response) {
@@ -376,13 +378,13 @@ class tformat_monitor : public line_monitor<tformat_monitor, tf::line_listener> 
     }
   }
 
-  void note_request(const std::vector<std::uint8_t>& bytes, std::uint32_t time) {
+  void note_request(const std::vector<std::uint8_t>& bytes, std::uint64_t time) {
     request_ = bytes;
     pending_ = true;
     pending_time_ = time;
   }
 
-  void frame(const tf::heard& h, const std::vector<std::uint8_t>& bytes, std::uint32_t time) {
+  void frame(const tf::heard& h, const std::vector<std::uint8_t>& bytes, std::uint64_t time) {
     if (!h.is_response) {
       if (pending_) {
         missing(time);  // another request: the last one went unanswered
@@ -423,7 +425,7 @@ class tformat_monitor : public line_monitor<tformat_monitor, tf::line_listener> 
     cli::print(cli::outcome::success(fields), p);
   }
 
-  void missing(std::uint32_t time) {
+  void missing(std::uint64_t time) {
     ++t_.missing;
     const unsigned id = tf::data_id_code(request_[0]);
     ++t_.by_key[id].errors;

@@ -499,7 +499,7 @@ recording parse(const std::string& format, const std::string& data, const std::s
       throw cli::usage_error{path + ": a recording is a .sr, .vcd or .csv file"};
     }
     // a double holds a time to better than a nanosecond up to 10^6 s (about 11 days); later
-    // times would merge a UART's bits (and the decoders' clock ends at 4294 s anyway)
+    // times would merge a UART's bits
     if (r.end > max_recording_s) {
       fail(path, "the recording lasts more than 10^6 s (its times would lose their nanoseconds)");
     }

@@ -34,20 +34,9 @@ namespace mo = motionbus::modbus;
 
 namespace {
 
-std::uint32_t us(double seconds) {
-  return static_cast<std::uint32_t>(std::llround(seconds * 1e6));
-}
-
-// The recording `file`, refused when it lasts longer than the decoders' clock runs: times are
-// microseconds in 32 bits (about 71 minutes), and a later time would wrap.
-capture::recording load_timed(const std::string& file) {
-  capture::recording r = capture::load(file);
-  if (r.end * 1e6 > static_cast<double>(~std::uint32_t{0})) {
-    throw cli::usage_error{file +
-                           ": the recording lasts more than 4294 s, the decoders' clock (32-bit "
-                           "microseconds)"};
-  }
-  return r;
+// A recording's time in the decoders' microseconds (64-bit: a recording's 10^6 s at most fit).
+std::uint64_t us(double seconds) {
+  return static_cast<std::uint64_t>(std::llround(seconds * 1e6));
 }
 
 // Feeds the bytes a UART decoder found to a bus monitor (a silence of `gap_us` between two
@@ -78,7 +67,7 @@ int decode_line(Monitor& m, const std::vector<capture::uart_byte>& bytes, std::u
 }
 
 int modbus_capture(const cli::uart_capture_options& opts) {
-  const capture::recording r = load_timed(opts.file);
+  const capture::recording r = capture::load(opts.file);
   const capture::channel& line = r.find(opts.line_channel);
   const serial::settings s = opts.watched.line.settings();
   const mo::parity p = modbus_io::parity_of(s);
@@ -90,7 +79,7 @@ int modbus_capture(const cli::uart_capture_options& opts) {
 }
 
 int tformat_capture(const cli::uart_capture_options& opts) {
-  const capture::recording r = load_timed(opts.file);
+  const capture::recording r = capture::load(opts.file);
   const capture::channel& line = r.find(opts.line_channel);
   const auto baud = static_cast<double>(opts.watched.line.baud);
   const auto byte_us = static_cast<std::uint32_t>(std::ceil(10e6 / baud));
@@ -114,7 +103,7 @@ struct biss_capture_options {
 };
 
 int biss_capture(const biss_capture_options& opts) {
-  const capture::recording r = load_timed(opts.file);
+  const capture::recording r = capture::load(opts.file);
   const capture::channel& ma = r.find(opts.clock);
   const capture::channel& slo = r.find(opts.data);
   const mb::biss::slave_layout layout = opts.layout.layout();

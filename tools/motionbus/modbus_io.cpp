@@ -124,7 +124,7 @@ const char* fc11_name(mo::report_id_format f) {
 }
 
 void print_served(const mo::rtu_frame& request, const std::uint8_t* reply, std::size_t size,
-                  std::uint32_t time_us) {
+                  std::uint64_t time_us) {
   cli::outcome o = describe_request(request);
   cli::record& r = o.ok ? o.fields : o.evidence;
   if (size > 0) {

@@ -54,7 +54,7 @@ cli::outcome describe_response(const motionbus::modbus::rtu_frame& frame,
 /// What an emulator served: the request's fields and the reply's bytes ("none": no reply, a
 /// broadcast or another address), one line (text or JSON) at `time_us` since it started.
 void print_served(const motionbus::modbus::rtu_frame& request, const std::uint8_t* reply,
-                  std::size_t size, std::uint32_t time_us);
+                  std::size_t size, std::uint64_t time_us);
 
 /// The library's parity for the line settings (character and silence times: modbus/timing.hpp).
 motionbus::modbus::parity parity_of(const serial::settings& s);

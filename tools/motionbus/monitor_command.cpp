@@ -45,16 +45,15 @@ using bus_monitor::tformat_monitor;
 template <class Monitor>
 int watch(serial::port& port, const cli::monitor_options& l, Monitor& m, const char* summary_key) {
   serial::install_stop_handler();
-  const std::uint32_t start = serial::now_us();
-  // --duration on the 64-bit clock: in 32 bits its microseconds (up to 4e12) would wrap, and
-  // so would the time elapsed, after 4294 s.
-  const std::uint64_t start64 = serial::now_us64();
+  // times on the 64-bit clock: in 32 bits, microseconds wrap after 4294 s (a watch's times and
+  // --duration, up to 4e12 us, would)
+  const std::uint64_t start = serial::now_us64();
   const std::uint64_t duration_us = std::uint64_t{l.duration_s} * 1000000U;
   std::uint8_t buffer[256];
-  std::uint32_t last_byte = start;
+  std::uint64_t last_byte = start;
   int status = 0;
   while (!serial::stop_requested() && (l.count == 0 || m.counts().frames < l.count)) {
-    if (duration_us != 0 && serial::now_us64() - start64 >= duration_us) {
+    if (duration_us != 0 && serial::now_us64() - start >= duration_us) {
       break;
     }
     const long n = port.read_some(buffer, sizeof buffer, 2);
@@ -63,14 +62,14 @@ int watch(serial::port& port, const cli::monitor_options& l, Monitor& m, const c
       status = 1;
       break;
     }
-    const std::uint32_t t = serial::now_us();
+    const std::uint64_t t = serial::now_us64();
     if (n > 0) {
       last_byte = t;
       m.bytes(buffer, static_cast<std::size_t>(n), t - start);
     }
     m.tick(t - start, t - last_byte);
   }
-  m.end(serial::now_us() - start);
+  m.end(serial::now_us64() - start);
   cli::print_record(m.counts().summary(summary_key));
   return status;
 }
@@ -88,7 +87,7 @@ class ascii_monitor {
   ascii_monitor(mo::report_id_format fc11, std::uint32_t response_us)
       : fc11_(fc11), response_us_(response_us) {}
 
-  void bytes(const std::uint8_t* data, std::size_t n, std::uint32_t time_us) {
+  void bytes(const std::uint8_t* data, std::size_t n, std::uint64_t time_us) {
     (void)mb::feed_all(rx_, mb::byte_view(data, n), [&](const auto& r) {
       ++t_.frames;
       if (!r.is_complete()) {
@@ -100,13 +99,13 @@ class ascii_monitor {
       return true;
     });
   }
-  void tick(std::uint32_t time_us, std::uint32_t /*silent_us*/) {
+  void tick(std::uint64_t time_us, std::uint64_t /*silent_us*/) {
     if (pending_ && time_us - pending_time_ >= response_us_) {
       rx_.no_response();
       missing(time_us);
     }
   }
-  void end(std::uint32_t time_us) {
+  void end(std::uint64_t time_us) {
     if (pending_) {
       missing(time_us);
     }
@@ -114,7 +113,7 @@ class ascii_monitor {
   const bus_monitor::tally& counts() const { return t_; }
 
  private:
-  void frame(const mo::ascii_frame& f, std::uint32_t time) {
+  void frame(const mo::ascii_frame& f, std::uint64_t time) {
     std::vector<std::uint8_t> rtu(mo::max_rtu_size);
     rtu.resize(
         mo::encode_rtu(f.slave, f.pdu, mb::mutable_byte_view(rtu.data(), rtu.size())).value_or(0));
@@ -156,7 +155,7 @@ class ascii_monitor {
       pending_time_ = time;
     }
   }
-  void missing(std::uint32_t time) {
+  void missing(std::uint64_t time) {
     ++t_.missing;
     ++t_.by_key[request_[0]].errors;
     cli::record e;
@@ -171,7 +170,7 @@ class ascii_monitor {
   std::uint32_t response_us_;
   std::vector<std::uint8_t> request_;  // the pending request in its RTU form
   bool pending_ = false;
-  std::uint32_t pending_time_ = 0;
+  std::uint64_t pending_time_ = 0;
   bus_monitor::tally t_;
 };
 

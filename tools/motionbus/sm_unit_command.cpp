@@ -77,7 +77,7 @@ int serve_sm_unit(const serve_options& opts) {
   const mo::parity p = modbus_io::parity_of(s);
   // t3.5, but at least the SM unit's own 5 ms silent interval; the OS adds its own delays
   const int silence_ms = static_cast<int>((mo::t35_us(s.baud, p, s.stop_bits) + 999U) / 1000U) + 4;
-  const std::uint32_t start = serial::now_us();
+  const std::uint64_t start = serial::now_us64();  // 64-bit: no wrap after 4294 s
   std::cerr << "motionbus: SM unit emulator, slave " << static_cast<unsigned>(slave) << ", on "
             << opts.line.device << '\n';
   std::uint8_t buffer[256];
@@ -87,7 +87,7 @@ int serve_sm_unit(const serve_options& opts) {
       std::cerr << "motionbus: read error\n";
       return 1;
     }
-    unit.set_time_ms((serial::now_us() - start) / 1000U);
+    unit.set_time_ms(static_cast<std::uint32_t>((serial::now_us64() - start) / 1000U));
     mb::byte_view in(buffer, static_cast<std::size_t>(n));
     for (;;) {
       auto r = n == 0 ? rx.idle() : rx.feed(in);
@@ -103,7 +103,7 @@ int serve_sm_unit(const serve_options& opts) {
           std::cerr << "motionbus: write error\n";
           return 1;
         }
-        modbus_io::print_served(r.value(), out, size, serial::now_us() - start);
+        modbus_io::print_served(r.value(), out, size, serial::now_us64() - start);
       }
       if (n == 0) {
         break;

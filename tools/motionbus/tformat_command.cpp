@@ -189,7 +189,7 @@ int serve_encoder(const serve_options& opts) {
   }
   serial::install_stop_handler();
   motionbus::devices::ts5700n8500::emulator enc;
-  const std::uint32_t start = serial::now_us();
+  const std::uint64_t start = serial::now_us64();  // 64-bit: the times printed do not wrap
   std::uint8_t frame[tf::max_request_size] = {};
   std::size_t size = 0;
   std::cerr << "motionbus: T-format encoder emulator on " << opts.line.device << '\n';
@@ -201,8 +201,9 @@ int serve_encoder(const serve_options& opts) {
       return 1;
     }
     // The shaft turns slowly so that successive reads differ.
-    const std::uint32_t now = serial::now_us();
-    const std::uint32_t elapsed_ms = (now - start) / 1000U;
+    const std::uint64_t since_start = serial::now_us64() - start;
+    const auto now = static_cast<std::uint32_t>(since_start);  // the emulator's clock, 32-bit
+    const auto elapsed_ms = static_cast<std::uint32_t>(since_start / 1000U);
     enc.set_position((elapsed_ms * 13U) % (1U << 17U), (elapsed_ms / 10000U) % 65536U);
     bool complete = false;
     if (n == 1) {
@@ -231,7 +232,7 @@ int serve_encoder(const serve_options& opts) {
         fields.add("answer", "none");
       }
       cli::record at;
-      at.add("time_us", now - start);
+      at.add("time_us", since_start);
       cli::print(o, at);
       std::cout.flush();
       size = 0;
