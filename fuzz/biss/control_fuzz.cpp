@@ -4,6 +4,11 @@
 // 14 zero frames a real master reads and writes through it correctly; the observer fed random
 // CDS/CDM pairs recovers too: after the preamble it reports exactly the headers and bytes of
 // that exchange.
+
+// fuzz-max-len: 512 (4 option bytes, then 4064 bits: the master's longest access, 4 bytes with
+// 32 wait frames each, is 221 frames (frames_for(4) + 4 x 33), 18 of them; the slave and the
+// observer take two bits a frame, 2032 frames: 9 such accesses. A longer stream only repeats
+// their states)
 #include <motionbus/biss/control.hpp>
 
 #include <array>
