@@ -15,6 +15,7 @@
 // garbage bytes at most the bytes heard).
 #include <cstdint>
 #include <iostream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 

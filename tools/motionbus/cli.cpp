@@ -1,6 +1,8 @@
 // Shared pieces of the motionbus CLI.
 #include "cli.hpp"
 
+#include <nlohmann/json.hpp>
+
 #include <cctype>
 #include <cstdio>
 #include <iostream>
@@ -31,18 +33,44 @@ void set_output_format(format f) {
   current_format() = f;
 }
 
+record::record() = default;
+record::~record() = default;
+record::record(const record& other)
+    : json_(other.json_ ? std::make_unique<nlohmann::ordered_json>(*other.json_) : nullptr),
+      text_(other.text_) {}
+record& record::operator=(const record& other) {
+  if (this != &other) {
+    record copy(other);
+    *this = std::move(copy);
+  }
+  return *this;
+}
+record::record(record&& other) noexcept = default;
+record& record::operator=(record&& other) noexcept = default;
+
+const nlohmann::ordered_json& record::json() const {
+  static const nlohmann::ordered_json no_fields = nlohmann::ordered_json::object();
+  return json_ ? *json_ : no_fields;
+}
+nlohmann::ordered_json& record::fields_json() {
+  if (!json_) {
+    json_ = std::make_unique<nlohmann::ordered_json>(nlohmann::ordered_json::object());
+  }
+  return *json_;
+}
+
 record& record::add_integer(const std::string& key, std::int64_t value) {
-  json_[key] = value;
+  fields_json()[key] = value;
   text_.emplace_back(key, std::to_string(value));
   return *this;
 }
 record& record::add_hex(const std::string& key, std::int64_t value, int digits) {
-  json_[key] = value;
+  fields_json()[key] = value;
   text_.emplace_back(key, hex_text(value, digits));
   return *this;
 }
 record& record::quantity(const std::string& key, double value, const std::string& unit) {
-  json_[key] = value;
+  fields_json()[key] = value;
   std::ostringstream s;
   s << value << ' ' << unit;
   text_.emplace_back(key, s.str());
@@ -50,14 +78,14 @@ record& record::quantity(const std::string& key, double value, const std::string
 }
 record& record::measured(const std::string& key, double value, const std::string& unit,
                          std::int64_t raw) {
-  json_[key] = nlohmann::ordered_json{{"value", value}, {"unit", unit}, {"raw", raw}};
+  fields_json()[key] = nlohmann::ordered_json{{"value", value}, {"unit", unit}, {"raw", raw}};
   std::ostringstream s;
   s << value << (unit.empty() ? "" : " ") << unit;
   text_.emplace_back(key, s.str());
   return *this;
 }
 record& record::add(const std::string& key, const std::string& value) {
-  json_[key] = value;
+  fields_json()[key] = value;
   const bool quote = value.empty() || value.find(' ') != std::string::npos;
   text_.emplace_back(key, quote ? "\"" + value + "\"" : value);
   return *this;
@@ -66,12 +94,12 @@ record& record::add(const std::string& key, const char* value) {
   return add(key, std::string(value));
 }
 record& record::add_bool(const std::string& key, bool value) {
-  json_[key] = value;
+  fields_json()[key] = value;
   text_.emplace_back(key, value ? "yes" : "no");
   return *this;
 }
 record& record::add(const std::string& key, const std::vector<std::int64_t>& values) {
-  json_[key] = values;
+  fields_json()[key] = values;
   std::string t;
   for (const std::int64_t v : values) {
     t += (t.empty() ? "" : ",") + std::to_string(v);
@@ -80,7 +108,7 @@ record& record::add(const std::string& key, const std::vector<std::int64_t>& val
   return *this;
 }
 record& record::add(const std::string& key, const std::vector<std::string>& values) {
-  json_[key] = values;
+  fields_json()[key] = values;
   std::string t;
   for (const std::string& v : values) {
     t += (t.empty() ? "" : ",") + v;
@@ -88,8 +116,14 @@ record& record::add(const std::string& key, const std::vector<std::string>& valu
   text_.emplace_back(key, values.empty() ? "none" : t);
   return *this;
 }
+record& record::add(const std::string& key, const std::vector<std::string>& values,
+                    const std::string& text) {
+  fields_json()[key] = values;
+  text_.emplace_back(key, text);
+  return *this;
+}
 record& record::bytes(const std::string& key, const std::uint8_t* data, std::size_t size) {
-  json_[key] = to_hex(data, size);
+  fields_json()[key] = to_hex(data, size);
   std::string t;
   for (std::size_t i = 0; i < size; ++i) {
     char buf[4];
@@ -101,13 +135,13 @@ record& record::bytes(const std::string& key, const std::uint8_t* data, std::siz
 }
 record& record::add(const std::string& key, const nlohmann::ordered_json& value,
                     const std::string& text) {
-  json_[key] = value;
+  fields_json()[key] = value;
   text_.emplace_back(key, text);
   return *this;
 }
 record& record::append(const record& other) {
-  for (const auto& item : other.json_.items()) {
-    json_[item.key()] = item.value();
+  for (const auto& item : other.json().items()) {
+    fields_json()[item.key()] = item.value();
   }
   text_.insert(text_.end(), other.text_.begin(), other.text_.end());
   return *this;

@@ -7,7 +7,8 @@
 
 #include <cstdint>
 #include <functional>
-#include <nlohmann/json.hpp>
+#include <memory>
+#include <nlohmann/json_fwd.hpp>  // nlohmann/json.hpp where a JSON value is built or read
 #include <optional>
 #include <string>
 #include <type_traits>
@@ -33,6 +34,16 @@ constexpr bool is_recorded_integer =
 /// units where the profile has them).
 class record {
  public:
+  // Out of line (cli.cpp): the JSON object is held through a pointer so that this header needs
+  // only json_fwd.hpp (json.hpp in every source of the CLI made each compile and each
+  // clang-tidy run of them parse and walk it).
+  record();
+  ~record();
+  record(const record& other);
+  record& operator=(const record& other);
+  record(record&& other) noexcept;
+  record& operator=(record&& other) noexcept;
+
   /// An integer field of any integer or enumeration type (a bool is add_bool): JSON numbers are
   /// 64-bit, and every value the CLI records fits.
   template <class T, std::enable_if_t<is_recorded_integer<T>, int> = 0>
@@ -64,6 +75,9 @@ class record {
     return add(key, v);
   }
   record& add(const std::string& key, const std::vector<std::string>& values);
+  /// A list of strings shown in text as `text`.
+  record& add(const std::string& key, const std::vector<std::string>& values,
+              const std::string& text);
   /// Raw bytes: lower-case contiguous hex in JSON (as the CLI always wrote them), spaced upper-case
   /// hex in text.
   record& bytes(const std::string& key, const std::uint8_t* data, std::size_t size);
@@ -72,7 +86,8 @@ class record {
   /// Appends the fields of `other` (after this record's own).
   record& append(const record& other);
 
-  const nlohmann::ordered_json& json() const { return json_; }
+  /// The fields as one JSON object, in order.
+  const nlohmann::ordered_json& json() const;
   /// "key=value key=value ...", in order.
   std::string text() const;
   bool empty() const { return text_.empty(); }
@@ -89,7 +104,9 @@ class record {
   record& add_integer(const std::string& key, std::int64_t value);
   record& add_hex(const std::string& key, std::int64_t value, int digits);
 
-  nlohmann::ordered_json json_ = nlohmann::ordered_json::object();
+  nlohmann::ordered_json& fields_json();  // json_, created at the first field
+
+  std::unique_ptr<nlohmann::ordered_json> json_;  // null: no field yet (or moved from)
   std::vector<std::pair<std::string, std::string>> text_;
 };
 
