@@ -117,13 +117,17 @@ class unit_on_pty {
       }
     }
     // Taken before the write: the CLI cannot read the reply before it (after the write, this
-    // thread may be descheduled while the CLI already reads and starts its 0.1 s).
+    // thread may be descheduled while the CLI already reads and starts its 0.1 s). Recorded
+    // before the write too: after it the CLI may read the reply, end, and the test take() the
+    // requests before this one is in (a CI run saw one request of two).
     s.replied = clock_type::now();
+    {
+      const std::lock_guard<std::mutex> lock(mutex_);
+      seen_.push_back(s);
+    }
     if (size > 0U) {
       REQUIRE(write(pty_.master, out, size) == static_cast<long>(size));
     }
-    const std::lock_guard<std::mutex> lock(mutex_);
-    seen_.push_back(s);
   }
 
   testcli::raw_pty pty_;
