@@ -5,6 +5,10 @@
 // same data afterwards), the client's response decoder, and the BiSS-C frame decoder.
 // The first input byte splits the rest: `split` bytes of request, the others the line's bytes.
 
+// fuzz-max-len: 1032 (the split byte, up to 7 request bytes and 1024 line bytes: four times the
+// 256 bytes the server framer holds at most, as in framer_fuzz.cpp; the T-format receiver holds
+// 11 bytes and the BiSS-C capture reads 64: a longer line only repeats the framer's states)
+
 // g++ 12 at -O3, inlining the C API's calls into this one function, reports a write past
 // receiver::sent()'s 4-byte request copy that cannot happen (it copies min(size, 4) bytes,
 // indices below that): silenced for this translation unit only, where the source is included.
