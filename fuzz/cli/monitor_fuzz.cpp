@@ -13,6 +13,10 @@
 // that parses with an "ok" field, its times (time_us, latency_us, request_time_us) no later
 // than the end (none wrapped below 0); the tally consistent (frames at most the bytes heard,
 // garbage bytes at most the bytes heard).
+
+// fuzz-max-len: 1024 (the option byte and 1023 of operations and their bytes: four times the
+// 256 bytes the Modbus monitor's listener holds at most, the T-format one's 11; a longer line
+// only repeats their states)
 #include <cstdint>
 #include <iostream>
 #include <nlohmann/json.hpp>
