@@ -1,39 +1,40 @@
 #!/usr/bin/env python3
-"""Mutation testing of include/: applies one mutation at a time to a header, builds the
-doctest tests that include it and runs them; a mutant those tests do not fail survives.
+"""Mutation testing of include/: applies one mutation at a time to a header, builds the tests
+of the test command that include it and runs them; a mutant they do not fail survives.
 Reports every mutant (killed, survived, stillborn: it does not compile, or timed out) and the
 score, killed / (killed + survived).
 
 Usage: mutate.py --build DIR [--seed N] [--count N | --all | --site TEXT ...] [--files GLOB ...]
-                 [--timeout S] [--report FILE] [--resume] [--list] [--all-tests]
-                 [--parallel N] [--jobs N]
+                 [--timeout S] [--report FILE] [--resume] [--list] [--parallel N] [--jobs N]
 
-DIR: a configured Ninja build of this source tree with the target motionbus_tests (fast:
-clang -O0 without debug information, no tools: cmake -S . -B build/mut -G Ninja
--DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=None -DCMAKE_CXX_FLAGS=-O0
--DMOTIONBUS_BUILD_TOOLS=OFF). The source tree is never changed: the mutated header is written
-to a directory of its own, searched first (-I) by the compile commands Ninja gives for the test
-sources (`ninja -t commands`; checked at the start: a header there that cannot compile must
-fail the build). The test sources that include the header come from Ninja's dependency log
-(`ninja -t deps`), so no test case that can execute the header's code is left out (the library
-is header-only: its code is compiled into the test sources that include it). Each test
-source is self-contained (its test cases link with main.cpp alone), so they are tried one at a
-time, the header's namesake test first (include/motionbus/modbus/server.hpp ->
-tests/modbus/server_test.cpp), then the cheapest to compile: each is compiled with the mutant,
-linked with main.cpp alone and run; the first that fails kills the mutant and the rest are not
-built; a mutant that fails to compile or link in one of them is stillborn; one that passes
-them all survives. The test cases run are those the whole suite would run for the header, each
-in a binary whose every object that includes the header holds the mutant. --all-tests builds
-all of them and runs the whole suite (the objects that do not include the header are the
-build's own) instead.
+DIR: a configured Ninja build of this source tree (fast: clang -O0 without debug information,
+no tools: cmake -S . -B build/mut -G Ninja -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=None
+-DCMAKE_CXX_FLAGS=-O0 -DMOTIONBUS_BUILD_TOOLS=OFF). The tests: those ctest lists with the
+labels unit, c_api, interop or example whose command runs a program of the build (the doctest
+suite, the static_assert suites, the fuzz corpus replays, the C API test, the differential
+tests against libmodbus and pymodbus, the examples; not the checks that run a compiler or a
+script of their own: compile-fail checks, README snippets, warnings, packaging, the CLI's and
+Python's tests, the firmware under QEMU). The source tree is never changed: the mutated header
+is written to a directory of its own, searched first (-I) by the compile commands Ninja gives
+for the objects (`ninja -t commands`; checked at the start: a header there that cannot
+compile must fail the build). The objects that include the header come from Ninja's
+dependency log (`ninja -t deps`), so no test that can execute the header's code is left out
+(the library is header-only: its code is compiled into what includes it). Each doctest source
+is self-contained (its test cases link with main.cpp alone), so the tests are tried one at a
+time: the header's namesake doctest source first (include/motionbus/modbus/server.hpp ->
+tests/modbus/server_test.cpp), the other doctest sources, then the other tests, each group
+cheapest to rebuild first; each has its objects that include the header compiled with the
+mutant, is linked (a program of its own; the project's static libraries by their objects)
+and run as ctest runs it; the first that fails kills the mutant and the rest are not built; a
+mutant that fails to compile or link is stillborn; one that passes them all survives.
 --all takes every mutant, --seed and --count a sample, --site TEXT (repeatable) every mutant
 whose listing line (`path:line: kind: before  ->  after`) contains TEXT: to check one again.
 --parallel N builds and runs N mutants at once. Each mutant's record is appended to
 REPORT.partial as it ends; --resume skips those already there whose header is unchanged (a
 full run can be stopped and resumed). The report gives, for each mutant, its wall time, the
 CPU time of its builds and runs (the finished child processes' user + system time: not
-inflated by a shared machine's load), the test sources tried, and for each killed one the
-test source and test cases that failed.
+inflated by a shared machine's load), the tests tried, and for each killed one the test and
+the test cases (or the last line of output) that failed.
 
 Mutations (on code lines: not comments, preprocessor lines or static_asserts), each site one
 mutant:
@@ -147,51 +148,56 @@ def sites(path):
     return out
 
 
-def tests_including(build):
-    """{header path: [test source path, ...]} from Ninja's dependency log of motionbus_tests."""
+def objects_including(build):
+    """{header realpath: {object path relative to the build, ...}} from Ninja's dependency log."""
     rc, out = run(["ninja", "-C", build, "-t", "deps"], 60)
     if rc != 0:
         return None
     users = {}
-    source = None
+    obj = None
     for line in out.splitlines():
         if not line.startswith(" "):
             obj = line.split(":", 1)[0]
-            source = None if "motionbus_tests.dir" not in obj else ""
             continue
         dep = line.strip()
-        if source is None or not dep:
-            continue
-        if source == "":
-            source = dep  # the first dependency is the source itself
-            continue
-        users.setdefault(os.path.realpath(dep), set()).add(os.path.realpath(source))
-    return {h: sorted(s) for h, s in users.items()}
+        if obj and dep:
+            users.setdefault(os.path.realpath(os.path.join(build, dep)), set()).add(obj)
+    return users
 
 
-class Suite:
-    """The commands Ninja runs to build motionbus_tests, to be run again by hand: each test
-    source's compile command (its object written elsewhere, a directory of mutated headers
-    searched first) and the link command (other objects in its list)."""
+def split_command(line):
+    argv = shlex.split(line)
+    if argv[:2] == [":", "&&"]:
+        argv = argv[2:]
+    if argv[-2:] == ["&&", ":"]:
+        argv = argv[:-2]
+    return argv
 
-    def __init__(self, build):
-        self.build = build
-        rc, out = run(["ninja", "-C", build, "-t", "commands", "tests/motionbus_tests"], 60)
+
+class Program:
+    """One executable of the build, as Ninja builds it: each object's compile command (to be run
+    again with a directory of mutated headers searched first and the object written elsewhere)
+    and the link command, the objects of the project's static libraries listed in place of the
+    libraries (so that a mutated object can take its place)."""
+
+    def __init__(self, build, target):
+        self.build, self.target = build, target
+        rc, out = run(["ninja", "-C", build, "-t", "commands", target], 60)
         if rc != 0:
-            raise SystemExit("mutate: ninja -t commands failed:\n" + out[-2000:])
-        self.compile = {}  # source realpath -> argv
-        self.objects = {}  # source realpath -> object path (relative to the build)
+            raise SystemExit(f"mutate: ninja -t commands {target} failed:\n" + out[-2000:])
+        self.compile = {}  # object -> argv
+        self.source = {}   # object -> source realpath
+        archives = {}      # library -> its objects
         self.link = None
         for line in out.splitlines():
-            argv = shlex.split(line)
-            if argv[:2] == [":", "&&"]:
-                argv = argv[2:]
-            if argv[-2:] == ["&&", ":"]:
-                argv = argv[:-2]
+            if " qc " in line:  # a static library: rm, ar qc LIB OBJECTS, ranlib
+                argv = shlex.split(line)
+                at = argv.index("qc")
+                archives[argv[at + 1]] = [a for a in argv[at + 2:] if a.endswith(".o")]
+                continue
+            argv = split_command(line)
             if "-c" in argv:
-                src = os.path.realpath(os.path.join(build, argv[argv.index("-c") + 1]))
-                keep = []
-                skip = False
+                keep, skip = [], False
                 for a in argv:
                     if skip:
                         skip = False
@@ -199,56 +205,115 @@ class Suite:
                         skip = True
                     elif a != "-MD":
                         keep.append(a)
-                self.objects[src] = keep[keep.index("-o") + 1]
-                self.compile[src] = keep
-            elif "-o" in argv and argv[argv.index("-o") + 1] == "tests/motionbus_tests":
-                self.link = argv
-        if self.link is None or not self.compile:
-            raise SystemExit("mutate: no compile or link command of motionbus_tests in Ninja's")
-        self.main = [o for s, o in self.objects.items() if s.endswith("/tests/main.cpp")]
-        self.cost = {}  # object -> seconds its last build took (Ninja's log): cheap ones first
+                obj = keep[keep.index("-o") + 1]
+                self.compile[obj] = keep
+                self.source[obj] = os.path.realpath(
+                    os.path.join(build, keep[keep.index("-c") + 1]))
+            elif "-o" in argv and argv[argv.index("-o") + 1] == target:
+                self.link = []
+                for a in argv:
+                    self.link.extend(archives.get(a, [a]))
+        if self.link is None:
+            raise SystemExit(f"mutate: no link command of {target} in Ninja's")
+        self.objects = [a for a in self.link if a in self.compile]
+
+    def compile_cmd(self, obj, overlay, out):
+        argv = list(self.compile[obj])
+        argv[argv.index("-o") + 1] = out
+        return argv[:1] + ["-I", overlay] + argv[1:]
+
+    def link_cmd(self, objects, out):
+        """The link command with `objects` (the program's objects, some of them replaced) in
+        place of its own."""
+        argv = []
+        for a in self.link:
+            if a in self.compile:
+                if objects is not None:
+                    argv.extend(objects)
+                    objects = None
+            else:
+                argv.append(a)
+        argv[argv.index("-o") + 1] = out
+        return argv
+
+
+class Suite:
+    """What the mutants are tried against: the test command's tests that run programs built
+    from the library's headers, as ctest lists them (labels unit, c_api, interop, example), each
+    with the programs its command names. The doctest suite's test sources are tried one by one
+    (each links with main.cpp alone); every other test is run as ctest runs it, its programs
+    rebuilt with the mutant."""
+
+    LABELS = {"unit", "c_api", "interop", "example"}
+
+    def __init__(self, build):
+        self.build = build
+        rc, out = run(["ctest", "--test-dir", build, "--show-only=json-v1"], 60)
+        if rc != 0:
+            raise SystemExit("mutate: ctest --show-only failed:\n" + out[-2000:])
+        self.tests = []     # (name, argv, working directory, timeout, [program targets])
+        self.programs = {}  # target -> Program
+        for t in json.loads(out)["tests"]:
+            props = {p["name"]: p["value"] for p in t.get("properties", [])}
+            if not self.LABELS & set(props.get("LABELS", [])) or not t.get("command"):
+                continue
+            targets = []
+            for a in t["command"]:
+                rel = os.path.relpath(a, build) if os.path.isabs(a) else None
+                if rel and not rel.startswith("..") and os.access(a, os.X_OK) \
+                        and os.path.isfile(a):
+                    targets.append(rel)
+            if not targets:
+                continue  # a check that builds nothing of its own (a compiler run, a script)
+            for target in targets:
+                if target not in self.programs:
+                    self.programs[target] = Program(build, target)
+            self.tests.append((t["name"], t["command"], props.get("WORKING_DIRECTORY", build),
+                               props.get("TIMEOUT"), targets))
+        self.unit = self.programs.get("tests/motionbus_tests")
+        if self.unit is None:
+            raise SystemExit("mutate: no test runs tests/motionbus_tests")
+        self.main = [o for o in self.unit.objects
+                     if self.unit.source[o].endswith(os.sep + os.path.join("tests", "main.cpp"))]
+        self.cost = {}  # object -> milliseconds its last build took (Ninja's log)
         try:
             with open(os.path.join(build, ".ninja_log"), encoding="utf-8") as f:
                 for line in f:
                     part = line.split("\t")
                     if len(part) >= 4 and not line.startswith("#"):
-                        self.cost[part[3]] = int(part[1]) - int(part[0])
+                        self.cost[part[3].strip()] = int(part[1]) - int(part[0])
         except OSError:
             pass
 
-    def compile_cmd(self, source, overlay, obj):
-        argv = list(self.compile[source])
-        argv[argv.index("-o") + 1] = obj
-        return argv[:1] + ["-I", overlay] + argv[1:]
-
-    def link_cmd(self, replace, out):
-        """The suite's link command with the objects in `replace` ({build object: new path})
-        swapped in."""
-        argv = []
-        for a in self.link:
-            argv.append(replace.get(a, a))
-        argv[argv.index("-o") + 1] = out
-        return argv
-
-    def link_alone(self, objs, out):
-        """main.cpp's object and `objs`: one test source's own test binary."""
-        argv = [a for a in self.link if not a.endswith(".o")]
-        at = argv.index("-o")
-        return argv[:at] + self.main + objs + argv[at:at + 1] + [out] + argv[at + 2:]
-
-
-def own_first(header, sources, suite):
-    """Test sources in the order they are tried: the header's namesake test source first
-    (include/motionbus/modbus/server.hpp -> tests/modbus/server_test.cpp), then the cheapest to
-    compile."""
-    stem = os.path.splitext(os.path.relpath(header, os.path.join(ROOT, "include", "motionbus")))[0]
-    own = os.path.join(ROOT, "tests", stem + "_test.cpp")
-    return sorted(sources, key=lambda s: (s != own, suite.cost.get(suite.objects[s], 0), s))
+    def plan(self, header, users):
+        """The steps for a mutant of `header`: (label, [(program, [objects to rebuild])], argv
+        with the programs as placeholders, working directory, timeout), in the order tried: the
+        header's namesake test source, the other doctest sources, then the other tests, each
+        group cheapest to rebuild first."""
+        objs = users.get(os.path.realpath(header), set())
+        stem = os.path.splitext(os.path.relpath(
+            header, os.path.join(ROOT, "include", "motionbus")))[0]
+        own = os.path.join(ROOT, "tests", stem + "_test.cpp")
+        steps = []
+        for obj in self.unit.objects:
+            if obj in objs and obj not in self.main:
+                src = self.unit.source[obj]
+                steps.append(((src != own, 0, self.cost.get(obj, 0)), os.path.relpath(src, ROOT),
+                              [("tests/motionbus_tests", [obj])], None, None, None))
+        for name, argv, cwd, timeout, targets in self.tests:
+            if targets == ["tests/motionbus_tests"]:
+                continue
+            rebuild = [(t, [o for o in self.programs[t].objects if o in objs]) for t in targets]
+            if any(r for _, r in rebuild):
+                cost = sum(self.cost.get(o, 0) for _, r in rebuild for o in r)
+                steps.append(((True, 1, cost), name, rebuild, argv, cwd, timeout))
+        steps.sort(key=lambda s: s[0])
+        return [s[1:] for s in steps]
 
 
 def mutate_one(job):
     """Build and run one mutant; in a worker process. Returns its result record."""
-    (path, i, kind, before, after), suite, users, all_tests, timeout, work = job
+    (path, i, kind, before, after), suite, users, timeout, work = job
     work = os.path.join(work, f"w{os.getpid()}")
     overlay = os.path.join(work, "overlay")
     rel = os.path.relpath(path, os.path.join(ROOT, "include"))
@@ -262,46 +327,62 @@ def mutate_one(job):
     t0 = time.time()
     build_cpu = run_cpu = 0.0
     status, failed, by, tried = "survived", [], None, 0
-    sources = own_first(path, users.get(os.path.realpath(path), []), suite)
+    steps = suite.plan(path, users)
+    built = {}  # object -> its mutated build (an object shared by two programs is built once)
 
-    def step(cmd):
+    def step(cmd, cwd, limit):
         c0 = children_cpu()
-        rc, out = run(cmd, timeout, cwd=suite.build)
+        rc, out = run(cmd, limit, cwd=cwd)
         return rc, out, children_cpu() - c0
 
-    groups = [sources] if all_tests else [[s] for s in sources]
-    for group in groups:
-        objs = {}
-        for src in group:
-            obj = os.path.join(work, f"{len(objs)}.o")
-            rc, out, cpu = step(suite.compile_cmd(src, overlay, obj))
-            build_cpu += cpu
-            tried += 1
-            if rc is None or rc != 0:
-                status, by = ("timeout" if rc is None else "stillborn"), os.path.relpath(src, ROOT)
+    for label, rebuild, argv, cwd, limit in steps:
+        tried += 1
+        binaries = {}
+        for target, objs in rebuild:
+            program = suite.programs[target]
+            for obj in objs:
+                if obj in built:
+                    continue
+                out_obj = os.path.join(work, f"{len(built)}.o")
+                rc, out, cpu = step(program.compile_cmd(obj, overlay, out_obj), suite.build,
+                                    timeout)
+                build_cpu += cpu
+                if rc is None or rc != 0:
+                    status = "timeout" if rc is None else "stillborn"
+                    break
+                built[obj] = out_obj
+            if status != "survived":
                 break
-            objs[suite.objects[src]] = obj
+            binary = os.path.join(work, f"p{len(binaries)}")
+            if argv is None:  # one doctest source alone
+                objects = suite.main + [built[o] for o in objs]
+            else:
+                objects = [built.get(o, os.path.join(suite.build, o)) for o in program.objects]
+            rc, out, cpu = step(program.link_cmd(objects, binary), suite.build, timeout)
+            build_cpu += cpu
+            if rc != 0:
+                status = "stillborn"
+                break
+            binaries[os.path.join(suite.build, target)] = binary
         if status != "survived":
+            by = label
             break
-        binary = os.path.join(work, "tests")
-        cmd = (suite.link_cmd(objs, binary) if all_tests
-               else suite.link_alone(list(objs.values()), binary))
-        rc, out, cpu = step(cmd)
-        build_cpu += cpu
-        if rc != 0:
-            status, by = "stillborn", "link"
-            break
-        rc, out, cpu = step([binary, "--no-version"])
+        if argv is None:
+            cmd, cwd = [next(iter(binaries.values())), "--no-version"], suite.build
+        else:
+            cmd = [binaries.get(a, a) for a in argv]
+        limit = float(limit) if limit else timeout
+        rc, out, cpu = step(cmd, cwd, min(limit, timeout))
         run_cpu += cpu
         if rc is None or rc != 0:
-            status = "timeout" if rc is None else "killed"
-            by = "all" if all_tests else os.path.relpath(group[0], ROOT)
-            failed = sorted(set(re.findall(r"^TEST CASE:\s+(.*)$", out, re.M)))
+            status, by = ("timeout" if rc is None else "killed"), label
+            failed = sorted(set(re.findall(r"^TEST CASE:\s+(.*)$", out, re.M))) or \
+                [out.strip().splitlines()[-1][:200] if out.strip() else f"exit status {rc}"]
             break
     shutil.rmtree(work, ignore_errors=True)
     return {"where": f"{os.path.relpath(path, ROOT)}:{i + 1}", "kind": kind,
             "before": before.strip(), "after": after.strip(), "status": status,
-            "by": by, "sources": f"{tried} of {len(sources)}",
+            "by": by, "tests": f"{tried} of {len(steps)}",
             "seconds": round(time.time() - t0, 1), "build_cpu_s": round(build_cpu, 1),
             "run_cpu_s": round(run_cpu, 1), "failed": failed}
 
@@ -332,8 +413,6 @@ def main():
     ap.add_argument("--list", action="store_true", help="list the sample, mutate nothing")
     ap.add_argument("--site", action="append", default=[],
                     help="every mutant whose listing line contains TEXT, instead of a sample")
-    ap.add_argument("--all-tests", action="store_true",
-                    help="run the whole suite, not only the test sources including the header")
     ap.add_argument("--jobs", type=int, default=2,
                     help="build jobs of the unmutated build (default 2)")
     ap.add_argument("--parallel", type=int, default=1,
@@ -369,28 +448,30 @@ def main():
         for site in sample:
             print(listing(site))
         return 0
-    tests = os.path.join(build, "tests", "motionbus_tests")
-    build_cmd = ["cmake", "--build", build, "--target", "motionbus_tests", "-j", str(args.jobs)]
-    rc, out = run(build_cmd, args.timeout * 4)
+    build_cmd = ["cmake", "--build", build, "-j", str(args.jobs)]
+    rc, out = run(build_cmd, args.timeout * 8)
     if rc != 0:
         print("mutate: the unmutated build fails:\n" + out[-3000:], file=sys.stderr)
         return 2
-    rc, out = run([tests, "--no-version"], args.timeout)
-    if rc != 0:
-        print("mutate: the unmutated tests fail:\n" + out[-3000:], file=sys.stderr)
-        return 2
-    users = tests_including(build)
+    users = objects_including(build)
     if not users:
         print("mutate: no dependency log (ninja -t deps)", file=sys.stderr)
         return 2
     suite = Suite(build)
+    for name, argv, cwd, limit, _ in suite.tests:  # each must pass without a mutant
+        rc, out = run(argv, float(limit) if limit else args.timeout, cwd=cwd)
+        if rc != 0:
+            print(f"mutate: {name} fails without a mutant:\n" + out[-3000:], file=sys.stderr)
+            return 2
+    print(f"mutate: {len(suite.tests)} tests of {len(suite.programs)} programs "
+          f"({len(suite.unit.objects) - len(suite.main)} doctest sources)", flush=True)
     work = os.path.join(build, "mutants")
     os.makedirs(work, exist_ok=True)
     # The directory of mutated headers must be searched first: a header there that cannot
     # compile must fail the build of a test source that includes it.
     probe = os.path.join(ROOT, "include", "motionbus", "core", "crc.hpp")
     probe_site = (probe, 0, "probe", "", "#error the overlay is searched first\n")
-    r = mutate_one((probe_site, suite, users, False, args.timeout, work))
+    r = mutate_one((probe_site, suite, users, args.timeout, work))
     if r["status"] != "stillborn":
         print("mutate: a mutated header is not seen by the test sources' builds",
               file=sys.stderr)
@@ -403,8 +484,8 @@ def main():
         with open(h, "rb") as f:
             digest[h] = hashlib.sha1(f.read()).hexdigest()[:12]
 
-    def key(site):
-        return f"{digest[site[0]]} {listing(site)}"
+    def key(site):  # "v2": the tests of the test command, not the doctest suite alone
+        return f"v2 {digest[site[0]]} {listing(site)}"
 
     done = {}
     if args.resume and os.path.exists(partial):
@@ -419,7 +500,7 @@ def main():
     if results:
         print(f"mutate: {len(results)} mutants resumed from {partial}", flush=True)
     started = time.time()
-    jobs = [(site, suite, users, args.all_tests, args.timeout, work) for site in todo]
+    jobs = [(site, suite, users, args.timeout, work) for site in todo]
     with concurrent.futures.ProcessPoolExecutor(max_workers=args.parallel) as pool, \
             open(partial, "a", encoding="utf-8") as log:
         futures = {pool.submit(mutate_one, job): job[0] for job in jobs}
@@ -430,7 +511,7 @@ def main():
             log.flush()
             results.append(r)
             print(f"[{len(results)}/{len(sample)}] {r['status']:9} {r['where']} {r['kind']}: "
-                  f"{r['before']}  ->  {r['after']}  ({r['sources']} test sources; "
+                  f"{r['before']}  ->  {r['after']}  ({r['tests']} tests; "
                   f"{r['seconds']:.1f} s; CPU {r['build_cpu_s']:.1f} s build "
                   f"+ {r['run_cpu_s']:.1f} s run)", flush=True)
             for name in r["failed"][:8]:
@@ -447,8 +528,8 @@ def main():
                "seconds": round(time.time() - started),
                "build_cpu_seconds": round(sum(r["build_cpu_s"] for r in results), 1),
                "run_cpu_seconds": round(sum(r["run_cpu_s"] for r in results), 1),
-               "tests": "the whole suite" if args.all_tests
-               else "each test source including the header, alone, until one fails"}
+               "tests": "the doctest sources including the header, each alone, then the other "
+                        "tests whose programs include it, until one fails"}
     with open(report, "w", encoding="utf-8") as f:
         json.dump({"summary": summary, "mutants": results}, f, indent=1)
     print(f"mutate: {counts['killed']} killed, {counts['survived']} survived, "
