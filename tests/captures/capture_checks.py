@@ -335,6 +335,20 @@ def modbus_lost_frames(cli, work):
           and status == 1, f"{got} {err}")
 
 
+def modbus_late_response(cli, work):
+    """A recording has no response time: a response long after its request, with no request
+    between, is paired (before session 18 a 32-bit response time ran out after 4295 s: the
+    request was reported missing and its response left alone)."""
+    request = modbus_frame("110300000002")
+    response = modbus_frame("110304000A000B")
+    path = os.path.join(work, "modbus_late.csv")
+    uart_csv(path, "line", 9600, [(0.001, request), (5000.0, response)])
+    got, summary, status, err = decode(cli, "modbus", "capture", path, "--line", "line")
+    check("Modbus capture: a response 5000 s after its request is paired, nothing missing",
+          [(f.get("dir"), f.get("ok")) for f in got] == [("request", True), ("response", True)]
+          and summary.get("missing_responses") == 0 and status == 0, f"{got} {summary} {err}")
+
+
 def tformat_abnormal(cli, work):
     """issue 23: requests the encoder answers with ID3 data (spec §6.3.2, Tables 5 and 6) are
     paired with the reply and flagged."""
@@ -421,6 +435,7 @@ def main():
     sigrok_sr(cli, work)
     analyzer_csv(cli, work)
     modbus_lost_frames(cli, work)
+    modbus_late_response(cli, work)
     tformat_abnormal(cli, work)
     round_trips(cli, work)
     if failures:

@@ -94,7 +94,7 @@ template <class Protocol, class Listener>
 class line_monitor {
  public:
   line_monitor(Listener listener, std::uint32_t gap_us, std::uint32_t byte_us,
-               std::uint32_t response_us)
+               std::uint64_t response_us)
       : listener_(listener), gap_us_(gap_us), byte_us_(byte_us), response_us_(response_us) {}
 
   /// Bytes read from a port, with their arrival time (microseconds since the watch began): each
@@ -230,7 +230,7 @@ class line_monitor {
   Listener listener_;
   std::uint32_t gap_us_;
   std::uint32_t byte_us_;
-  std::uint32_t response_us_;
+  std::uint64_t response_us_;  // ~0: none (a recording: the next request or the end settles)
   std::deque<heard_byte> heard_;
   bool first_ = true;
   std::uint64_t last_start_ = 0;
@@ -246,7 +246,7 @@ class line_monitor {
 class modbus_monitor : public line_monitor<modbus_monitor, mo::rtu_listener> {
  public:
   modbus_monitor(mo::report_id_format fc11, std::uint32_t gap_us, std::uint32_t byte_us,
-                 std::uint32_t response_us)
+                 std::uint64_t response_us)
       : line_monitor(mo::rtu_listener(listener_options(fc11)), gap_us, byte_us, response_us),
         fc11_(fc11) {}
 
@@ -339,7 +339,7 @@ class modbus_monitor : public line_monitor<modbus_monitor, mo::rtu_listener> {
 
 class tformat_monitor : public line_monitor<tformat_monitor, tf::line_listener> {
  public:
-  tformat_monitor(std::uint32_t gap_us, std::uint32_t byte_us, std::uint32_t response_us)
+  tformat_monitor(std::uint32_t gap_us, std::uint32_t byte_us, std::uint64_t response_us)
       : line_monitor(tf::line_listener(), gap_us, byte_us, response_us) {}
 
  private:

@@ -74,7 +74,7 @@ int modbus_capture(const cli::uart_capture_options& opts) {
   // a response is expected before the next request: the recording's end settles the last one
   const std::uint32_t gap = opts.watched.gap_or(mo::t35_us(s.baud, p, s.stop_bits));
   bus_monitor::modbus_monitor m(modbus_io::fc11_of(opts.watched.fc11), gap,
-                                mo::character_time_us(s.baud, p, s.stop_bits), ~std::uint32_t{0});
+                                mo::character_time_us(s.baud, p, s.stop_bits), ~std::uint64_t{0});
   return decode_line(m, capture::decode_uart(line, s.baud, s.parity, s.stop_bits), gap, "slave");
 }
 
@@ -84,7 +84,7 @@ int tformat_capture(const cli::uart_capture_options& opts) {
   const auto baud = static_cast<double>(opts.watched.line.baud);
   const auto byte_us = static_cast<std::uint32_t>(std::ceil(10e6 / baud));
   const std::uint32_t gap = opts.watched.gap_or(10 * byte_us);  // well past the turnaround
-  bus_monitor::tformat_monitor m(gap, byte_us, ~std::uint32_t{0});
+  bus_monitor::tformat_monitor m(gap, byte_us, ~std::uint64_t{0});
   return decode_line(m, capture::decode_uart(line, baud, 'N', 1), gap, "data_id");
 }
 
