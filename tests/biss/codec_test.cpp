@@ -766,3 +766,99 @@ TEST_CASE("decode_frame: an empty capture, and 64 samples with the Ack but no St
   CHECK(d.is_incomplete());
   CHECK(d.needed_bits() > 1);  // the Start found: the frame's fields still to come
 }
+
+TEST_CASE("default decode_options: a line delay up to 64 samples, an Ack up to 256") {
+  // docs/biss.md §1, decoding a capture: biss_no_ack after only 1s over max_line_delay + 1
+  // samples (65 by default), biss_no_start after only 0s over 256 samples after the first 0.
+  const std::vector<slave_layout> chain{absys_layout};
+  const slave_bits v{0, 0x13579BDU, true, true};
+  std::vector<slave_data> out;
+  const auto longest_delay =
+      decode_string<std::uint32_t>(frame_string(64, 1, false, chain, {v}), chain, out);
+  REQUIRE(longest_delay.is_complete());
+  CHECK(longest_delay->line_delay == 64);
+  CHECK(out[0].single_turn == 0x13579BDU);
+  CHECK(decode_string<std::uint32_t>(frame_string(65, 1, false, chain, {v}), chain, out).error() ==
+        errc::biss_no_ack);
+  CHECK(decode_string<std::uint32_t>(std::string(64, '1'), chain, out).is_incomplete());
+  CHECK(decode_string<std::uint32_t>(std::string(65, '1'), chain, out).error() ==
+        errc::biss_no_ack);
+  const auto longest_ack =
+      decode_string<std::uint32_t>(frame_string(2, 256, false, chain, {v}), chain, out);
+  REQUIRE(longest_ack.is_complete());
+  CHECK(longest_ack->ack_bits() == 256);
+  CHECK(out[0].single_turn == 0x13579BDU);
+  CHECK(decode_string<std::uint32_t>(frame_string(2, 257, false, chain, {v}), chain, out).error() ==
+        errc::biss_no_start);
+}
+
+TEST_CASE("64 data bits with nE and nW: the CRC6 covers all 66 bits (long division)") {
+  // Data and status together longer than 64 bits: the CRC is fed in two parts. The CRC sent
+  // and the CRC computed are checked against the reference, not only against each other.
+  const std::vector<slave_layout> chains[] = {{slave_layout{32, 32, 0, true, true, crc6_43}},
+                                              {slave_layout{0, 63, 0, true, true, crc6_43}},
+                                              {slave_layout{0, 64, 0, true, false, crc6_43}}};
+  const slave_bits values[] = {{0xCAFEF00DU, 0x89ABCDEFU, false, true},
+                               {0xCAFEF00DU, 0x89ABCDEFU, true, false},
+                               {0, 0x7123456789ABCDEFULL, true, true}};
+  for (const auto& chain : chains) {
+    const slave_layout& l = chain[0];
+    for (const slave_bits& given : values) {
+      slave_bits v = given;
+      if (l.multi_turn_bits == 0U) {
+        v.st = (v.mt << 32U) | v.st;
+        v.mt = 0;
+      }
+      v.st &= l.single_turn_bits == 64U ? ~std::uint64_t{0}
+                                        : (std::uint64_t{1} << l.single_turn_bits) - 1U;
+      CAPTURE(l.single_turn_bits);
+      CAPTURE(v.st);
+      const std::string s = frame_string(1, 1, false, chain, {v});
+      const std::size_t covered = l.data_bits() + l.status_bits();
+      const std::uint32_t want = ref_wire_crc(crc6_43, s.substr(4, covered));
+      // the decoder: the CRC it computes is the reference's
+      std::vector<slave_data> out;
+      const auto r = decode_string<std::uint32_t>(s, chain, out);
+      REQUIRE(r.is_complete());
+      CHECK(out[0].crc == want);
+      CHECK(out[0].crc_computed == want);
+      // the encoder: the bits it writes are the frame built here
+      std::uint32_t words[4] = {};
+      line_options line;
+      line.line_delay = 1;
+      const auto n = encode_frame(l, slave_values{v.mt, v.st, v.ne, v.nw},
+                                  span<std::uint32_t>(words, 4), line);
+      REQUIRE(n.ok());
+      REQUIRE(*n == s.size());
+      std::string got;
+      for (std::size_t k = 0; k < *n; ++k) {
+        got.push_back(((words[k / 32U] >> (31U - k % 32U)) & 1U) != 0U ? '1' : '0');
+      }
+      CHECK(got == s);
+    }
+  }
+}
+
+TEST_CASE("decode_frame: a refused chain or layout consumes none of the capture") {
+  // decode_failure::consumed is what the caller may drop: an argument error says nothing of
+  // the capture, so nothing (0), whatever the samples hold.
+  const std::string s = frame_string(2, 1, false, {absys_layout}, {{0, 0x1234U, true, true}});
+  const std::vector<std::uint32_t> words = pack<std::uint32_t>(s);
+  const span<const std::uint32_t> in(words.data(), words.size());
+  const auto empty = decode_frame(in, s.size(), span<const slave_layout>{});
+  CHECK(empty.error() == errc::invalid_argument);
+  CHECK(empty.consumed_bits() == 0U);
+  const slave_layout nine[max_chain + 1] = {};
+  const auto long_chain = decode_frame(in, s.size(), span<const slave_layout>(nine, max_chain + 1));
+  CHECK(long_chain.error() == errc::invalid_argument);
+  CHECK(long_chain.consumed_bits() == 0U);
+  slave_layout bad = absys_layout;
+  bad.crc.width = 17;
+  const auto bad_layout = decode_frame(in, s.size(), bad);
+  CHECK(bad_layout.error() == errc::biss_layout);
+  CHECK(bad_layout.consumed_bits() == 0U);
+  const slave_layout chain[2] = {absys_layout, bad};
+  const auto bad_second = decode_frame(in, s.size(), span<const slave_layout>(chain, 2));
+  CHECK(bad_second.error() == errc::biss_layout);
+  CHECK(bad_second.consumed_bits() == 0U);
+}
