@@ -862,3 +862,51 @@ TEST_CASE("decode_frame: a refused chain or layout consumes none of the capture"
   CHECK(bad_second.error() == errc::biss_layout);
   CHECK(bad_second.consumed_bits() == 0U);
 }
+
+TEST_CASE("no Ack or no Start yet: one more sample needed, for one slave and for a chain alike") {
+  // Before the Ack, or between the Ack and the Start bit, the decoder cannot tell how long the
+  // line stays idle or the Ack lasts: at least one more sample, whatever the chain's length
+  // (as for one slave: "an empty capture, and 64 samples with the Ack but no Start").
+  const std::vector<std::vector<slave_layout>> chains{
+      {absys_layout}, {absys_layout, mt_layout}, {absys_layout, mt_layout, plain_layout}};
+  const std::string captures[] = {"",
+                                  "1",
+                                  std::string(10, '1'),
+                                  "1110",
+                                  "11" + std::string(40, '0'),
+                                  std::string(3, '1') + std::string(70, '0')};
+  for (const auto& chain : chains) {
+    for (const std::string& s : captures) {
+      CAPTURE(chain.size());
+      CAPTURE(s);
+      std::vector<slave_data> out;
+      const auto r = decode_string<std::uint8_t>(s, chain, out);
+      REQUIRE(r.is_incomplete());
+      CHECK(r.needed_bits() == 1U);
+    }
+  }
+}
+
+TEST_CASE("an Ack of max_ack_bits whose Start bit is sample 64, the first past the window") {
+  // The Start bit is searched for past the first 64 samples with the Ack's bound left: an Ack
+  // of exactly max_ack_bits ending at sample 63 is accepted, one sample longer is refused.
+  const std::vector<slave_layout> chain{absys_layout};
+  const slave_bits v{0, 0x0F1E2D3CU, true, false};
+  for (const std::size_t bound :
+       {std::size_t{1}, std::size_t{2}, std::size_t{20}, std::size_t{63}}) {
+    decode_options opt;
+    opt.max_ack_bits = bound;
+    CAPTURE(bound);
+    std::vector<slave_data> out;
+    const std::string s = frame_string(64 - bound, bound, true, chain, {v});
+    const auto r = decode_string<std::uint32_t>(s, chain, out, opt);
+    REQUIRE(r.is_complete());
+    CHECK(r->start == 64);
+    CHECK(r->ack_bits() == bound);
+    CHECK(out[0].single_turn == 0x0F1E2D3CU);
+    CHECK(r.consumed_bits() == s.size());
+    CHECK(decode_string<std::uint32_t>(frame_string(63 - bound, bound + 1, true, chain, {v}), chain,
+                                       out, opt)
+              .error() == errc::biss_no_start);
+  }
+}
