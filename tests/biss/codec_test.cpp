@@ -6,6 +6,8 @@
 #include <doctest/doctest.h>
 
 #include <cstdint>
+#include <cstring>
+#include <new>
 #include <string>
 #include <vector>
 
@@ -908,5 +910,33 @@ TEST_CASE("an Ack of max_ack_bits whose Start bit is sample 64, the first past t
     CHECK(decode_string<std::uint32_t>(frame_string(63 - bound, bound + 1, true, chain, {v}), chain,
                                        out, opt)
               .error() == errc::biss_no_start);
+  }
+}
+
+TEST_CASE("a chain given as a span: the slots past the chain hold value-initialised slave_data") {
+  // frame.hpp: chain_frame's slaves past size() are value-initialised, whatever the memory
+  // the result is built in held before (here: filled with 0xA5, the result built in place).
+  const std::vector<slave_layout> chain{absys_layout, mt_layout};
+  const std::string s = frame_string(3, 2, false, chain, {{0, 0x1234U, true, true}, {5, 6, false}});
+  const std::vector<std::uint32_t> words = pack<std::uint32_t>(s);
+  alignas(frame_result<max_chain>) unsigned char storage[sizeof(frame_result<max_chain>)];
+  std::memset(storage, 0xA5, sizeof storage);
+  const auto* r = ::new (static_cast<void*>(storage)) frame_result<max_chain>(
+      decode_frame(span<const std::uint32_t>(words.data(), words.size()), s.size(),
+                   span<const slave_layout>(chain.data(), chain.size())));
+  REQUIRE(r->is_complete());
+  REQUIRE((*r)->size() == 2U);
+  CHECK((*r)->slaves[0].single_turn == 0x1234U);
+  CHECK((*r)->slaves[1].multi_turn == 5U);
+  for (std::size_t k = 2; k < max_chain; ++k) {
+    CAPTURE(k);
+    const slave_data& d = (*r)->slaves[k];
+    CHECK(d.data == 0U);
+    CHECK(d.multi_turn == 0U);
+    CHECK(d.single_turn == 0U);
+    CHECK(d.ne);
+    CHECK(d.nw);
+    CHECK(d.crc == 0U);
+    CHECK(d.crc_computed == 0U);
   }
 }
