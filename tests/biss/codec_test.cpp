@@ -940,3 +940,30 @@ TEST_CASE("a chain given as a span: the slots past the chain hold value-initiali
     CHECK(d.crc_computed == 0U);
   }
 }
+
+TEST_CASE(
+    "a one-bit data field with nE and nW: each of the eight combinations, in and past the window") {
+  // The smallest layout validate() accepts: data, nE and nW one bit each, then the CRC6.
+  // Decoded from the first 64 samples, and past them (a line delay of 70).
+  const slave_layout tiny{0, 1, 0, true, true, crc6_43};
+  REQUIRE(tiny.validate() == errc::ok);
+  const std::vector<slave_layout> chain{tiny};
+  decode_options opt;
+  opt.max_line_delay = 100;
+  for (const std::size_t idle : {std::size_t{2}, std::size_t{70}}) {
+    for (unsigned bits = 0; bits < 8U; ++bits) {
+      const slave_bits v{0, (bits >> 2U) & 1U, ((bits >> 1U) & 1U) != 0U, (bits & 1U) != 0U};
+      CAPTURE(idle);
+      CAPTURE(bits);
+      const std::string s = frame_string(idle, 1, false, chain, {v});
+      std::vector<slave_data> out;
+      const auto r = decode_string<std::uint16_t>(s, chain, out, opt);
+      REQUIRE(r.is_complete());
+      CHECK(out[0].single_turn == v.st);
+      CHECK(out[0].ne == v.ne);
+      CHECK(out[0].nw == v.nw);
+      CHECK(out[0].crc == ref_wire_crc(crc6_43, s.substr(idle + 3, 3)));
+      CHECK(out[0].crc_ok());
+    }
+  }
+}
