@@ -967,3 +967,39 @@ TEST_CASE(
     }
   }
 }
+
+TEST_CASE("alignment bits sent as ones are filler: not in the single-turn or multi-turn value") {
+  // frame.hpp: alignment bits are low-order filler after the single-turn value; whatever a
+  // slave puts there, the position is the multi-turn and single-turn bits alone (the CRC
+  // covers the filler as sent). All 64 data bits filler too: no position at all. Line delay
+  // 2, Ack 1, Start, CDS 0.
+  struct filler_case {
+    slave_layout layout;
+    std::uint64_t mt, st;
+  };
+  const filler_case cases[] = {{slave_layout{0, 0, 64, true, true, crc6_43}, 0, 0},
+                               {mt_layout, 0xABC, 0x1234},
+                               {slave_layout{10, 20, 34, false, true, crc6_43}, 0x3FF, 0xFFFFF}};
+  for (const filler_case& c : cases) {
+    const slave_layout& l = c.layout;
+    CAPTURE(l.alignment_bits);
+    REQUIRE(l.validate() == errc::ok);
+    std::string covered = bits_of(c.mt, l.multi_turn_bits) + bits_of(c.st, l.single_turn_bits) +
+                          std::string(l.alignment_bits, '1');
+    covered += std::string(l.status_bits(), '1');
+    const std::string s = "11010" + covered + bits_of(ref_wire_crc(l.crc, covered), l.crc.width);
+    const std::vector<slave_layout> chain{l};
+    std::vector<slave_data> out;
+    const auto r = decode_string<std::uint32_t>(s, chain, out);
+    REQUIRE(r.is_complete());
+    CHECK(out[0].crc_ok());
+    CHECK(out[0].multi_turn == c.mt);
+    CHECK(out[0].single_turn == c.st);
+    const unsigned db = l.data_bits();
+    std::uint64_t want_data = 0;
+    for (unsigned k = 0; k < db; ++k) {
+      want_data = (want_data << 1U) | (covered[k] == '1' ? 1U : 0U);
+    }
+    CHECK(out[0].data == want_data);
+  }
+}
