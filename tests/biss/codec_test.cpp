@@ -1003,3 +1003,23 @@ TEST_CASE("alignment bits sent as ones are filler: not in the single-turn or mul
     CHECK(out[0].data == want_data);
   }
 }
+
+TEST_CASE(
+    "encode_frame: default slave_values and line_options are position 0, no error, no warning") {
+  // slave_values{}: multi-turn and single-turn 0, nE and nW high (inactive); line_options{}:
+  // no line delay, an Ack of one sample, CDS 0, no timeout.
+  const slave_layout layouts[] = {absys_layout, mt_layout};
+  for (const slave_layout& l : layouts) {
+    CAPTURE(l.multi_turn_bits);
+    const std::string want = frame_string(0, 1, false, {l}, {{0, 0, true, true}});
+    std::uint32_t words[4] = {0xFFFFFFFFU, 0xFFFFFFFFU, 0xFFFFFFFFU, 0xFFFFFFFFU};
+    const auto n = encode_frame(l, slave_values{}, span<std::uint32_t>(words, 4));
+    REQUIRE(n.ok());
+    REQUIRE(*n == want.size());
+    std::string got;
+    for (std::size_t k = 0; k < *n; ++k) {
+      got.push_back(((words[k / 32U] >> (31U - k % 32U)) & 1U) != 0U ? '1' : '0');
+    }
+    CHECK(got == want);
+  }
+}
