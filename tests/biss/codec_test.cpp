@@ -1023,3 +1023,41 @@ TEST_CASE(
     CHECK(got == want);
   }
 }
+
+TEST_CASE("a chain of max_chain (eight) slaves: encoded as the notes build it, decoded back") {
+  // frame.hpp: chains of up to 8 slaves (IDs 0..7); the longest is accepted by both sides.
+  const std::vector<slave_layout> chain(max_chain, absys_layout);
+  std::vector<slave_bits> bits;
+  std::vector<slave_values> values;
+  for (std::size_t k = 0; k < max_chain; ++k) {
+    const std::uint64_t st = 0x01020304U * (k + 1U);
+    bits.push_back({0, st, k % 2U == 0U, k % 3U != 0U});
+    values.push_back({0, st, k % 2U == 0U, k % 3U != 0U});
+  }
+  const std::string want = frame_string(2, 1, true, chain, bits);
+  std::uint32_t words[12] = {};
+  line_options line;
+  line.line_delay = 2;
+  line.cds = true;
+  const auto n = encode_frame(span<const slave_layout>(chain.data(), chain.size()),
+                              span<const slave_values>(values.data(), values.size()),
+                              span<std::uint32_t>(words, 12), line);
+  REQUIRE(n.ok());
+  REQUIRE(*n == want.size());
+  std::string got;
+  for (std::size_t k = 0; k < *n; ++k) {
+    got.push_back(((words[k / 32U] >> (31U - k % 32U)) & 1U) != 0U ? '1' : '0');
+  }
+  CHECK(got == want);
+  std::vector<slave_data> out;
+  const auto r = decode_string<std::uint32_t>(want, chain, out);
+  REQUIRE(r.is_complete());
+  CHECK(r->size() == max_chain);
+  for (std::size_t k = 0; k < max_chain; ++k) {
+    CAPTURE(k);
+    CHECK(out[k].single_turn == bits[k].st);
+    CHECK(out[k].ne == bits[k].ne);
+    CHECK(out[k].nw == bits[k].nw);
+    CHECK(out[k].crc_ok());
+  }
+}
