@@ -1061,3 +1061,35 @@ TEST_CASE("a chain of max_chain (eight) slaves: encoded as the notes build it, d
     CHECK(out[k].crc_ok());
   }
 }
+
+TEST_CASE("encode_frame: a frame that fills the buffer to its last bit is written whole") {
+  // ABSYS: Ack 1, Start, CDS, 40 bits: 43 samples; with 21 samples of timeout, or from bit 21,
+  // exactly the 64 bits of two 32-bit words. One bit fewer room is buffer_too_small.
+  const slave_values v{0, 0x89ABCDEFU, true, false};
+  const std::string frame =
+      frame_string(0, 1, false, {absys_layout}, {{0, 0x89ABCDEFU, true, false}});
+  REQUIRE(frame.size() == 43U);
+  const auto as_string = [](const std::uint32_t(&w)[2]) {
+    std::string s;
+    for (std::size_t k = 0; k < 64U; ++k) {
+      s.push_back(((w[k / 32U] >> (31U - k % 32U)) & 1U) != 0U ? '1' : '0');
+    }
+    return s;
+  };
+  line_options timeout;
+  timeout.timeout_bits = 21;
+  std::uint32_t a[2] = {0xFFFFFFFFU, 0xFFFFFFFFU};
+  const auto na = encode_frame(absys_layout, v, a, timeout);
+  REQUIRE(na.ok());
+  CHECK(*na == 64U);
+  CHECK(as_string(a) == frame + std::string(21, '0'));
+  std::uint32_t b[2] = {};
+  const auto nb = encode_frame(absys_layout, v, b, line_options{}, bit_order::msb_first, 21);
+  REQUIRE(nb.ok());
+  CHECK(*nb == 43U);
+  CHECK(as_string(b) == std::string(21, '0') + frame);
+  timeout.timeout_bits = 22;
+  CHECK(encode_frame(absys_layout, v, a, timeout).error() == errc::buffer_too_small);
+  CHECK(encode_frame(absys_layout, v, b, line_options{}, bit_order::msb_first, 22).error() ==
+        errc::buffer_too_small);
+}
