@@ -1093,3 +1093,39 @@ TEST_CASE("encode_frame: a frame that fills the buffer to its last bit is writte
   CHECK(encode_frame(absys_layout, v, b, line_options{}, bit_order::msb_first, 22).error() ==
         errc::buffer_too_small);
 }
+
+TEST_CASE("encode_frame: nE alone, nW alone, neither: the bits the notes give, chain form too") {
+  // Each layout's status bits are the ones it has, and its CRC6 covers them alone. The chain
+  // form into a plain array writes from bit 0 as the other forms do.
+  const slave_layout ne_only{0, 24, 0, true, false, crc6_43};
+  const slave_layout nw_only{0, 24, 0, false, true, crc6_43};
+  const slave_layout neither{0, 24, 0, false, false, crc6_43};
+  const std::uint64_t positions[] = {0x123456U, 0xABCDEFU};
+  for (const slave_layout& l : {ne_only, nw_only, neither}) {
+    for (const std::uint64_t st : positions) {
+      for (unsigned flags = 0; flags < 4U; ++flags) {
+        const bool ne = (flags & 2U) != 0U;
+        const bool nw = (flags & 1U) != 0U;
+        CAPTURE(l.has_error);
+        CAPTURE(l.has_warning);
+        CAPTURE(st);
+        CAPTURE(flags);
+        const std::string want = frame_string(0, 1, true, {l}, {{0, st, ne, nw}});
+        const slave_layout chain[1] = {l};
+        const slave_values values[1] = {{0, st, ne, nw}};
+        line_options line;
+        line.cds = true;
+        std::uint32_t words[2] = {0xFFFFFFFFU, 0xFFFFFFFFU};
+        const auto n = encode_frame(span<const slave_layout>(chain, 1),
+                                    span<const slave_values>(values, 1), words, line);
+        REQUIRE(n.ok());
+        REQUIRE(*n == want.size());
+        std::string got;
+        for (std::size_t k = 0; k < *n; ++k) {
+          got.push_back(((words[k / 32U] >> (31U - k % 32U)) & 1U) != 0U ? '1' : '0');
+        }
+        CHECK(got == want);
+      }
+    }
+  }
+}
