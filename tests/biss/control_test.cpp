@@ -602,3 +602,33 @@ TEST_CASE(
     CHECK(regs.mem[0x31] == 0);
   }
 }
+
+TEST_CASE(
+    "the master waits max_wait_frames wait states (4096 by default) and times out at the next") {
+  // Frames of a read whose slave never gets ready: 18 header slots (frames 0..17), the byte's
+  // S in frame 18, then each frame takes one more 0 answer to S (frame 18 + w holds the w-th
+  // wait state); the one past the bound fails the access in frame 19 + bound, the last frame
+  // run: 20 + bound frames.
+  for (const std::size_t bound : {std::size_t{0}, std::size_t{3}, std::size_t{4096}}) {
+    for (const bool defaulted : {false, true}) {
+      if (defaulted && bound != 4096U) {
+        continue;
+      }
+      CAPTURE(bound);
+      CAPTURE(defaulted);
+      test_registers regs;
+      regs.busy = 1000000;
+      control_options opt;
+      opt.max_wait_frames = bound;
+      control_master m = defaulted ? control_master{} : control_master{opt};
+      control_slave<test_registers> s(regs);
+      frame_link l{m, s, regs};
+      std::uint8_t out[1] = {};
+      REQUIRE(m.start_read(0, 0x01, mutable_byte_view(out, 1)) == errc::ok);
+      CHECK(l.run() == 20U + bound);
+      CHECK(m.error() == errc::biss_timeout);
+      CHECK(m.frames() == 20U + bound);
+    }
+  }
+  CHECK(control_options{}.max_wait_frames == 4096U);
+}
