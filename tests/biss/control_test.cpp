@@ -632,3 +632,71 @@ TEST_CASE(
   }
   CHECK(control_options{}.max_wait_frames == 4096U);
 }
+
+namespace {
+
+// Registers that answer each S slot with `w` wait states (ready() false w times, then true),
+// for every byte alike.
+struct paced_registers {
+  std::array<std::uint8_t, 128> mem{};
+  int w = 0;
+  int pending = 0;
+  bool readable(std::uint8_t) const { return true; }
+  bool writable(std::uint8_t) const { return true; }
+  bool ready() {
+    if (pending > 0) {
+      --pending;
+      return false;
+    }
+    pending = w;
+    return true;
+  }
+  std::uint8_t read(std::uint8_t a) { return mem[a]; }
+  void write(std::uint8_t a, std::uint8_t v) { mem[a] = v; }
+};
+
+}  // namespace
+
+TEST_CASE("the wait-state bound holds per byte: each byte of a sequential access may use it all") {
+  // control_options: max_wait_frames is counted for each byte. Four bytes each waited for
+  // `w` frames complete with a bound of w (4w wait states in all); a bound of w - 1 fails the
+  // first byte.
+  for (const int w : {1, 3}) {
+    for (const bool write : {false, true}) {
+      for (const int bound : {w, w - 1}) {
+        CAPTURE(w);
+        CAPTURE(write);
+        CAPTURE(bound);
+        paced_registers regs;
+        regs.w = w;
+        regs.pending = w;
+        for (unsigned a = 0; a < 128; ++a) {
+          regs.mem[a] = static_cast<std::uint8_t>(0xA0U + a);
+        }
+        control_options opt;
+        opt.max_wait_frames = static_cast<std::size_t>(bound);
+        control_master m(opt);
+        control_slave<paced_registers> s(regs);
+        std::uint8_t out[4] = {};
+        const std::uint8_t data[4] = {0x11, 0x22, 0x33, 0x44};
+        REQUIRE((write ? m.start_write(0, 0x20, byte_view(data, 4))
+                       : m.start_read(0, 0x20, mutable_byte_view(out, 4))) == errc::ok);
+        bool cds = false;
+        for (int k = 0; k < 1000 && m.busy(); ++k) {
+          cds = s.step(m.step(cds));
+        }
+        if (bound == w) {
+          REQUIRE(m.state() == control_state::done);
+          CHECK(m.transferred() == 4U);
+          for (unsigned i = 0; i < 4U; ++i) {
+            CHECK((write ? regs.mem[0x20 + i] : out[i]) ==
+                  (write ? data[i] : static_cast<std::uint8_t>(0xC0U + i)));
+          }
+        } else {
+          CHECK(m.error() == errc::biss_timeout);
+          CHECK(m.transferred() == 0U);
+        }
+      }
+    }
+  }
+}
