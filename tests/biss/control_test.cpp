@@ -6,6 +6,7 @@
 #include <doctest/doctest.h>
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -699,4 +700,27 @@ TEST_CASE("the wait-state bound holds per byte: each byte of a sequential access
       }
     }
   }
+}
+
+namespace {
+control_master fresh_static_master;  // a `static` master, as firmware keeps one
+}  // namespace
+
+TEST_CASE(
+    "a fresh master: idle, nothing transferred, CDM 0, and all zeros (so a static is in .bss)") {
+  // control.hpp's firmware contract: a default-constructed `static` master is all zeros.
+  const auto* bytes = reinterpret_cast<const unsigned char*>(&fresh_static_master);
+  std::size_t nonzero = 0;
+  for (std::size_t i = 0; i < sizeof(control_master); ++i) {
+    nonzero += bytes[i] != 0U ? 1U : 0U;
+  }
+  CHECK(nonzero == 0U);
+  control_master m;
+  CHECK(m.state() == control_state::idle);
+  CHECK(!m.busy());
+  CHECK(m.error() == errc::ok);
+  CHECK(m.transferred() == 0U);
+  CHECK(m.frames() == 0U);
+  CHECK(!m.step(true));  // no access: CDM 0
+  CHECK(m.frames() == 0U);
 }
