@@ -724,3 +724,35 @@ TEST_CASE(
   CHECK(!m.step(true));  // no access: CDM 0
   CHECK(m.frames() == 0U);
 }
+
+TEST_CASE("the slave's CDS answer to every slot of a read and a write (docs/biss.md §3's table)") {
+  // The CDM slots built here from the table, fed to the slave alone; its answers compared
+  // slot by slot: 0 for the preamble and S..CRC4, R and W echoed, 1 for a ready S, the data
+  // (read) or its echo (write), ~CRC4 of it, 0 in P; then the 0 that ends the access and two
+  // stray 1s without a preamble, all answered 0.
+  for (const bool write : {false, true}) {
+    CAPTURE(write);
+    test_registers regs;
+    regs.mem[0x2A] = 0xB6;
+    control_slave<test_registers> s(regs, {3});
+    const std::uint8_t address = write ? 0x2B : 0x2A;
+    const std::uint8_t byte = write ? 0x5C : 0xB6;
+    const std::string header = "1" + bits(3, 3) + bits(address, 7) +
+                               bits(ref_crc4((1U << 10U) | (3U << 7U) | address, 11), 4);
+    const std::string data =
+        write ? bits(byte, 8) + bits(ref_crc4(byte, 8), 4) : std::string(12, '0');
+    const std::string cdm = std::string(preamble_frames, '0') + "1" + header +
+                            (write ? "01" : "10") + "1" + data + "0" + "011";
+    const std::string want = std::string(preamble_frames, '0') + std::string(16, '0') +
+                             (write ? "01" : "10") + "1" + bits(byte, 8) +
+                             bits(ref_crc4(byte, 8), 4) + "0" + "000";
+    REQUIRE(cdm.size() == want.size());
+    std::string got;
+    for (const char c : cdm) {
+      got.push_back(s.step(c == '1') ? '1' : '0');
+    }
+    CHECK(got == want);
+    CHECK(regs.mem[0x2B] == (write ? 0x5C : 0x00));
+    CHECK(s.accesses() == 1U);
+  }
+}
