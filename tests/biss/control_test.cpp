@@ -756,3 +756,79 @@ TEST_CASE("the slave's CDS answer to every slot of a read and a write (docs/biss
     CHECK(s.accesses() == 1U);
   }
 }
+
+TEST_CASE("the slave serves nothing after an invalid R/W pair or a 0 in the S slot") {
+  // After a header whose R and W are both 0 or both 1, or a valid header whose S slot the
+  // master sends as 0 (it ended the access), the slave takes no part in the access: the S,
+  // data, CRC4 and P slots that follow (no preamble between) are all answered 0, and no
+  // register is read or written.
+  struct invalid_case {
+    const char* rw;
+    const char* s;
+  };
+  const invalid_case cases[] = {{"00", "1"}, {"11", "1"}, {"10", "0"}, {"01", "0"}};
+  for (const invalid_case& c : cases) {
+    CAPTURE(c.rw);
+    CAPTURE(c.s);
+    test_registers regs;
+    regs.mem[0x2A] = 0xB6;
+    control_slave<test_registers> s(regs, {3});
+    const std::string header = "11" + bits(3, 3) + bits(0x2A, 7) +
+                               bits(ref_crc4((1U << 10U) | (3U << 7U) | 0x2AU, 11), 4) + c.rw;
+    const std::string after = std::string(c.s) + "1" + bits(0x5C, 8) + bits(ref_crc4(0x5C, 8), 4) +
+                              "0" + "1" + std::string(12, '1') + "0";
+    for (std::size_t k = 0; k < preamble_frames; ++k) {
+      REQUIRE(!s.step(false));
+    }
+    for (const char b : header) {
+      (void)s.step(b == '1');
+    }
+    std::string got;
+    for (const char b : after) {
+      got.push_back(s.step(b == '1') ? '1' : '0');
+    }
+    CHECK(got == std::string(after.size(), '0'));
+    CHECK(regs.mem[0x2A] == 0xB6);
+    CHECK(regs.writes == 0);
+    CHECK(s.accesses() == 0U);
+  }
+}
+
+namespace {
+
+// test_registers whose register 0x41 is hidden at the first question and readable after it
+// (as a register that a slave makes readable once loaded).
+struct late_registers : test_registers {
+  int asked = 0;
+  bool readable(std::uint8_t a) {
+    if (a == 0x41U) {
+      return asked++ > 0;
+    }
+    return !hidden[a];
+  }
+};
+
+}  // namespace
+
+TEST_CASE("a sequential access refused at a register stays refused if the register opens later") {
+  // Once the slave has found the next address not readable it ignores the rest of the access
+  // (control.hpp: it stops answering); the master's repeated S gets 0 and times out.
+  late_registers regs;
+  regs.mem[0x40] = 0x40;
+  regs.mem[0x41] = 0x41;
+  control_options opt;
+  opt.max_wait_frames = 8;
+  control_master m(opt);
+  control_slave<late_registers> s(regs, {0});
+  std::uint8_t out[2] = {};
+  REQUIRE(m.start_read(0, 0x40, mutable_byte_view(out, 2)) == errc::ok);
+  bool cds = false;
+  for (int k = 0; k < 200 && m.busy(); ++k) {
+    cds = s.step(m.step(cds));
+  }
+  CHECK(m.error() == errc::biss_timeout);
+  CHECK(out[0] == 0x40);
+  CHECK(out[1] == 0x00);
+  CHECK(regs.asked >= 1);
+  CHECK(s.accesses() == 1U);
+}
