@@ -908,3 +908,47 @@ TEST_CASE("observer: a read reported as two events, each without the other kind'
   CHECK(!b.cts);  // header fields: none in a byte
   CHECK(b.echo == 0U);
 }
+
+TEST_CASE("observer: wait states are counted per byte, and none carry over into a new access") {
+  // Slave 0, register 0x10: a header for a read, then per byte S slots (each answered 0 is a
+  // wait state, the one answered 1 starts the data), 8 data and 4 CRC4 slots, P.
+  const auto header = [](std::uint32_t address, std::string& cdm, std::string& cds) {
+    cdm +=
+        "11" + bits(0, 3) + bits(address, 7) + bits(ref_crc4((1U << 10U) | address, 11), 4) + "10";
+    cds += std::string(16, '0') + "10";
+  };
+  const auto byte = [](std::uint8_t v, std::size_t waits, std::string& cdm, std::string& cds) {
+    cdm += std::string(waits + 1U, '1') + std::string(12, '0') + "0";
+    cds += std::string(waits, '0') + "1" + bits(v, 8) + bits(ref_crc4(v, 8), 4) + "0";
+  };
+  const auto waits_of_bytes = [](const std::string& cdm, const std::string& cds) {
+    std::vector<std::size_t> waits;
+    for (const observed_access& e : feed_observer(cdm, cds)) {
+      if (e.kind == observed_kind::byte) {
+        waits.push_back(e.waits);
+      }
+    }
+    return waits;
+  };
+  // a sequential read of two bytes: 2 wait states before the first, none before the second
+  std::string cdm(preamble_frames, '0');
+  std::string cds(preamble_frames, '0');
+  header(0x10, cdm, cds);
+  byte(0x12, 2, cdm, cds);
+  byte(0x34, 0, cdm, cds);
+  cdm += "0";
+  cds += "0";
+  CHECK(waits_of_bytes(cdm, cds) == std::vector<std::size_t>{2, 0});
+  // an access whose master gives up in a wait state (3 of them, then the preamble), and a
+  // new access whose byte has no wait state
+  cdm.assign(preamble_frames, '0');
+  cds.assign(preamble_frames, '0');
+  header(0x10, cdm, cds);
+  cdm += "111" + std::string(preamble_frames, '0');
+  cds += std::string(3 + preamble_frames, '0');
+  header(0x11, cdm, cds);
+  byte(0x56, 0, cdm, cds);
+  cdm += "0";
+  cds += "0";
+  CHECK(waits_of_bytes(cdm, cds) == std::vector<std::size_t>{0});
+}
