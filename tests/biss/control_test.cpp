@@ -855,58 +855,66 @@ bool all_zero(const observed_access& e) {
 
 }  // namespace
 
-TEST_CASE("observer: a read reported as two events, each without the other kind's fields") {
-  // A read of register 0x2A (0xB6) by slave 3, slots as docs/biss.md §3's table gives them.
-  // The observer's events are printed whole (the Python binding's repr shows every field), so
-  // a field an event's kind does not describe is 0 (false), and a step that completes nothing
-  // returns an event with every field 0. After P and the 0 that ends the access, a 1 and
-  // answers of 1 without a preamble are not a next byte (control.hpp: the access is over).
+TEST_CASE(
+    "observer: a read and a write reported as two events each, without the other kind's fields") {
+  // Register 0x2A of slave 3 read (0xB6) and written (0x5C), slots as docs/biss.md §3's table
+  // gives them. The observer's events are printed whole (the Python binding's repr shows every
+  // field), so a field an event's kind does not describe is 0 (false), and a step that
+  // completes nothing returns an event with every field 0. After P and the 0 that ends the
+  // access, a 1 answered 1 and more slots without a preamble are not a next byte (control.hpp:
+  // the access is over; after a write's data the 0s are fewer than a preamble).
   const std::uint32_t hcrc = ref_crc4((1U << 10U) | (3U << 7U) | 0x2AU, 11);
-  const std::string cdm = std::string(preamble_frames, '0') + "11" + bits(3, 3) + bits(0x2A, 7) +
-                          bits(hcrc, 4) + "10" + "1" + std::string(12, '0') + "0" + "0" + "1" +
-                          std::string(12, '0') + "0" + "000";
-  const std::string cds = std::string(preamble_frames, '0') + std::string(16, '0') + "10" + "1" +
-                          bits(0xB6, 8) + bits(ref_crc4(0xB6, 8), 4) + "0" + "0" + "1" +
-                          std::string(12, '1') + "0" + "000";
-  REQUIRE(cdm.size() == cds.size());
-  const std::vector<observed_access> all = feed_observer(cdm, cds);
-  std::vector<observed_access> events;
-  for (const observed_access& e : all) {
-    if (e.kind == observed_kind::none) {
-      CHECK(all_zero(e));
-    } else {
-      events.push_back(e);
+  for (const bool write : {false, true}) {
+    CAPTURE(write);
+    const std::uint8_t v = write ? 0x5C : 0xB6;
+    const std::string slots = bits(v, 8) + bits(ref_crc4(v, 8), 4);
+    const std::string cdm = std::string(preamble_frames, '0') + "11" + bits(3, 3) + bits(0x2A, 7) +
+                            bits(hcrc, 4) + (write ? "01" : "10") + "1" +
+                            (write ? slots : std::string(12, '0')) + "0" + "0" + "1" +
+                            std::string(12, '0') + "0" + "000";
+    const std::string cds = std::string(preamble_frames, '0') + std::string(16, '0') +
+                            (write ? "01" : "10") + "1" + slots + "0" + "0" + "1" +
+                            std::string(12, '1') + "0" + "000";
+    REQUIRE(cdm.size() == cds.size());
+    const std::vector<observed_access> all = feed_observer(cdm, cds);
+    std::vector<observed_access> events;
+    for (const observed_access& e : all) {
+      if (e.kind == observed_kind::none) {
+        CHECK(all_zero(e));
+      } else {
+        events.push_back(e);
+      }
     }
+    REQUIRE(events.size() == 2U);
+    const observed_access& h = events[0];
+    CHECK(h.kind == observed_kind::header);
+    CHECK(h.slave_id == 3U);
+    CHECK(h.address == 0x2AU);
+    CHECK(h.write == write);
+    CHECK(h.cts);
+    CHECK(h.crc == hcrc);
+    CHECK(h.crc_ok);
+    CHECK(h.echo == (write ? 0x1U : 0x2U));
+    CHECK(h.data == 0U);  // byte fields: none in a header
+    CHECK(h.answer == 0U);
+    CHECK(h.answer_crc == 0U);
+    CHECK(!h.stop);
+    CHECK(h.waits == 0U);
+    const observed_access& b = events[1];
+    CHECK(b.kind == observed_kind::byte);
+    CHECK(b.slave_id == 3U);
+    CHECK(b.address == 0x2AU);
+    CHECK(b.write == write);
+    CHECK(b.data == v);
+    CHECK(b.crc == ref_crc4(v, 8));
+    CHECK(b.crc_ok);
+    CHECK(b.answer == v);
+    CHECK(b.answer_crc == ref_crc4(v, 8));
+    CHECK(!b.stop);
+    CHECK(b.waits == 0U);
+    CHECK(!b.cts);  // header fields: none in a byte
+    CHECK(b.echo == 0U);
   }
-  REQUIRE(events.size() == 2U);
-  const observed_access& h = events[0];
-  CHECK(h.kind == observed_kind::header);
-  CHECK(h.slave_id == 3U);
-  CHECK(h.address == 0x2AU);
-  CHECK(!h.write);
-  CHECK(h.cts);
-  CHECK(h.crc == hcrc);
-  CHECK(h.crc_ok);
-  CHECK(h.echo == 0x2U);
-  CHECK(h.data == 0U);  // byte fields: none in a header
-  CHECK(h.answer == 0U);
-  CHECK(h.answer_crc == 0U);
-  CHECK(!h.stop);
-  CHECK(h.waits == 0U);
-  const observed_access& b = events[1];
-  CHECK(b.kind == observed_kind::byte);
-  CHECK(b.slave_id == 3U);
-  CHECK(b.address == 0x2AU);
-  CHECK(!b.write);
-  CHECK(b.data == 0xB6U);
-  CHECK(b.crc == ref_crc4(0xB6, 8));
-  CHECK(b.crc_ok);
-  CHECK(b.answer == 0xB6U);
-  CHECK(b.answer_crc == ref_crc4(0xB6, 8));
-  CHECK(!b.stop);
-  CHECK(b.waits == 0U);
-  CHECK(!b.cts);  // header fields: none in a byte
-  CHECK(b.echo == 0U);
 }
 
 TEST_CASE("observer: wait states are counted per byte, and none carry over into a new access") {
