@@ -729,7 +729,8 @@ TEST_CASE("the slave's CDS answer to every slot of a read and a write (docs/biss
   // The CDM slots built here from the table, fed to the slave alone; its answers compared
   // slot by slot: 0 for the preamble and S..CRC4, R and W echoed, 1 for a ready S, the data
   // (read) or its echo (write), ~CRC4 of it, 0 in P; then the 0 that ends the access and two
-  // stray 1s without a preamble, all answered 0.
+  // stray 1s, all answered 0 (after a write's data no preamble comes between; after a read's
+  // twelve zero slots, P and that 0 make one, and the 1s begin a header).
   for (const bool write : {false, true}) {
     CAPTURE(write);
     test_registers regs;
