@@ -6,6 +6,7 @@
 #include <doctest/doctest.h>
 
 #include <cstdint>
+#include <utility>
 
 using namespace motionbus;
 using namespace motionbus::biss;
@@ -236,4 +237,82 @@ TEST_CASE("BP3 profile: layout() takes MT_LEN, CO_LEN + FI_LEN, and the CRC from
   CHECK(l.crc.poly == 0x3U);
   CHECK(l.crc.start == 0x5U);
   CHECK(l.crc.inverted);
+}
+
+TEST_CASE("EDS common part: each field written at its offset and read back (§2.8)") {
+  // Every field a value of its own, none the default's: each at its table offset.
+  eds_common e;
+  e.version = 0x11;
+  e.length = 0x12;
+  e.user_bank_start = 0x85;
+  e.user_bank_end = 0x86;
+  e.channels = 0x13;
+  e.validity = 0x14;
+  e.location = 0x87;
+  e.profile_bank = 0x88;
+  e.data_length = 0x30;
+  e.data_format = 0x15;
+  e.crc_poly = 0x16;
+  std::uint8_t bank[bank_size] = {};
+  REQUIRE(encode_eds_common(e, mutable_byte_view(bank, bank_size)) == errc::ok);
+  const std::pair<std::size_t, std::uint8_t> at[] = {
+      {0x00, 0x11}, {0x01, 0x12}, {0x02, 0x85}, {0x03, 0x86}, {0x10, 0x13}, {0x11, 0x14},
+      {0x12, 0x87}, {0x14, 0x88}, {0x15, 0x30}, {0x16, 0x15}, {0x17, 0x16}};
+  for (const auto& f : at) {
+    CAPTURE(f.first);
+    CHECK(bank[f.first] == f.second);
+  }
+  const auto back = decode_eds_common(byte_view(bank, bank_size));
+  REQUIRE(back.is_complete());
+  CHECK(back.value() == e);
+}
+
+TEST_CASE("BP3 profile: lengths and 32-bit fields at their offsets, big-endian; the bounds") {
+  // §2.9: MT_LEN 0x0A, CO_LEN 0x0C, FI_LEN 0x0E, BP_ID 0x02..0x03, MT_CNT 0x10..0x13,
+  // SIP_CNT 0x14..0x17, SIP_RES 0x18..0x1B, CPOLY 0x1C..0x1F, CSTART 0x20..0x23, each most
+  // significant byte first. SIP_RES up to 20 (§2.9.4), 64 data bits in all, CPOLY of at most
+  // 16 bits (x^16 at most: bits (16:1) of the notation).
+  bp3_profile p;
+  p.mt_length = 12;
+  p.coarse_length = 4;
+  p.fine_length = 16;
+  p.profile_id = 0x6320;
+  p.mt_count = 0x0A0B0C0D;
+  p.sip_count = 0x01020304;
+  p.sip_resolution = 20;
+  p.crc_poly = 0x09;
+  p.crc_start = 0x0005;
+  std::uint8_t bank[bank_size] = {};
+  REQUIRE(encode_bp3(p, bank) == errc::ok);
+  const std::pair<std::size_t, std::uint8_t> at[] = {
+      {0x0A, 12},   {0x0C, 4},    {0x0E, 16},   {0x02, 0x63}, {0x03, 0x20}, {0x10, 0x0A},
+      {0x11, 0x0B}, {0x12, 0x0C}, {0x13, 0x0D}, {0x14, 0x01}, {0x15, 0x02}, {0x16, 0x03},
+      {0x17, 0x04}, {0x18, 0x00}, {0x1B, 20},   {0x1F, 0x09}, {0x22, 0x00}, {0x23, 0x05}};
+  for (const auto& f : at) {
+    CAPTURE(f.first);
+    CHECK(bank[f.first] == f.second);
+  }
+  const auto back = decode_bp3(bank);
+  REQUIRE(back.is_complete());
+  CHECK(back.value() == p);
+  // the bounds, each alone: 64 data bits and a 16-bit CPOLY accepted, one more refused
+  const auto decoded = [](const bp3_profile& q) {
+    std::uint8_t b[bank_size] = {};
+    REQUIRE(encode_bp3(q, b) == errc::ok);
+    return decode_bp3(b);
+  };
+  bp3_profile q = p;
+  q.fine_length = 48;  // 12 + 4 + 48 = 64
+  CHECK(decoded(q).is_complete());
+  q.fine_length = 49;
+  CHECK(decoded(q).error() == errc::biss_eds);
+  q = p;
+  q.crc_poly = 0xFFFF;  // x^16 + ... + 1: 16 bits
+  CHECK(decoded(q).is_complete());
+  CHECK(decoded(q).value().layout().crc.width == 16U);
+  q.crc_poly = 0x10000;  // x^17: 17 bits
+  CHECK(decoded(q).error() == errc::biss_eds);
+  q = p;
+  q.sip_resolution = 21;
+  CHECK(decoded(q).error() == errc::biss_eds);
 }
