@@ -1129,3 +1129,35 @@ TEST_CASE("encode_frame: nE alone, nW alone, neither: the bits the notes give, c
     }
   }
 }
+
+TEST_CASE("a result that is not complete holds an empty frame: no slaves, nothing found") {
+  // result.hpp: value() of a result that is not complete is a value-initialised T; for a
+  // chain_frame that is no slave decoded (size() 0, begin() == end()) and no line delay, Start
+  // bit or CDS found (0, 0, false). Both a need for more input and a failure.
+  const std::vector<slave_layout> chain{absys_layout, mt_layout};
+  const std::string captures[] = {
+      std::string(10, '1'), std::string(200, '1'),
+      frame_string(3, 2, true, chain, {{0, 5, true, true}, {1, 2}}).substr(0, 30)};
+  for (const std::string& s : captures) {
+    CAPTURE(s.size());
+    const std::vector<std::uint32_t> words = pack<std::uint32_t>(s);
+    const auto r = decode_frame(span<const std::uint32_t>(words.data(), words.size()), s.size(),
+                                span<const slave_layout>(chain.data(), chain.size()));
+    REQUIRE(!r.is_complete());
+    CHECK(r->size() == 0U);
+    CHECK(r->begin() == r->end());
+    CHECK(r->line_delay == 0U);
+    CHECK(r->start == 0U);
+    CHECK(!r->cds);
+    CHECK(r->ack_bits() == 0U);
+    for (const slave_data& d : r->slaves) {
+      CHECK(d.data == 0U);
+      CHECK(d.crc == 0U);
+      CHECK(d.crc_computed == 0U);
+      CHECK(d.multi_turn == 0U);
+      CHECK(d.single_turn == 0U);
+      CHECK(d.ne);
+      CHECK(d.nw);
+    }
+  }
+}
