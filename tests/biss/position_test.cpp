@@ -276,3 +276,26 @@ TEST_CASE("position_config_for(layout) without max_step: any step unwrapping can
   CHECK(t.update(100 + 32767) == position_status::accepted);
   CHECK(t.counts() == 100 + 32767);
 }
+
+TEST_CASE("a given turn with 62 multi-turn bits, the most; the invalid configurations alike") {
+  // position.hpp: more than 62 multi-turn bits is invalid; 62 with one count a turn is the
+  // largest range a tracker takes (2^62). Every invalid configuration the three forms give is
+  // the same value: 0 counts, 0 turns, the max_step given (as position_config::from_bits's).
+  constexpr bs::slave_layout most{62, 0, 0, true, true, bs::crc6_43};
+  const auto c = bs::position_config_for(most, 1, 0);
+  CHECK(c.counts_per_turn == 1U);
+  CHECK(c.turns == (std::uint64_t{1} << 62U));
+  CHECK(c.valid());
+  CHECK(c.range() == (std::uint64_t{1} << 62U));
+  constexpr bs::slave_layout too_many{63, 0, 0, true, true, bs::crc6_43};
+  bs::bp3_profile linear = ab::default_bp3(bs::encoder_type::linear, 1000, 0);
+  const position_config invalid[] = {
+      bs::position_config_for(too_many, 1000, 7), bs::position_config_for(too_many, 7),
+      bs::position_config_for(linear, 7), position_config::from_bits(0, 63, 7)};
+  for (const position_config& i : invalid) {
+    CHECK(i.counts_per_turn == 0U);
+    CHECK(i.turns == 0U);
+    CHECK(i.max_step == 7U);
+    CHECK_FALSE(i.valid());
+  }
+}
