@@ -299,3 +299,25 @@ TEST_CASE("a given turn with 62 multi-turn bits, the most; the invalid configura
     CHECK_FALSE(i.valid());
   }
 }
+
+TEST_CASE("position_config_for(bp3_profile): without max_step any step; 62 MT_LEN bits the most") {
+  // A rotary profile of 2^10 pulses a turn (SIP_CNT 1, SIP_RES 10) and 4 multi-turn bits:
+  // M = 2^14, and without max_step the tracker takes any step unwrapping can tell,
+  // (M - 1) / 2. One pulse a turn and MT_LEN 62 is the largest range, 2^62; 63 is invalid.
+  bs::bp3_profile p = ab::default_bp3(bs::encoder_type::rotary, 1, 10);
+  p.mt_length = 4;
+  const position_config pc = bs::position_config_for(p);
+  REQUIRE(pc.valid());
+  CHECK(pc.max_step == 0U);
+  position_tracker t(pc);
+  CHECK(t.max_step() == 8191U);
+  REQUIRE(t.update(100) == position_status::seeded);
+  CHECK(t.update(100 + 8191) == position_status::accepted);
+  bs::bp3_profile one = ab::default_bp3(bs::encoder_type::rotary, 1, 0);
+  one.mt_length = 62;
+  const position_config most = bs::position_config_for(one);
+  CHECK(most.valid());
+  CHECK(most.range() == (std::uint64_t{1} << 62U));
+  one.mt_length = 63;
+  CHECK_FALSE(bs::position_config_for(one).valid());
+}
