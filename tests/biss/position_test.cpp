@@ -321,3 +321,32 @@ TEST_CASE("position_config_for(bp3_profile): without max_step any step; 62 MT_LE
   one.mt_length = 63;
   CHECK_FALSE(bs::position_config_for(one).valid());
 }
+
+TEST_CASE(
+    "update_position: a slave past the chain is no reading; every no reading is a missed period") {
+  // position.hpp: a slave index past the chain, like a failed frame, is a read period without
+  // a reading: position_status::no_reading and missed() (periods() counts it).
+  const bs::slave_layout chain[2] = {bs::absys_layout, bs::absys_layout};
+  const bs::slave_values values[2] = {{0, 1000, true, true}, {0, 2000, true, true}};
+  std::uint32_t words[4] = {};
+  const auto n = bs::encode_frame(span<const bs::slave_layout>(chain, 2),
+                                  span<const bs::slave_values>(values, 2), words);
+  REQUIRE(n.ok());
+  const auto r = bs::decode_frame(words, *n, span<const bs::slave_layout>(chain, 2));
+  REQUIRE(r.is_complete());
+  position_tracker t(bs::position_config_for(bs::absys_layout));
+  CHECK(bs::update_position(t, r, 1) == position_status::seeded);
+  CHECK(t.counts() == 2000);
+  CHECK(t.periods() == 1U);
+  CHECK(bs::update_position(t, r, 2) == position_status::no_reading);  // past the chain
+  CHECK(t.periods() == 2U);
+  CHECK(bs::update_position(t, r, bs::max_chain) == position_status::no_reading);
+  CHECK(t.periods() == 3U);
+  const auto cut = bs::decode_frame(words, 20, span<const bs::slave_layout>(chain, 2));
+  REQUIRE(cut.is_incomplete());
+  CHECK(bs::update_position(t, cut, 0) == position_status::no_reading);
+  CHECK(t.periods() == 4U);
+  CHECK(t.counts() == 2000);
+  CHECK(bs::update_position(t, r, 1) == position_status::accepted);
+  CHECK(t.periods() == 1U);
+}
