@@ -350,3 +350,39 @@ TEST_CASE(
   CHECK(bs::update_position(t, r, 1) == position_status::accepted);
   CHECK(t.periods() == 1U);
 }
+
+TEST_CASE("frame_timing_for: the longest cycle, eight slaves, 2^32 clocks refused at any clock") {
+  // At 1 GHz a clock lasts 1 ns: ABSYS with no line delay and an Ack of 1 captures 44 clocks;
+  // a timeout of 2^32 - 1 - 44 clocks makes a cycle of 2^32 - 1 ns, the longest accepted, one
+  // clock more is out_of_range.
+  const auto longest = bs::frame_timing_for(ab::layout, 1000000000U, 0, 1, 4294967295U - 44U);
+  REQUIRE(longest.ok());
+  CHECK(longest->capture_bits == 44U);
+  CHECK(longest->response_timeout_ns == 44U);
+  CHECK(longest->cycle_ns == 4294967295U);
+  CHECK(bs::frame_timing_for(ab::layout, 1000000000U, 0, 1, 4294967296U - 44U).error() ==
+        errc::out_of_range);
+  // a chain of max_chain slaves: 1 + 1 + 2 + 8 x 40 clocks
+  const bs::slave_layout eight[bs::max_chain] = {ab::layout, ab::layout, ab::layout, ab::layout,
+                                                 ab::layout, ab::layout, ab::layout, ab::layout};
+  const auto c =
+      bs::frame_timing_for(span<const bs::slave_layout>(eight, bs::max_chain), 2500000, 0, 1, 0);
+  REQUIRE(c.ok());
+  CHECK(c->capture_bits == 4U + 320U);
+  // position.hpp: a count of 2^32 clocks or more is out_of_range whatever the clock, also at
+  // 4 GHz where 2^32 clocks last about 2^30 ns
+  if (sizeof(std::size_t) > 4U) {
+    const auto count = static_cast<std::size_t>(std::uint64_t{1} << 32U);
+    CHECK(bs::frame_timing_for(ab::layout, 4000000000U, count, 1, 0).error() == errc::out_of_range);
+    CHECK(bs::frame_timing_for(ab::layout, 4000000000U, 0, count, 0).error() == errc::out_of_range);
+    CHECK(bs::frame_timing_for(ab::layout, 4000000000U, 0, 1, count).error() == errc::out_of_range);
+    CHECK(bs::frame_timing_for(ab::layout, 4000000000U, count - 1U, 1, 0).ok());
+  }
+  // a refused timing's value is an empty one: nothing computed, the decoder's default bounds
+  const auto refused = bs::frame_timing_for(ab::layout, 0, 0, 1, 0);
+  REQUIRE(!refused.ok());
+  CHECK(refused.value().capture_bits == 0U);
+  CHECK(refused.value().response_timeout_ns == 0U);
+  CHECK(refused.value().cycle_ns == 0U);
+  CHECK(refused.value().options.max_line_delay == bs::decode_options{}.max_line_delay);
+}
