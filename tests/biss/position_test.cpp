@@ -340,7 +340,7 @@ TEST_CASE(
   CHECK(t.periods() == 1U);
   CHECK(bs::update_position(t, r, 2) == position_status::no_reading);  // past the chain
   CHECK(t.periods() == 2U);
-  CHECK(bs::update_position(t, r, bs::max_chain) == position_status::no_reading);
+  CHECK(bs::update_position(t, r, 5) == position_status::no_reading);
   CHECK(t.periods() == 3U);
   const auto cut = bs::decode_frame(words, 20, span<const bs::slave_layout>(chain, 2));
   REQUIRE(cut.is_incomplete());
