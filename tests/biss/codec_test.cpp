@@ -6,6 +6,8 @@
 #include <doctest/doctest.h>
 
 #include <cstdint>
+#include <cstring>
+#include <new>
 #include <string>
 #include <vector>
 
@@ -765,4 +767,397 @@ TEST_CASE("decode_frame: an empty capture, and 64 samples with the Ack but no St
   const auto d = decode_frame(start_after, 65, absys_layout);
   CHECK(d.is_incomplete());
   CHECK(d.needed_bits() > 1);  // the Start found: the frame's fields still to come
+}
+
+TEST_CASE("default decode_options: a line delay up to 64 samples, an Ack up to 256") {
+  // docs/biss.md §1, decoding a capture: biss_no_ack after only 1s over max_line_delay + 1
+  // samples (65 by default), biss_no_start after only 0s over 256 samples after the first 0.
+  const std::vector<slave_layout> chain{absys_layout};
+  const slave_bits v{0, 0x13579BDU, true, true};
+  std::vector<slave_data> out;
+  const auto longest_delay =
+      decode_string<std::uint32_t>(frame_string(64, 1, false, chain, {v}), chain, out);
+  REQUIRE(longest_delay.is_complete());
+  CHECK(longest_delay->line_delay == 64);
+  CHECK(out[0].single_turn == 0x13579BDU);
+  CHECK(decode_string<std::uint32_t>(frame_string(65, 1, false, chain, {v}), chain, out).error() ==
+        errc::biss_no_ack);
+  CHECK(decode_string<std::uint32_t>(std::string(64, '1'), chain, out).is_incomplete());
+  CHECK(decode_string<std::uint32_t>(std::string(65, '1'), chain, out).error() ==
+        errc::biss_no_ack);
+  const auto longest_ack =
+      decode_string<std::uint32_t>(frame_string(2, 256, false, chain, {v}), chain, out);
+  REQUIRE(longest_ack.is_complete());
+  CHECK(longest_ack->ack_bits() == 256);
+  CHECK(out[0].single_turn == 0x13579BDU);
+  CHECK(decode_string<std::uint32_t>(frame_string(2, 257, false, chain, {v}), chain, out).error() ==
+        errc::biss_no_start);
+}
+
+TEST_CASE("64 data bits with nE and nW: the CRC6 covers all 66 bits (long division)") {
+  // Data and status together longer than 64 bits: the CRC is fed in two parts. The CRC sent
+  // and the CRC computed are checked against the reference, not only against each other.
+  const std::vector<slave_layout> chains[] = {{slave_layout{32, 32, 0, true, true, crc6_43}},
+                                              {slave_layout{0, 63, 0, true, true, crc6_43}},
+                                              {slave_layout{0, 64, 0, true, false, crc6_43}}};
+  const slave_bits values[] = {{0xCAFEF00DU, 0x89ABCDEFU, false, true},
+                               {0xCAFEF00DU, 0x89ABCDEFU, true, false},
+                               {0, 0x7123456789ABCDEFULL, true, true}};
+  for (const auto& chain : chains) {
+    const slave_layout& l = chain[0];
+    for (const slave_bits& given : values) {
+      slave_bits v = given;
+      if (l.multi_turn_bits == 0U) {
+        v.st = (v.mt << 32U) | v.st;
+        v.mt = 0;
+      }
+      v.st &= l.single_turn_bits == 64U ? ~std::uint64_t{0}
+                                        : (std::uint64_t{1} << l.single_turn_bits) - 1U;
+      CAPTURE(l.single_turn_bits);
+      CAPTURE(v.st);
+      const std::string s = frame_string(1, 1, false, chain, {v});
+      const std::size_t covered = l.data_bits() + l.status_bits();
+      const std::uint32_t want = ref_wire_crc(crc6_43, s.substr(4, covered));
+      // the decoder: the CRC it computes is the reference's
+      std::vector<slave_data> out;
+      const auto r = decode_string<std::uint32_t>(s, chain, out);
+      REQUIRE(r.is_complete());
+      CHECK(out[0].crc == want);
+      CHECK(out[0].crc_computed == want);
+      // the encoder: the bits it writes are the frame built here
+      std::uint32_t words[4] = {};
+      line_options line;
+      line.line_delay = 1;
+      const auto n = encode_frame(l, slave_values{v.mt, v.st, v.ne, v.nw},
+                                  span<std::uint32_t>(words, 4), line);
+      REQUIRE(n.ok());
+      REQUIRE(*n == s.size());
+      std::string got;
+      for (std::size_t k = 0; k < *n; ++k) {
+        got.push_back(((words[k / 32U] >> (31U - k % 32U)) & 1U) != 0U ? '1' : '0');
+      }
+      CHECK(got == s);
+    }
+  }
+}
+
+TEST_CASE("decode_frame: a refused chain or layout consumes none of the capture") {
+  // decode_failure::consumed is what the caller may drop: an argument error says nothing of
+  // the capture, so nothing (0), whatever the samples hold.
+  const std::string s = frame_string(2, 1, false, {absys_layout}, {{0, 0x1234U, true, true}});
+  const std::vector<std::uint32_t> words = pack<std::uint32_t>(s);
+  const span<const std::uint32_t> in(words.data(), words.size());
+  const auto empty = decode_frame(in, s.size(), span<const slave_layout>{});
+  CHECK(empty.error() == errc::invalid_argument);
+  CHECK(empty.consumed_bits() == 0U);
+  const slave_layout nine[max_chain + 1] = {};
+  const auto long_chain = decode_frame(in, s.size(), span<const slave_layout>(nine, max_chain + 1));
+  CHECK(long_chain.error() == errc::invalid_argument);
+  CHECK(long_chain.consumed_bits() == 0U);
+  slave_layout bad = absys_layout;
+  bad.crc.width = 17;
+  const auto bad_layout = decode_frame(in, s.size(), bad);
+  CHECK(bad_layout.error() == errc::biss_layout);
+  CHECK(bad_layout.consumed_bits() == 0U);
+  const slave_layout chain[2] = {absys_layout, bad};
+  const auto bad_second = decode_frame(in, s.size(), span<const slave_layout>(chain, 2));
+  CHECK(bad_second.error() == errc::biss_layout);
+  CHECK(bad_second.consumed_bits() == 0U);
+}
+
+TEST_CASE("no Ack or no Start yet: one more sample needed, for one slave and for a chain alike") {
+  // Before the Ack, or between the Ack and the Start bit, the decoder cannot tell how long the
+  // line stays idle or the Ack lasts: at least one more sample, whatever the chain's length
+  // (as for one slave: "an empty capture, and 64 samples with the Ack but no Start").
+  const std::vector<std::vector<slave_layout>> chains{
+      {absys_layout}, {absys_layout, mt_layout}, {absys_layout, mt_layout, plain_layout}};
+  const std::string captures[] = {"",
+                                  "1",
+                                  std::string(10, '1'),
+                                  "1110",
+                                  "11" + std::string(40, '0'),
+                                  std::string(3, '1') + std::string(70, '0')};
+  for (const auto& chain : chains) {
+    for (const std::string& s : captures) {
+      CAPTURE(chain.size());
+      CAPTURE(s);
+      std::vector<slave_data> out;
+      const auto r = decode_string<std::uint8_t>(s, chain, out);
+      REQUIRE(r.is_incomplete());
+      CHECK(r.needed_bits() == 1U);
+    }
+  }
+}
+
+TEST_CASE("an Ack of max_ack_bits whose Start bit is sample 64, the first past the window") {
+  // The Start bit is searched for past the first 64 samples with the Ack's bound left: an Ack
+  // of exactly max_ack_bits ending at sample 63 is accepted, one sample longer is refused.
+  const std::vector<slave_layout> chain{absys_layout};
+  const slave_bits v{0, 0x0F1E2D3CU, true, false};
+  for (const std::size_t bound :
+       {std::size_t{1}, std::size_t{2}, std::size_t{20}, std::size_t{63}}) {
+    decode_options opt;
+    opt.max_ack_bits = bound;
+    CAPTURE(bound);
+    std::vector<slave_data> out;
+    const std::string s = frame_string(64 - bound, bound, true, chain, {v});
+    const auto r = decode_string<std::uint32_t>(s, chain, out, opt);
+    REQUIRE(r.is_complete());
+    CHECK(r->start == 64);
+    CHECK(r->ack_bits() == bound);
+    CHECK(out[0].single_turn == 0x0F1E2D3CU);
+    CHECK(r.consumed_bits() == s.size());
+    CHECK(decode_string<std::uint32_t>(frame_string(63 - bound, bound + 1, true, chain, {v}), chain,
+                                       out, opt)
+              .error() == errc::biss_no_start);
+  }
+}
+
+TEST_CASE("a chain given as a span: the slots past the chain hold value-initialised slave_data") {
+  // frame.hpp: chain_frame's slaves past size() are value-initialised, whatever the memory
+  // the result is built in held before (here: filled with 0xA5, the result built in place).
+  const std::vector<slave_layout> chain{absys_layout, mt_layout};
+  const std::string s = frame_string(3, 2, false, chain, {{0, 0x1234U, true, true}, {5, 6, false}});
+  const std::vector<std::uint32_t> words = pack<std::uint32_t>(s);
+  alignas(frame_result<max_chain>) unsigned char storage[sizeof(frame_result<max_chain>)];
+  std::memset(storage, 0xA5, sizeof storage);
+  const auto* r = ::new (static_cast<void*>(storage)) frame_result<max_chain>(
+      decode_frame(span<const std::uint32_t>(words.data(), words.size()), s.size(),
+                   span<const slave_layout>(chain.data(), chain.size())));
+  REQUIRE(r->is_complete());
+  REQUIRE((*r)->size() == 2U);
+  CHECK((*r)->slaves[0].single_turn == 0x1234U);
+  CHECK((*r)->slaves[1].multi_turn == 5U);
+  for (std::size_t k = 2; k < max_chain; ++k) {
+    CAPTURE(k);
+    const slave_data& d = (*r)->slaves[k];
+    CHECK(d.data == 0U);
+    CHECK(d.multi_turn == 0U);
+    CHECK(d.single_turn == 0U);
+    CHECK(d.ne);
+    CHECK(d.nw);
+    CHECK(d.crc == 0U);
+    CHECK(d.crc_computed == 0U);
+  }
+}
+
+TEST_CASE(
+    "a one-bit data field with nE and nW: each of the eight combinations, in and past the window") {
+  // The smallest layout validate() accepts: data, nE and nW one bit each, then the CRC6.
+  // Decoded from the first 64 samples, and past them (a line delay of 70).
+  const slave_layout tiny{0, 1, 0, true, true, crc6_43};
+  REQUIRE(tiny.validate() == errc::ok);
+  const std::vector<slave_layout> chain{tiny};
+  decode_options opt;
+  opt.max_line_delay = 100;
+  for (const std::size_t idle : {std::size_t{2}, std::size_t{70}}) {
+    for (unsigned bits = 0; bits < 8U; ++bits) {
+      const slave_bits v{0, (bits >> 2U) & 1U, ((bits >> 1U) & 1U) != 0U, (bits & 1U) != 0U};
+      CAPTURE(idle);
+      CAPTURE(bits);
+      const std::string s = frame_string(idle, 1, false, chain, {v});
+      std::vector<slave_data> out;
+      const auto r = decode_string<std::uint16_t>(s, chain, out, opt);
+      REQUIRE(r.is_complete());
+      CHECK(out[0].single_turn == v.st);
+      CHECK(out[0].ne == v.ne);
+      CHECK(out[0].nw == v.nw);
+      CHECK(out[0].crc == ref_wire_crc(crc6_43, s.substr(idle + 3, 3)));
+      CHECK(out[0].crc_ok());
+    }
+  }
+}
+
+TEST_CASE("alignment bits sent as ones are filler: not in the single-turn or multi-turn value") {
+  // frame.hpp: alignment bits are low-order filler after the single-turn value; whatever a
+  // slave puts there, the position is the multi-turn and single-turn bits alone (the CRC
+  // covers the filler as sent). All 64 data bits filler too: no position at all. Line delay
+  // 2, Ack 1, Start, CDS 0.
+  struct filler_case {
+    slave_layout layout;
+    std::uint64_t mt, st;
+  };
+  const filler_case cases[] = {{slave_layout{0, 0, 64, true, true, crc6_43}, 0, 0},
+                               {mt_layout, 0xABC, 0x1234},
+                               {slave_layout{10, 20, 34, false, true, crc6_43}, 0x3FF, 0xFFFFF}};
+  for (const filler_case& c : cases) {
+    const slave_layout& l = c.layout;
+    CAPTURE(l.alignment_bits);
+    REQUIRE(l.validate() == errc::ok);
+    std::string covered = bits_of(c.mt, l.multi_turn_bits) + bits_of(c.st, l.single_turn_bits) +
+                          std::string(l.alignment_bits, '1');
+    covered += std::string(l.status_bits(), '1');
+    const std::string s = "11010" + covered + bits_of(ref_wire_crc(l.crc, covered), l.crc.width);
+    const std::vector<slave_layout> chain{l};
+    std::vector<slave_data> out;
+    const auto r = decode_string<std::uint32_t>(s, chain, out);
+    REQUIRE(r.is_complete());
+    CHECK(out[0].crc_ok());
+    CHECK(out[0].multi_turn == c.mt);
+    CHECK(out[0].single_turn == c.st);
+    const unsigned db = l.data_bits();
+    std::uint64_t want_data = 0;
+    for (unsigned k = 0; k < db; ++k) {
+      want_data = (want_data << 1U) | (covered[k] == '1' ? 1U : 0U);
+    }
+    CHECK(out[0].data == want_data);
+  }
+}
+
+TEST_CASE(
+    "encode_frame: default slave_values and line_options are position 0, no error, no warning") {
+  // slave_values{}: multi-turn and single-turn 0, nE and nW high (inactive); line_options{}:
+  // no line delay, an Ack of one sample, CDS 0, no timeout.
+  const slave_layout layouts[] = {absys_layout, mt_layout};
+  for (const slave_layout& l : layouts) {
+    CAPTURE(l.multi_turn_bits);
+    const std::string want = frame_string(0, 1, false, {l}, {{0, 0, true, true}});
+    std::uint32_t words[4] = {0xFFFFFFFFU, 0xFFFFFFFFU, 0xFFFFFFFFU, 0xFFFFFFFFU};
+    const auto n = encode_frame(l, slave_values{}, span<std::uint32_t>(words, 4));
+    REQUIRE(n.ok());
+    REQUIRE(*n == want.size());
+    std::string got;
+    for (std::size_t k = 0; k < *n; ++k) {
+      got.push_back(((words[k / 32U] >> (31U - k % 32U)) & 1U) != 0U ? '1' : '0');
+    }
+    CHECK(got == want);
+  }
+}
+
+TEST_CASE("a chain of max_chain (eight) slaves: encoded as the notes build it, decoded back") {
+  // frame.hpp: chains of up to 8 slaves (IDs 0..7); the longest is accepted by both sides.
+  const std::vector<slave_layout> chain(max_chain, absys_layout);
+  std::vector<slave_bits> bits;
+  std::vector<slave_values> values;
+  for (std::size_t k = 0; k < max_chain; ++k) {
+    const std::uint64_t st = 0x01020304U * (k + 1U);
+    bits.push_back({0, st, k % 2U == 0U, k % 3U != 0U});
+    values.push_back({0, st, k % 2U == 0U, k % 3U != 0U});
+  }
+  const std::string want = frame_string(2, 1, true, chain, bits);
+  std::uint32_t words[12] = {};
+  line_options line;
+  line.line_delay = 2;
+  line.cds = true;
+  const auto n = encode_frame(span<const slave_layout>(chain.data(), chain.size()),
+                              span<const slave_values>(values.data(), values.size()),
+                              span<std::uint32_t>(words, 12), line);
+  REQUIRE(n.ok());
+  REQUIRE(*n == want.size());
+  std::string got;
+  for (std::size_t k = 0; k < *n; ++k) {
+    got.push_back(((words[k / 32U] >> (31U - k % 32U)) & 1U) != 0U ? '1' : '0');
+  }
+  CHECK(got == want);
+  std::vector<slave_data> out;
+  const auto r = decode_string<std::uint32_t>(want, chain, out);
+  REQUIRE(r.is_complete());
+  CHECK(r->size() == max_chain);
+  for (std::size_t k = 0; k < max_chain; ++k) {
+    CAPTURE(k);
+    CHECK(out[k].single_turn == bits[k].st);
+    CHECK(out[k].ne == bits[k].ne);
+    CHECK(out[k].nw == bits[k].nw);
+    CHECK(out[k].crc_ok());
+  }
+}
+
+TEST_CASE("encode_frame: a frame that fills the buffer to its last bit is written whole") {
+  // ABSYS: Ack 1, Start, CDS, 40 bits: 43 samples; with 21 samples of timeout, or from bit 21,
+  // exactly the 64 bits of two 32-bit words. One bit fewer room is buffer_too_small.
+  const slave_values v{0, 0x89ABCDEFU, true, false};
+  const std::string frame =
+      frame_string(0, 1, false, {absys_layout}, {{0, 0x89ABCDEFU, true, false}});
+  REQUIRE(frame.size() == 43U);
+  const auto as_string = [](const std::uint32_t(&w)[2]) {
+    std::string s;
+    for (std::size_t k = 0; k < 64U; ++k) {
+      s.push_back(((w[k / 32U] >> (31U - k % 32U)) & 1U) != 0U ? '1' : '0');
+    }
+    return s;
+  };
+  line_options timeout;
+  timeout.timeout_bits = 21;
+  std::uint32_t a[2] = {0xFFFFFFFFU, 0xFFFFFFFFU};
+  const auto na = encode_frame(absys_layout, v, a, timeout);
+  REQUIRE(na.ok());
+  CHECK(*na == 64U);
+  CHECK(as_string(a) == frame + std::string(21, '0'));
+  std::uint32_t b[2] = {};
+  const auto nb = encode_frame(absys_layout, v, b, line_options{}, bit_order::msb_first, 21);
+  REQUIRE(nb.ok());
+  CHECK(*nb == 43U);
+  CHECK(as_string(b) == std::string(21, '0') + frame);
+  timeout.timeout_bits = 22;
+  CHECK(encode_frame(absys_layout, v, a, timeout).error() == errc::buffer_too_small);
+  CHECK(encode_frame(absys_layout, v, b, line_options{}, bit_order::msb_first, 22).error() ==
+        errc::buffer_too_small);
+}
+
+TEST_CASE("encode_frame: nE alone, nW alone, neither: the bits the notes give, chain form too") {
+  // Each layout's status bits are the ones it has, and its CRC6 covers them alone. The chain
+  // form into a plain array writes from bit 0 as the other forms do.
+  const slave_layout ne_only{0, 24, 0, true, false, crc6_43};
+  const slave_layout nw_only{0, 24, 0, false, true, crc6_43};
+  const slave_layout neither{0, 24, 0, false, false, crc6_43};
+  const std::uint64_t positions[] = {0x123456U, 0xABCDEFU};
+  for (const slave_layout& l : {ne_only, nw_only, neither}) {
+    for (const std::uint64_t st : positions) {
+      for (unsigned flags = 0; flags < 4U; ++flags) {
+        const bool ne = (flags & 2U) != 0U;
+        const bool nw = (flags & 1U) != 0U;
+        CAPTURE(l.has_error);
+        CAPTURE(l.has_warning);
+        CAPTURE(st);
+        CAPTURE(flags);
+        const std::string want = frame_string(0, 1, true, {l}, {{0, st, ne, nw}});
+        const slave_layout chain[1] = {l};
+        const slave_values values[1] = {{0, st, ne, nw}};
+        line_options line;
+        line.cds = true;
+        std::uint32_t words[2] = {0xFFFFFFFFU, 0xFFFFFFFFU};
+        const auto n = encode_frame(span<const slave_layout>(chain, 1),
+                                    span<const slave_values>(values, 1), words, line);
+        REQUIRE(n.ok());
+        REQUIRE(*n == want.size());
+        std::string got;
+        for (std::size_t k = 0; k < *n; ++k) {
+          got.push_back(((words[k / 32U] >> (31U - k % 32U)) & 1U) != 0U ? '1' : '0');
+        }
+        CHECK(got == want);
+      }
+    }
+  }
+}
+
+TEST_CASE("a result that is not complete holds an empty frame: no slaves, nothing found") {
+  // result.hpp: value() of a result that is not complete is a value-initialised T; for a
+  // chain_frame that is no slave decoded (size() 0, begin() == end()) and no line delay, Start
+  // bit or CDS found (0, 0, false). Both a need for more input and a failure.
+  const std::vector<slave_layout> chain{absys_layout, mt_layout};
+  const std::string captures[] = {
+      std::string(10, '1'), std::string(200, '1'),
+      frame_string(3, 2, true, chain, {{0, 5, true, true}, {1, 2}}).substr(0, 30)};
+  for (const std::string& s : captures) {
+    CAPTURE(s.size());
+    const std::vector<std::uint32_t> words = pack<std::uint32_t>(s);
+    const auto r = decode_frame(span<const std::uint32_t>(words.data(), words.size()), s.size(),
+                                span<const slave_layout>(chain.data(), chain.size()));
+    REQUIRE(!r.is_complete());
+    CHECK(r->size() == 0U);
+    CHECK(r->begin() == r->end());
+    CHECK(r->line_delay == 0U);
+    CHECK(r->start == 0U);
+    CHECK(!r->cds);
+    CHECK(r->ack_bits() == 0U);
+    for (const slave_data& d : r->slaves) {
+      CHECK(d.data == 0U);
+      CHECK(d.crc == 0U);
+      CHECK(d.crc_computed == 0U);
+      CHECK(d.multi_turn == 0U);
+      CHECK(d.single_turn == 0U);
+      CHECK(d.ne);
+      CHECK(d.nw);
+    }
+  }
 }

@@ -6,6 +6,7 @@
 #include <doctest/doctest.h>
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -601,4 +602,362 @@ TEST_CASE(
     CHECK(regs.mem[0x30] == 0x12);
     CHECK(regs.mem[0x31] == 0);
   }
+}
+
+TEST_CASE(
+    "the master waits max_wait_frames wait states (4096 by default) and times out at the next") {
+  // Frames of a read whose slave never gets ready: 18 header slots (frames 0..17), the byte's
+  // S in frame 18, then each frame takes one more 0 answer to S (frame 18 + w holds the w-th
+  // wait state); the one past the bound fails the access in frame 19 + bound, the last frame
+  // run: 20 + bound frames.
+  for (const std::size_t bound : {std::size_t{0}, std::size_t{3}, std::size_t{4096}}) {
+    for (const bool defaulted : {false, true}) {
+      if (defaulted && bound != 4096U) {
+        continue;
+      }
+      CAPTURE(bound);
+      CAPTURE(defaulted);
+      test_registers regs;
+      regs.busy = 1000000;
+      control_options opt;
+      opt.max_wait_frames = bound;
+      control_master m = defaulted ? control_master{} : control_master{opt};
+      control_slave<test_registers> s(regs);
+      frame_link l{m, s, regs};
+      std::uint8_t out[1] = {};
+      REQUIRE(m.start_read(0, 0x01, mutable_byte_view(out, 1)) == errc::ok);
+      CHECK(l.run() == 20U + bound);
+      CHECK(m.error() == errc::biss_timeout);
+      CHECK(m.frames() == 20U + bound);
+    }
+  }
+  CHECK(control_options{}.max_wait_frames == 4096U);
+}
+
+namespace {
+
+// Registers that answer each S slot with `w` wait states (ready() false w times, then true),
+// for every byte alike.
+struct paced_registers {
+  std::array<std::uint8_t, 128> mem{};
+  int w = 0;
+  int pending = 0;
+  bool readable(std::uint8_t) const { return true; }
+  bool writable(std::uint8_t) const { return true; }
+  bool ready() {
+    if (pending > 0) {
+      --pending;
+      return false;
+    }
+    pending = w;
+    return true;
+  }
+  std::uint8_t read(std::uint8_t a) { return mem[a]; }
+  void write(std::uint8_t a, std::uint8_t v) { mem[a] = v; }
+};
+
+}  // namespace
+
+TEST_CASE("the wait-state bound holds per byte: each byte of a sequential access may use it all") {
+  // control_options: max_wait_frames is counted for each byte. Four bytes each waited for
+  // `w` frames complete with a bound of w (4w wait states in all); a bound of w - 1 fails the
+  // first byte.
+  for (const int w : {1, 3}) {
+    for (const bool write : {false, true}) {
+      for (const int bound : {w, w - 1}) {
+        CAPTURE(w);
+        CAPTURE(write);
+        CAPTURE(bound);
+        paced_registers regs;
+        regs.w = w;
+        regs.pending = w;
+        for (unsigned a = 0; a < 128; ++a) {
+          regs.mem[a] = static_cast<std::uint8_t>(0xA0U + a);
+        }
+        control_options opt;
+        opt.max_wait_frames = static_cast<std::size_t>(bound);
+        control_master m(opt);
+        control_slave<paced_registers> s(regs);
+        std::uint8_t out[4] = {};
+        const std::uint8_t data[4] = {0x11, 0x22, 0x33, 0x44};
+        REQUIRE((write ? m.start_write(0, 0x20, byte_view(data, 4))
+                       : m.start_read(0, 0x20, mutable_byte_view(out, 4))) == errc::ok);
+        bool cds = false;
+        for (int k = 0; k < 1000 && m.busy(); ++k) {
+          cds = s.step(m.step(cds));
+        }
+        if (bound == w) {
+          REQUIRE(m.state() == control_state::done);
+          CHECK(m.transferred() == 4U);
+          for (unsigned i = 0; i < 4U; ++i) {
+            CHECK((write ? regs.mem[0x20 + i] : out[i]) ==
+                  (write ? data[i] : static_cast<std::uint8_t>(0xC0U + i)));
+          }
+        } else {
+          CHECK(m.error() == errc::biss_timeout);
+          CHECK(m.transferred() == 0U);
+        }
+      }
+    }
+  }
+}
+
+namespace {
+control_master fresh_static_master;  // a `static` master, as firmware keeps one
+}  // namespace
+
+TEST_CASE(
+    "a fresh master: idle, nothing transferred, CDM 0, and all zeros (so a static is in .bss)") {
+  // control.hpp's firmware contract: a default-constructed `static` master is all zeros.
+  const auto* bytes = reinterpret_cast<const unsigned char*>(&fresh_static_master);
+  std::size_t nonzero = 0;
+  for (std::size_t i = 0; i < sizeof(control_master); ++i) {
+    nonzero += bytes[i] != 0U ? 1U : 0U;
+  }
+  CHECK(nonzero == 0U);
+  control_master m;
+  CHECK(m.state() == control_state::idle);
+  CHECK(!m.busy());
+  CHECK(m.error() == errc::ok);
+  CHECK(m.transferred() == 0U);
+  CHECK(m.frames() == 0U);
+  CHECK(!m.step(true));  // no access: CDM 0
+  CHECK(m.frames() == 0U);
+}
+
+TEST_CASE("the slave's CDS answer to every slot of a read and a write (docs/biss.md §3's table)") {
+  // The CDM slots built here from the table, fed to the slave alone; its answers compared
+  // slot by slot: 0 for the preamble and S..CRC4, R and W echoed, 1 for a ready S, the data
+  // (read) or its echo (write), ~CRC4 of it, 0 in P; then the 0 that ends the access and two
+  // stray 1s, all answered 0 (after a write's data no preamble comes between; after a read's
+  // twelve zero slots, P and that 0 make one, and the 1s begin a header).
+  for (const bool write : {false, true}) {
+    CAPTURE(write);
+    test_registers regs;
+    regs.mem[0x2A] = 0xB6;
+    control_slave<test_registers> s(regs, {3});
+    const std::uint8_t address = write ? 0x2B : 0x2A;
+    const std::uint8_t byte = write ? 0x5C : 0xB6;
+    const std::string header = "1" + bits(3, 3) + bits(address, 7) +
+                               bits(ref_crc4((1U << 10U) | (3U << 7U) | address, 11), 4);
+    const std::string data =
+        write ? bits(byte, 8) + bits(ref_crc4(byte, 8), 4) : std::string(12, '0');
+    const std::string cdm = std::string(preamble_frames, '0') + "1" + header +
+                            (write ? "01" : "10") + "1" + data + "0" + "011";
+    const std::string want = std::string(preamble_frames, '0') + std::string(16, '0') +
+                             (write ? "01" : "10") + "1" + bits(byte, 8) +
+                             bits(ref_crc4(byte, 8), 4) + "0" + "000";
+    REQUIRE(cdm.size() == want.size());
+    std::string got;
+    for (const char c : cdm) {
+      got.push_back(s.step(c == '1') ? '1' : '0');
+    }
+    CHECK(got == want);
+    CHECK(regs.mem[0x2B] == (write ? 0x5C : 0x00));
+    CHECK(s.accesses() == 1U);
+  }
+}
+
+TEST_CASE("the slave serves nothing after an invalid R/W pair or a 0 in the S slot") {
+  // After a header whose R and W are both 0 or both 1, or a valid header whose S slot the
+  // master sends as 0 (it ended the access), the slave takes no part in the access: the S,
+  // data, CRC4 and P slots that follow (no preamble between) are all answered 0, and no
+  // register is read or written.
+  struct invalid_case {
+    const char* rw;
+    const char* s;
+  };
+  const invalid_case cases[] = {{"00", "1"}, {"11", "1"}, {"10", "0"}, {"01", "0"}};
+  for (const invalid_case& c : cases) {
+    CAPTURE(c.rw);
+    CAPTURE(c.s);
+    test_registers regs;
+    regs.mem[0x2A] = 0xB6;
+    control_slave<test_registers> s(regs, {3});
+    const std::string header = "11" + bits(3, 3) + bits(0x2A, 7) +
+                               bits(ref_crc4((1U << 10U) | (3U << 7U) | 0x2AU, 11), 4) + c.rw;
+    const std::string after = std::string(c.s) + "1" + bits(0x5C, 8) + bits(ref_crc4(0x5C, 8), 4) +
+                              "0" + "1" + std::string(12, '1') + "0";
+    for (std::size_t k = 0; k < preamble_frames; ++k) {
+      REQUIRE(!s.step(false));
+    }
+    for (const char b : header) {
+      (void)s.step(b == '1');
+    }
+    std::string got;
+    for (const char b : after) {
+      got.push_back(s.step(b == '1') ? '1' : '0');
+    }
+    CHECK(got == std::string(after.size(), '0'));
+    CHECK(regs.mem[0x2A] == 0xB6);
+    CHECK(regs.writes == 0);
+    CHECK(s.accesses() == 0U);
+  }
+}
+
+namespace {
+
+// test_registers whose register 0x41 is hidden at the first question and readable after it
+// (as a register that a slave makes readable once loaded).
+struct late_registers : test_registers {
+  int asked = 0;
+  bool readable(std::uint8_t a) {
+    if (a == 0x41U) {
+      return asked++ > 0;
+    }
+    return !hidden[a];
+  }
+};
+
+}  // namespace
+
+TEST_CASE("a sequential access refused at a register stays refused if the register opens later") {
+  // Once the slave has found the next address not readable it ignores the rest of the access
+  // (control.hpp: it stops answering); the master's repeated S gets 0 and times out.
+  late_registers regs;
+  regs.mem[0x40] = 0x40;
+  regs.mem[0x41] = 0x41;
+  control_options opt;
+  opt.max_wait_frames = 8;
+  control_master m(opt);
+  control_slave<late_registers> s(regs, {0});
+  std::uint8_t out[2] = {};
+  REQUIRE(m.start_read(0, 0x40, mutable_byte_view(out, 2)) == errc::ok);
+  bool cds = false;
+  for (int k = 0; k < 200 && m.busy(); ++k) {
+    cds = s.step(m.step(cds));
+  }
+  CHECK(m.error() == errc::biss_timeout);
+  CHECK(out[0] == 0x40);
+  CHECK(out[1] == 0x00);
+  CHECK(regs.asked >= 1);
+  CHECK(s.accesses() == 1U);
+}
+
+namespace {
+
+// Feeds an observer the CDM slots `cdm` and the CDS answers `cds` (cds[k] answers cdm[k], so
+// it arrives with the next frame), then one more frame; returns every step's result.
+std::vector<observed_access> feed_observer(const std::string& cdm, const std::string& cds) {
+  control_observer obs;
+  std::vector<observed_access> all;
+  for (std::size_t k = 0; k <= cdm.size(); ++k) {
+    const bool answer = k > 0U && cds[k - 1U] == '1';
+    all.push_back(obs.step(answer, k < cdm.size() && cdm[k] == '1'));
+  }
+  return all;
+}
+
+bool all_zero(const observed_access& e) {
+  return e.kind == observed_kind::none && e.slave_id == 0U && e.address == 0U && !e.write &&
+         !e.cts && e.crc == 0U && !e.crc_ok && e.echo == 0U && e.data == 0U && e.answer == 0U &&
+         e.answer_crc == 0U && !e.stop && e.waits == 0U;
+}
+
+}  // namespace
+
+TEST_CASE(
+    "observer: a read and a write reported as two events each, without the other kind's fields") {
+  // Register 0x2A of slave 3 read (0xB6) and written (0x5C), slots as docs/biss.md §3's table
+  // gives them. The observer's events are printed whole (the Python binding's repr shows every
+  // field), so a field an event's kind does not describe is 0 (false), and a step that
+  // completes nothing returns an event with every field 0. After P and the 0 that ends the
+  // access, a 1 answered 1 and more slots without a preamble are not a next byte (control.hpp:
+  // the access is over; after a write's data the 0s are fewer than a preamble).
+  const std::uint32_t hcrc = ref_crc4((1U << 10U) | (3U << 7U) | 0x2AU, 11);
+  for (const bool write : {false, true}) {
+    CAPTURE(write);
+    const std::uint8_t v = write ? 0x5C : 0xB6;
+    const std::string slots = bits(v, 8) + bits(ref_crc4(v, 8), 4);
+    const std::string cdm = std::string(preamble_frames, '0') + "11" + bits(3, 3) + bits(0x2A, 7) +
+                            bits(hcrc, 4) + (write ? "01" : "10") + "1" +
+                            (write ? slots : std::string(12, '0')) + "0" + "0" + "1" +
+                            std::string(12, '0') + "0" + "000";
+    const std::string cds = std::string(preamble_frames, '0') + std::string(16, '0') +
+                            (write ? "01" : "10") + "1" + slots + "0" + "0" + "1" +
+                            std::string(12, '1') + "0" + "000";
+    REQUIRE(cdm.size() == cds.size());
+    const std::vector<observed_access> all = feed_observer(cdm, cds);
+    std::vector<observed_access> events;
+    for (const observed_access& e : all) {
+      if (e.kind == observed_kind::none) {
+        CHECK(all_zero(e));
+      } else {
+        events.push_back(e);
+      }
+    }
+    REQUIRE(events.size() == 2U);
+    const observed_access& h = events[0];
+    CHECK(h.kind == observed_kind::header);
+    CHECK(h.slave_id == 3U);
+    CHECK(h.address == 0x2AU);
+    CHECK(h.write == write);
+    CHECK(h.cts);
+    CHECK(h.crc == hcrc);
+    CHECK(h.crc_ok);
+    CHECK(h.echo == (write ? 0x1U : 0x2U));
+    CHECK(h.data == 0U);  // byte fields: none in a header
+    CHECK(h.answer == 0U);
+    CHECK(h.answer_crc == 0U);
+    CHECK(!h.stop);
+    CHECK(h.waits == 0U);
+    const observed_access& b = events[1];
+    CHECK(b.kind == observed_kind::byte);
+    CHECK(b.slave_id == 3U);
+    CHECK(b.address == 0x2AU);
+    CHECK(b.write == write);
+    CHECK(b.data == v);
+    CHECK(b.crc == ref_crc4(v, 8));
+    CHECK(b.crc_ok);
+    CHECK(b.answer == v);
+    CHECK(b.answer_crc == ref_crc4(v, 8));
+    CHECK(!b.stop);
+    CHECK(b.waits == 0U);
+    CHECK(!b.cts);  // header fields: none in a byte
+    CHECK(b.echo == 0U);
+  }
+}
+
+TEST_CASE("observer: wait states are counted per byte, and none carry over into a new access") {
+  // Slave 0, register 0x10: a header for a read, then per byte S slots (each answered 0 is a
+  // wait state, the one answered 1 starts the data), 8 data and 4 CRC4 slots, P.
+  const auto header = [](std::uint32_t address, std::string& cdm, std::string& cds) {
+    cdm +=
+        "11" + bits(0, 3) + bits(address, 7) + bits(ref_crc4((1U << 10U) | address, 11), 4) + "10";
+    cds += std::string(16, '0') + "10";
+  };
+  const auto byte = [](std::uint8_t v, std::size_t waits, std::string& cdm, std::string& cds) {
+    cdm += std::string(waits + 1U, '1') + std::string(12, '0') + "0";
+    cds += std::string(waits, '0') + "1" + bits(v, 8) + bits(ref_crc4(v, 8), 4) + "0";
+  };
+  const auto waits_of_bytes = [](const std::string& cdm, const std::string& cds) {
+    std::vector<std::size_t> waits;
+    for (const observed_access& e : feed_observer(cdm, cds)) {
+      if (e.kind == observed_kind::byte) {
+        waits.push_back(e.waits);
+      }
+    }
+    return waits;
+  };
+  // a sequential read of two bytes: 2 wait states before the first, none before the second
+  std::string cdm(preamble_frames, '0');
+  std::string cds(preamble_frames, '0');
+  header(0x10, cdm, cds);
+  byte(0x12, 2, cdm, cds);
+  byte(0x34, 0, cdm, cds);
+  cdm += "0";
+  cds += "0";
+  CHECK(waits_of_bytes(cdm, cds) == std::vector<std::size_t>{2, 0});
+  // an access whose master gives up in a wait state (3 of them, then the preamble), and a
+  // new access whose byte has no wait state
+  cdm.assign(preamble_frames, '0');
+  cds.assign(preamble_frames, '0');
+  header(0x10, cdm, cds);
+  cdm += "111" + std::string(preamble_frames, '0');
+  cds += std::string(3 + preamble_frames, '0');
+  header(0x11, cdm, cds);
+  byte(0x56, 0, cdm, cds);
+  cdm += "0";
+  cds += "0";
+  CHECK(waits_of_bytes(cdm, cds) == std::vector<std::size_t>{0});
 }

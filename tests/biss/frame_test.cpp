@@ -90,3 +90,23 @@ TEST_CASE("slave_layout: validate() refuses each too-wide field alone") {
   l.alignment_bits = 65;
   CHECK(l.validate() == errc::biss_layout);
 }
+
+TEST_CASE("crc_from_biss_notation: the smallest polynomials, the output choice, the defaults") {
+  // The width is the position of the highest set bit: 0 and 1 give no CRC, x (0x2) and x + 1
+  // (0x3, a parity bit) a width of 1.
+  CHECK(crc_from_biss_notation(0x0).width == 0U);
+  CHECK(crc_from_biss_notation(0x1).width == 0U);
+  CHECK(crc_from_biss_notation(0x2).width == 1U);
+  CHECK(crc_from_biss_notation(0x2).poly == 0x0U);
+  CHECK(crc_from_biss_notation(0x3).width == 1U);
+  CHECK(crc_from_biss_notation(0x3).poly == 0x1U);
+  CHECK(crc_from_biss_notation(0x80000001U).width == 31U);
+  // sent inverted unless asked plain
+  CHECK(crc_from_biss_notation(0x43).inverted);
+  CHECK(crc_from_biss_notation(0x43, 0, crc_output::inverted).inverted);
+  CHECK_FALSE(crc_from_biss_notation(0x43, 0, crc_output::plain).inverted);
+  CHECK(crc_from_biss_notation(0x43, 0, crc_output::plain).width == 6U);
+  // a default crc_format is the BiSS CRC6 x^6 + x + 1 (notation 0x43), start 0, inverted
+  CHECK(crc_format{} == crc_from_biss_notation(0x43));
+  CHECK(crc_format{}.poly == 0x03U);
+}

@@ -276,3 +276,113 @@ TEST_CASE("position_config_for(layout) without max_step: any step unwrapping can
   CHECK(t.update(100 + 32767) == position_status::accepted);
   CHECK(t.counts() == 100 + 32767);
 }
+
+TEST_CASE("a given turn with 62 multi-turn bits, the most; the invalid configurations alike") {
+  // position.hpp: more than 62 multi-turn bits is invalid; 62 with one count a turn is the
+  // largest range a tracker takes (2^62). Every invalid configuration the three forms give is
+  // the same value: 0 counts, 0 turns, the max_step given (as position_config::from_bits's).
+  constexpr bs::slave_layout most{62, 0, 0, true, true, bs::crc6_43};
+  const auto c = bs::position_config_for(most, 1, 0);
+  CHECK(c.counts_per_turn == 1U);
+  CHECK(c.turns == (std::uint64_t{1} << 62U));
+  CHECK(c.valid());
+  CHECK(c.range() == (std::uint64_t{1} << 62U));
+  constexpr bs::slave_layout too_many{63, 0, 0, true, true, bs::crc6_43};
+  bs::bp3_profile linear = ab::default_bp3(bs::encoder_type::linear, 1000, 0);
+  const position_config invalid[] = {
+      bs::position_config_for(too_many, 1000, 7), bs::position_config_for(too_many, 7),
+      bs::position_config_for(linear, 7), position_config::from_bits(0, 63, 7)};
+  for (const position_config& i : invalid) {
+    CHECK(i.counts_per_turn == 0U);
+    CHECK(i.turns == 0U);
+    CHECK(i.max_step == 7U);
+    CHECK_FALSE(i.valid());
+  }
+}
+
+TEST_CASE("position_config_for(bp3_profile): without max_step any step; 62 MT_LEN bits the most") {
+  // A rotary profile of 2^10 pulses a turn (SIP_CNT 1, SIP_RES 10) and 4 multi-turn bits:
+  // M = 2^14, and without max_step the tracker takes any step unwrapping can tell,
+  // (M - 1) / 2. One pulse a turn and MT_LEN 62 is the largest range, 2^62; 63 is invalid.
+  bs::bp3_profile p = ab::default_bp3(bs::encoder_type::rotary, 1, 10);
+  p.mt_length = 4;
+  const position_config pc = bs::position_config_for(p);
+  REQUIRE(pc.valid());
+  CHECK(pc.max_step == 0U);
+  position_tracker t(pc);
+  CHECK(t.max_step() == 8191U);
+  REQUIRE(t.update(100) == position_status::seeded);
+  CHECK(t.update(100 + 8191) == position_status::accepted);
+  bs::bp3_profile one = ab::default_bp3(bs::encoder_type::rotary, 1, 0);
+  one.mt_length = 62;
+  const position_config most = bs::position_config_for(one);
+  CHECK(most.valid());
+  CHECK(most.range() == (std::uint64_t{1} << 62U));
+  one.mt_length = 63;
+  CHECK_FALSE(bs::position_config_for(one).valid());
+}
+
+TEST_CASE(
+    "update_position: a slave past the chain is no reading; every no reading is a missed period") {
+  // position.hpp: a slave index past the chain, like a failed frame, is a read period without
+  // a reading: position_status::no_reading and missed() (periods() counts it).
+  const bs::slave_layout chain[2] = {bs::absys_layout, bs::absys_layout};
+  const bs::slave_values values[2] = {{0, 1000, true, true}, {0, 2000, true, true}};
+  std::uint32_t words[4] = {};
+  const auto n = bs::encode_frame(span<const bs::slave_layout>(chain, 2),
+                                  span<const bs::slave_values>(values, 2), words);
+  REQUIRE(n.ok());
+  const auto r = bs::decode_frame(words, *n, span<const bs::slave_layout>(chain, 2));
+  REQUIRE(r.is_complete());
+  position_tracker t(bs::position_config_for(bs::absys_layout));
+  CHECK(bs::update_position(t, r, 1) == position_status::seeded);
+  CHECK(t.counts() == 2000);
+  CHECK(t.periods() == 1U);
+  CHECK(bs::update_position(t, r, 2) == position_status::no_reading);  // past the chain
+  CHECK(t.periods() == 2U);
+  CHECK(bs::update_position(t, r, 5) == position_status::no_reading);
+  CHECK(t.periods() == 3U);
+  const auto cut = bs::decode_frame(words, 20, span<const bs::slave_layout>(chain, 2));
+  REQUIRE(cut.is_incomplete());
+  CHECK(bs::update_position(t, cut, 0) == position_status::no_reading);
+  CHECK(t.periods() == 4U);
+  CHECK(t.counts() == 2000);
+  CHECK(bs::update_position(t, r, 1) == position_status::accepted);
+  CHECK(t.periods() == 1U);
+}
+
+TEST_CASE("frame_timing_for: the longest cycle, eight slaves, 2^32 clocks refused at any clock") {
+  // At 1 GHz a clock lasts 1 ns: ABSYS with no line delay and an Ack of 1 captures 44 clocks;
+  // a timeout of 2^32 - 1 - 44 clocks makes a cycle of 2^32 - 1 ns, the longest accepted, one
+  // clock more is out_of_range.
+  const auto longest = bs::frame_timing_for(ab::layout, 1000000000U, 0, 1, 4294967295U - 44U);
+  REQUIRE(longest.ok());
+  CHECK(longest->capture_bits == 44U);
+  CHECK(longest->response_timeout_ns == 44U);
+  CHECK(longest->cycle_ns == 4294967295U);
+  CHECK(bs::frame_timing_for(ab::layout, 1000000000U, 0, 1, 4294967296U - 44U).error() ==
+        errc::out_of_range);
+  // a chain of max_chain slaves: 1 + 1 + 2 + 8 x 40 clocks
+  const bs::slave_layout eight[bs::max_chain] = {ab::layout, ab::layout, ab::layout, ab::layout,
+                                                 ab::layout, ab::layout, ab::layout, ab::layout};
+  const auto c =
+      bs::frame_timing_for(span<const bs::slave_layout>(eight, bs::max_chain), 2500000, 0, 1, 0);
+  REQUIRE(c.ok());
+  CHECK(c->capture_bits == 4U + 320U);
+  // position.hpp: a count of 2^32 clocks or more is out_of_range whatever the clock, also at
+  // 4 GHz where 2^32 clocks last about 2^30 ns
+  if (sizeof(std::size_t) > 4U) {
+    const auto count = static_cast<std::size_t>(std::uint64_t{1} << 32U);
+    CHECK(bs::frame_timing_for(ab::layout, 4000000000U, count, 1, 0).error() == errc::out_of_range);
+    CHECK(bs::frame_timing_for(ab::layout, 4000000000U, 0, count, 0).error() == errc::out_of_range);
+    CHECK(bs::frame_timing_for(ab::layout, 4000000000U, 0, 1, count).error() == errc::out_of_range);
+    CHECK(bs::frame_timing_for(ab::layout, 4000000000U, count - 1U, 1, 0).ok());
+  }
+  // a refused timing's value is an empty one: nothing computed, the decoder's default bounds
+  const auto refused = bs::frame_timing_for(ab::layout, 0, 0, 1, 0);
+  REQUIRE(!refused.ok());
+  CHECK(refused.value().capture_bits == 0U);
+  CHECK(refused.value().response_timeout_ns == 0U);
+  CHECK(refused.value().cycle_ns == 0U);
+  CHECK(refused.value().options.max_line_delay == bs::decode_options{}.max_line_delay);
+}

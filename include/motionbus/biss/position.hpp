@@ -122,7 +122,7 @@ constexpr std::size_t clocks_for_ns(std::uint32_t ns, std::uint32_t clock_hz) no
 /// added to the measured line delay (a delay measured in whole clocks may round either way),
 /// so capture_bits = line_delay_bits + 1 + ack_bits + 2 + the chain's bits. Errors:
 /// invalid_argument (clock 0, Ack 0, empty chain or longer than max_chain), biss_layout,
-/// out_of_range (a time above 2^32 - 1 ns).
+/// out_of_range (a count of 2^32 clocks or more, whatever the clock; a time above 2^32 - 1 ns).
 constexpr result<frame_timing> frame_timing_for(span<const slave_layout> chain,
                                                 std::uint32_t clock_hz, std::size_t line_delay_bits,
                                                 std::size_t ack_bits,
@@ -137,8 +137,8 @@ constexpr result<frame_timing> frame_timing_for(span<const slave_layout> chain,
     }
     bits += chain[i].frame_bits();
   }
-  // Counts of 2^32 clocks or more cannot fit 2^32 ns (compared as 64-bit values, whatever the
-  // width of size_t).
+  // Counts of 2^32 clocks or more are refused: at 1 GHz or less they last 2^32 ns or more, and
+  // the products below stay under 2^64 (compared as 64-bit values, whatever size_t's width).
   const auto too_long = [](std::uint64_t clocks) { return clocks >= (std::uint64_t{1} << 32U); };
   if (too_long(line_delay_bits) || too_long(ack_bits) || too_long(timeout_bits)) {
     return errc::out_of_range;
