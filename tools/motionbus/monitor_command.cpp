@@ -84,7 +84,7 @@ int watch(serial::port& port, const cli::monitor_options& l, Monitor& m, const c
 // allowed (Serial Line §2.5.2.2: up to 1 s).
 class ascii_monitor {
  public:
-  ascii_monitor(mo::report_id_format fc11, std::uint32_t response_us)
+  ascii_monitor(mo::report_id_format fc11, std::uint64_t response_us)
       : fc11_(fc11), response_us_(response_us) {}
 
   void bytes(const std::uint8_t* data, std::size_t n, std::uint64_t time_us) {
@@ -167,7 +167,7 @@ class ascii_monitor {
 
   mo::ascii_framer rx_{mo::framer_role::listener};
   mo::report_id_format fc11_;
-  std::uint32_t response_us_;
+  std::uint64_t response_us_;
   std::vector<std::uint8_t> request_;  // the pending request in its RTU form
   bool pending_ = false;
   std::uint64_t pending_time_ = 0;
@@ -181,14 +181,15 @@ int monitor_modbus(const cli::monitor_options& opts) {
     return 1;
   }
   if (opts.ascii) {
-    ascii_monitor m(fc11, opts.response_ms * 1000U);
+    ascii_monitor m(fc11, std::uint64_t{opts.response_ms} * 1000U);
     return watch(port, opts, m, "slave");
   }
   const serial::settings s = opts.watched.line.settings();
   const mo::parity p = modbus_io::parity_of(s);
   const std::uint32_t t35 = mo::t35_us(s.baud, p, s.stop_bits);
   modbus_monitor m(fc11, opts.watched.gap_or(t35 > min_gap_us ? t35 : min_gap_us),
-                   mo::character_time_us(s.baud, p, s.stop_bits), opts.response_ms * 1000U);
+                   mo::character_time_us(s.baud, p, s.stop_bits),
+                   std::uint64_t{opts.response_ms} * 1000U);
   return watch(port, opts, m, "slave");
 }
 
@@ -198,7 +199,8 @@ int monitor_tformat(const cli::monitor_options& opts) {
     return 1;
   }
   tformat_monitor m(opts.watched.gap_or(min_gap_us),
-                    10U * 1000000U / opts.watched.line.settings().baud, opts.response_ms * 1000U);
+                    10U * 1000000U / opts.watched.line.settings().baud,
+                    std::uint64_t{opts.response_ms} * 1000U);
   return watch(port, opts, m, "data_id");
 }
 
