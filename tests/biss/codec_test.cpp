@@ -24,6 +24,7 @@ namespace {
 
 using testutil::as_ints;
 using testutil::bits_of;
+using testutil::bits_of_words;
 
 // The wire CRC of a bit string: long division (reference), inverted when the format says so.
 std::uint32_t ref_wire_crc(const crc_format& f, const std::string& covered) {
@@ -151,11 +152,7 @@ TEST_CASE("ABSYS frame: encoder output equals the frame built from the notes, de
     const auto n = encode_frame(absys_layout, sv, span<std::uint32_t>(words, 4), line);
     REQUIRE(n.ok());
     REQUIRE(*n == want.size());
-    std::string got;
-    for (std::size_t k = 0; k < *n; ++k) {
-      got.push_back(((words[k / 32U] >> (31U - k % 32U)) & 1U) != 0U ? '1' : '0');
-    }
-    CHECK(got == want);
+    CHECK(bits_of_words(words, *n) == want);
     std::vector<slave_data> out;
     const auto r = decode_string<std::uint32_t>(want, chain, out);
     REQUIRE(r.is_complete());
@@ -832,11 +829,7 @@ TEST_CASE("64 data bits with nE and nW: the CRC6 covers all 66 bits (long divisi
                                   span<std::uint32_t>(words, 4), line);
       REQUIRE(n.ok());
       REQUIRE(*n == s.size());
-      std::string got;
-      for (std::size_t k = 0; k < *n; ++k) {
-        got.push_back(((words[k / 32U] >> (31U - k % 32U)) & 1U) != 0U ? '1' : '0');
-      }
-      CHECK(got == s);
+      CHECK(bits_of_words(words, *n) == s);
     }
   }
 }
@@ -1016,11 +1009,7 @@ TEST_CASE(
     const auto n = encode_frame(l, slave_values{}, span<std::uint32_t>(words, 4));
     REQUIRE(n.ok());
     REQUIRE(*n == want.size());
-    std::string got;
-    for (std::size_t k = 0; k < *n; ++k) {
-      got.push_back(((words[k / 32U] >> (31U - k % 32U)) & 1U) != 0U ? '1' : '0');
-    }
-    CHECK(got == want);
+    CHECK(bits_of_words(words, *n) == want);
   }
 }
 
@@ -1044,11 +1033,7 @@ TEST_CASE("a chain of max_chain (eight) slaves: encoded as the notes build it, d
                               span<std::uint32_t>(words, 12), line);
   REQUIRE(n.ok());
   REQUIRE(*n == want.size());
-  std::string got;
-  for (std::size_t k = 0; k < *n; ++k) {
-    got.push_back(((words[k / 32U] >> (31U - k % 32U)) & 1U) != 0U ? '1' : '0');
-  }
-  CHECK(got == want);
+  CHECK(bits_of_words(words, *n) == want);
   std::vector<slave_data> out;
   const auto r = decode_string<std::uint32_t>(want, chain, out);
   REQUIRE(r.is_complete());
@@ -1069,25 +1054,18 @@ TEST_CASE("encode_frame: a frame that fills the buffer to its last bit is writte
   const std::string frame =
       frame_string(0, 1, false, {absys_layout}, {{0, 0x89ABCDEFU, true, false}});
   REQUIRE(frame.size() == 43U);
-  const auto as_string = [](const std::uint32_t(&w)[2]) {
-    std::string s;
-    for (std::size_t k = 0; k < 64U; ++k) {
-      s.push_back(((w[k / 32U] >> (31U - k % 32U)) & 1U) != 0U ? '1' : '0');
-    }
-    return s;
-  };
   line_options timeout;
   timeout.timeout_bits = 21;
   std::uint32_t a[2] = {0xFFFFFFFFU, 0xFFFFFFFFU};
   const auto na = encode_frame(absys_layout, v, a, timeout);
   REQUIRE(na.ok());
   CHECK(*na == 64U);
-  CHECK(as_string(a) == frame + std::string(21, '0'));
+  CHECK(bits_of_words(a, 64) == frame + std::string(21, '0'));
   std::uint32_t b[2] = {};
   const auto nb = encode_frame(absys_layout, v, b, line_options{}, bit_order::msb_first, 21);
   REQUIRE(nb.ok());
   CHECK(*nb == 43U);
-  CHECK(as_string(b) == std::string(21, '0') + frame);
+  CHECK(bits_of_words(b, 64) == std::string(21, '0') + frame);
   timeout.timeout_bits = 22;
   CHECK(encode_frame(absys_layout, v, a, timeout).error() == errc::buffer_too_small);
   CHECK(encode_frame(absys_layout, v, b, line_options{}, bit_order::msb_first, 22).error() ==
@@ -1120,11 +1098,7 @@ TEST_CASE("encode_frame: nE alone, nW alone, neither: the bits the notes give, c
                                     span<const slave_values>(values, 1), words, line);
         REQUIRE(n.ok());
         REQUIRE(*n == want.size());
-        std::string got;
-        for (std::size_t k = 0; k < *n; ++k) {
-          got.push_back(((words[k / 32U] >> (31U - k % 32U)) & 1U) != 0U ? '1' : '0');
-        }
-        CHECK(got == want);
+        CHECK(bits_of_words(words, *n) == want);
       }
     }
   }

@@ -150,6 +150,14 @@ std::uint8_t sum_of(const std::uint8_t (&bank)[bank_size]) {
   return static_cast<std::uint8_t>(sum);
 }
 
+// Every byte of a bank as expected, each one its own check (a failure names the byte).
+void check_bank(const std::uint8_t (&bank)[bank_size], const std::uint8_t (&want)[bank_size]) {
+  for (std::size_t i = 0; i < bank_size; ++i) {
+    CAPTURE(i);
+    CHECK(bank[i] == want[i]);
+  }
+}
+
 }  // namespace
 
 TEST_CASE("EDS common part: the default bank is the AMO ABSYS document's, byte by byte (§2.8)") {
@@ -174,10 +182,7 @@ TEST_CASE("EDS common part: the default bank is the AMO ABSYS document's, byte b
     b = 0xEE;
   }
   REQUIRE(encode_eds_common(eds_common{}, mutable_byte_view(bank, bank_size)) == errc::ok);
-  for (std::size_t i = 0; i < bank_size; ++i) {
-    CAPTURE(i);
-    CHECK(bank[i] == want[i]);
-  }
+  check_bank(bank, want);
   const auto back = decode_eds_common(byte_view(bank, bank_size));
   REQUIRE(back.is_complete());
   CHECK(back.value() == eds_common{});
@@ -202,10 +207,7 @@ TEST_CASE("BP3 profile: the default bank byte by byte (§2.9), and EN_TYP linear
   want[0x3F] = sum_of(want);
   std::uint8_t bank[bank_size] = {};
   REQUIRE(encode_bp3(bp3_profile{}, bank) == errc::ok);
-  for (std::size_t i = 0; i < bank_size; ++i) {
-    CAPTURE(i);
-    CHECK(bank[i] == want[i]);
-  }
+  check_bank(bank, want);
   // §2.9.3: rotary 0x00, linear 0x01, both ways
   bp3_profile lin;
   lin.type = encoder_type::linear;
