@@ -5,7 +5,9 @@ Reports every mutant (killed, survived, stillborn: it does not compile, or timed
 score, killed / (killed + survived).
 
 Usage: mutate.py --build DIR [--seed N] [--count N | --all | --site TEXT ...] [--files GLOB ...]
-                 [--timeout S] [--report FILE] [--resume] [--list] [--parallel N] [--jobs N]
+                 [--timeout S] [--report FILE] [--records FILE] [--resume] [--list]
+                 [--parallel N] [--jobs N]
+       mutate.py --summary --records FILE [--files GLOB ...]
 
 DIR: a configured Ninja build of this source tree (fast: clang -O0 without debug information,
 no tools: cmake -S . -B build/mut -G Ninja -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=None
@@ -26,12 +28,18 @@ tests/modbus/server_test.cpp), the other doctest sources, then the other tests, 
 cheapest to rebuild first; each has its objects that include the header compiled with the
 mutant, is linked (a program of its own; the project's static libraries by their objects)
 and run as ctest runs it; the first that fails kills the mutant and the rest are not built; a
-mutant that fails to compile or link is stillborn; one that passes them all survives.
+mutant that fails to compile or link is stillborn; one that passes them all survives. A test
+whose rebuilt objects the mutant leaves byte for byte as the build has them is not linked or
+run again: its programs are those that passed at the start ("unchanged" counts such tests).
 --all takes every mutant, --seed and --count a sample, --site TEXT (repeatable) every mutant
 whose listing line (`path:line: kind: before  ->  after`) contains TEXT: to check one again.
---parallel N builds and runs N mutants at once. Each mutant's record is appended to
-REPORT.partial as it ends; --resume skips those already there whose header is unchanged (a
-full run can be stopped and resumed). The report gives, for each mutant, its wall time, the
+--parallel N builds and runs N mutants at once. Each mutant's record is appended to the
+records file (--records; REPORT.partial unless named) as it ends; --resume skips those already
+there whose header is unchanged (a full run can be stopped and resumed). The full run keeps its
+records in docs/mutation/records.jsonl, committed as it goes: a run longer than a session goes
+on in the next from what was committed. --summary reads a records file and builds nothing: for
+each header its mutants today, those recorded for its present contents, their statuses and
+score, then every survivor. The report gives, for each mutant, its wall time, the
 CPU time of its builds and runs (the finished child processes' user + system time: not
 inflated by a shared machine's load), the tests tried, and for each killed one the test and
 the test cases (or the last line of output) that failed.
@@ -50,6 +58,7 @@ first COUNT taken.
 """
 import argparse
 import concurrent.futures
+import filecmp
 import glob
 import hashlib
 import json
@@ -88,8 +97,12 @@ def code_lines(text):
     """(index, line) for lines that hold code to mutate."""
     out = []
     in_block = False
+    continued = False  # the line before ends with a backslash: this one continues it
     for i, line in enumerate(text.splitlines(keepends=True)):
         s = line.strip()
+        if continued:
+            continued = s.endswith("\\")
+            continue  # a preprocessor line continued (a macro's body, an #if's condition)
         if in_block:
             if "*/" in s:
                 in_block = False
@@ -97,10 +110,11 @@ def code_lines(text):
         if s.startswith("/*"):
             in_block = "*/" not in s
             continue
-        if not s or s.startswith("//") or s.startswith("#") or "static_assert" in s:
+        if s.startswith("#"):
+            continued = s.endswith("\\")
             continue
-        if s.endswith("\\") or (out and out[-1][1].rstrip().endswith("\\")):
-            continue  # a preprocessor line continued
+        if not s or s.startswith("//") or "static_assert" in s:
+            continue
         if s.startswith("template") or s.startswith("using ") or s.startswith("namespace"):
             continue
         out.append((i, line))
@@ -326,9 +340,10 @@ def mutate_one(job):
         f.write("".join(lines))
     t0 = time.time()
     build_cpu = run_cpu = 0.0
-    status, failed, by, tried = "survived", [], None, 0
+    status, failed, by, tried, same = "survived", [], None, 0, 0
     steps = suite.plan(path, users)
     built = {}  # object -> its mutated build (an object shared by two programs is built once)
+    changed = {}  # object -> whether the mutant's build of it differs from the build's own
 
     def step(cmd, cwd, limit):
         c0 = children_cpu()
@@ -351,22 +366,33 @@ def mutate_one(job):
                     status = "timeout" if rc is None else "stillborn"
                     break
                 built[obj] = out_obj
+                changed[obj] = not filecmp.cmp(out_obj, os.path.join(suite.build, obj),
+                                               shallow=False)
             if status != "survived":
                 break
-            binary = os.path.join(work, f"p{len(binaries)}")
-            if argv is None:  # one doctest source alone
-                objects = suite.main + [built[o] for o in objs]
-            else:
-                objects = [built.get(o, os.path.join(suite.build, o)) for o in program.objects]
-            rc, out, cpu = step(program.link_cmd(objects, binary), suite.build, timeout)
-            build_cpu += cpu
-            if rc != 0:
-                status = "stillborn"
-                break
-            binaries[os.path.join(suite.build, target)] = binary
+        # Objects the mutant leaves byte for byte as the build has them make the programs that
+        # passed at the start (the mutated code is not in them): not linked or run again.
+        if status == "survived" and any(changed[o] for _, objs in rebuild for o in objs):
+            for target, objs in rebuild:
+                program = suite.programs[target]
+                binary = os.path.join(work, f"p{len(binaries)}")
+                if argv is None:  # one doctest source alone
+                    objects = suite.main + [built[o] for o in objs]
+                else:
+                    objects = [built.get(o, os.path.join(suite.build, o))
+                               for o in program.objects]
+                rc, out, cpu = step(program.link_cmd(objects, binary), suite.build, timeout)
+                build_cpu += cpu
+                if rc != 0:
+                    status = "stillborn"
+                    break
+                binaries[os.path.join(suite.build, target)] = binary
         if status != "survived":
             by = label
             break
+        if not binaries:
+            same += 1
+            continue
         if argv is None:
             cmd, cwd = [next(iter(binaries.values())), "--no-version"], suite.build
         else:
@@ -382,9 +408,63 @@ def mutate_one(job):
     shutil.rmtree(work, ignore_errors=True)
     return {"where": f"{os.path.relpath(path, ROOT)}:{i + 1}", "kind": kind,
             "before": before.strip(), "after": after.strip(), "status": status,
-            "by": by, "tests": f"{tried} of {len(steps)}",
+            "by": by, "tests": f"{tried} of {len(steps)}", "unchanged": same,
             "seconds": round(time.time() - t0, 1), "build_cpu_s": round(build_cpu, 1),
             "run_cpu_s": round(run_cpu, 1), "failed": failed}
+
+
+# What a records file keeps of a result (where, kind, before and after are in its key).
+RECORDED = ("key", "status", "by", "tests", "unchanged", "seconds", "build_cpu_s", "run_cpu_s",
+            "failed")
+
+
+def read_records(path):
+    """The records of a records file, each completed from its key."""
+    out = []
+    with open(path, encoding="utf-8") as f:
+        for line in f:
+            r = json.loads(line)
+            m = re.match(r"v2 \w+ (.*?:\d+): (\w+): (.*)  ->  (.*)$", r["key"])
+            r.update(where=m.group(1), kind=m.group(2), before=m.group(3), after=m.group(4))
+            out.append(r)
+    return out
+
+
+def summary_of(path, headers, key):
+    """Prints, for each header, its mutants, those recorded for its present contents and their
+    statuses, the totals and every survivor; 0."""
+    recorded = {r["key"]: r for r in read_records(path)}
+    statuses = ("killed", "survived", "stillborn", "timeout")
+    total = dict.fromkeys(statuses + ("mutants", "recorded"), 0)
+    cpu = 0.0
+    survivors = []
+    print("| header | mutants | recorded | killed | survived | stillborn | timeout | score |")
+    print("|---|---|---|---|---|---|---|---|")
+    for h in headers:
+        mine = [recorded[key(s)] for s in sites(h) if key(s) in recorded]
+        n = dict.fromkeys(statuses, 0)
+        for r in mine:
+            n[r["status"]] += 1
+            cpu += r["build_cpu_s"] + r["run_cpu_s"]
+        survivors += [r for r in mine if r["status"] == "survived"]
+        decided = n["killed"] + n["survived"]
+        total["mutants"] += len(sites(h))
+        total["recorded"] += len(mine)
+        for k in statuses:
+            total[k] += n[k]
+        score = f"{100.0 * n['killed'] / decided:.1f} %" if decided else "-"
+        print(f"| `{os.path.relpath(h, os.path.join(ROOT, 'include', 'motionbus'))}` | "
+              f"{len(sites(h))} | {len(mine)} | " + " | ".join(str(n[k]) for k in statuses) +
+              f" | {score} |")
+    decided = total["killed"] + total["survived"]
+    score = f"{100.0 * total['killed'] / decided:.1f} %" if decided else "-"
+    print(f"| all | {total['mutants']} | {total['recorded']} | " +
+          " | ".join(str(total[k]) for k in statuses) + f" | {score} |")
+    per = f"{cpu / total['recorded']:.1f}" if total["recorded"] else "-"
+    print(f"\nCPU {cpu:.0f} s for the {total['recorded']} recorded ({per} s a mutant)")
+    for r in survivors:
+        print(f"  SURVIVED {r['where']} {r['kind']}: {r['before']}  ->  {r['after']}")
+    return 0
 
 
 def children_cpu():
@@ -404,7 +484,7 @@ def run(cmd, timeout, cwd=None):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--build", required=True)
+    ap.add_argument("--build", help="the build to mutate (all but --summary)")
     ap.add_argument("--seed", type=int, default=28)
     ap.add_argument("--count", type=int, default=300)
     ap.add_argument("--files", nargs="*", default=["include/motionbus/**/*.hpp"])
@@ -419,9 +499,14 @@ def main():
                     help="mutants built and run at once (default 1)")
     ap.add_argument("--all", action="store_true", help="every mutant, not a sample")
     ap.add_argument("--resume", action="store_true",
-                    help="skip the mutants already in REPORT.partial (same header contents)")
+                    help="skip the mutants already in the records file (same header contents)")
+    ap.add_argument("--records", default=None,
+                    help="the per-mutant records, one JSON line each (default REPORT.partial)")
+    ap.add_argument("--summary", action="store_true",
+                    help="summarise the records file for the headers; build nothing")
     args = ap.parse_args()
-    build = os.path.abspath(args.build)
+    if not args.build and not (args.summary or args.list):
+        ap.error("--build is required")
     headers = sorted({p for g in args.files
                       for p in glob.glob(os.path.join(ROOT, g), recursive=True)})
     everything = [s for h in headers for s in sites(h)]
@@ -430,6 +515,18 @@ def main():
         return f"{os.path.relpath(path, ROOT)}:{i + 1}: {kind}: {before.strip()}  ->  " \
             f"{after.strip()}"
 
+    digest = {}
+    for h in headers:
+        with open(h, "rb") as f:
+            digest[h] = hashlib.sha1(f.read()).hexdigest()[:12]
+
+    def key(site):  # "v2": the tests of the test command, not the doctest suite alone
+        return f"v2 {digest[site[0]]} {listing(site)}"
+
+    if args.summary:
+        if not args.records:
+            ap.error("--summary needs --records")
+        return summary_of(args.records, headers, key)
     if args.site:
         sample = [s for s in everything if any(t in listing(s) for t in args.site)]
         print(f"mutate: {len(everything)} mutants in {len(headers)} headers; "
@@ -448,6 +545,7 @@ def main():
         for site in sample:
             print(listing(site))
         return 0
+    build = os.path.abspath(args.build)
     build_cmd = ["cmake", "--build", build, "-j", str(args.jobs)]
     rc, out = run(build_cmd, args.timeout * 8)
     if rc != 0:
@@ -478,21 +576,10 @@ def main():
         return 2
 
     report = args.report or os.path.join(build, "mutants.json")
-    partial = report + ".partial"  # one line a mutant, as each ends: --resume reads it
-    digest = {}
-    for h in headers:
-        with open(h, "rb") as f:
-            digest[h] = hashlib.sha1(f.read()).hexdigest()[:12]
-
-    def key(site):  # "v2": the tests of the test command, not the doctest suite alone
-        return f"v2 {digest[site[0]]} {listing(site)}"
-
+    partial = args.records or report + ".partial"  # a line a mutant as each ends: --resume
     done = {}
     if args.resume and os.path.exists(partial):
-        with open(partial, encoding="utf-8") as f:
-            for line in f:
-                rec = json.loads(line)
-                done[rec["key"]] = rec
+        done = {r["key"]: r for r in read_records(partial)}
     elif os.path.exists(partial):
         os.remove(partial)
     results = [done[key(site)] for site in sample if key(site) in done]
@@ -507,7 +594,7 @@ def main():
         for future in concurrent.futures.as_completed(futures):
             r = future.result()
             r["key"] = key(futures[future])
-            log.write(json.dumps(r) + "\n")
+            log.write(json.dumps({k: r[k] for k in RECORDED}) + "\n")
             log.flush()
             results.append(r)
             print(f"[{len(results)}/{len(sample)}] {r['status']:9} {r['where']} {r['kind']}: "
