@@ -36,7 +36,8 @@ whose listing line (`path:line: kind: before  ->  after`) contains TEXT: to chec
 --parallel N builds and runs N mutants at once. Each mutant's record is appended to the
 records file (--records; REPORT.partial unless named) as it ends; --resume skips those already
 there whose header is unchanged (a full run can be stopped and resumed). The full run keeps its
-records in docs/mutation/records.jsonl, committed as it goes: a run longer than a session goes
+records in docs/mutation/records.jsonl, committed as it goes (a records file named with
+--records is never emptied: without --resume the script refuses one that exists): a run longer than a session goes
 on in the next from what was committed. --summary reads a records file and builds nothing: for
 each header its mutants today, those recorded for its present contents, their statuses and
 score, then every survivor. The report gives, for each mutant, its wall time, the
@@ -58,7 +59,6 @@ first COUNT taken.
 """
 import argparse
 import concurrent.futures
-import filecmp
 import glob
 import hashlib
 import json
@@ -366,8 +366,7 @@ def mutate_one(job):
                     status = "timeout" if rc is None else "stillborn"
                     break
                 built[obj] = out_obj
-                changed[obj] = not filecmp.cmp(out_obj, os.path.join(suite.build, obj),
-                                               shallow=False)
+                changed[obj] = contents(out_obj) != contents(os.path.join(suite.build, obj))
             if status != "survived":
                 break
         # Objects the mutant leaves byte for byte as the build has them make the programs that
@@ -418,22 +417,36 @@ RECORDED = ("key", "status", "by", "tests", "unchanged", "seconds", "build_cpu_s
             "failed")
 
 
+def contents(path):
+    with open(path, "rb") as f:
+        return f.read()
+
+
 def read_records(path):
-    """The records of a records file, each completed from its key."""
-    out = []
+    """{key: record} of a records file (blank lines skipped)."""
+    out = {}
     with open(path, encoding="utf-8") as f:
         for line in f:
-            r = json.loads(line)
-            m = re.match(r"v2 \w+ (.*?:\d+): (\w+): (.*)  ->  (.*)$", r["key"])
-            r.update(where=m.group(1), kind=m.group(2), before=m.group(3), after=m.group(4))
-            out.append(r)
+            if line.strip():
+                r = json.loads(line)
+                out[r["key"]] = r
     return out
+
+
+def completed(record, site):
+    """A record with the fields its key stands for (where, kind, before, after) from its site."""
+    path, i, kind, before, after = site
+    return dict(record, where=f"{os.path.relpath(path, ROOT)}:{i + 1}", kind=kind,
+                before=before.strip(), after=after.strip())
 
 
 def summary_of(path, headers, key):
     """Prints, for each header, its mutants, those recorded for its present contents and their
     statuses, the totals and every survivor; 0."""
-    recorded = {r["key"]: r for r in read_records(path)}
+    if not os.path.exists(path):
+        print(f"mutate: no records file {path}", file=sys.stderr)
+        return 2
+    recorded = read_records(path)
     statuses = ("killed", "survived", "stillborn", "timeout")
     total = dict.fromkeys(statuses + ("mutants", "recorded"), 0)
     cpu = 0.0
@@ -441,20 +454,21 @@ def summary_of(path, headers, key):
     print("| header | mutants | recorded | killed | survived | stillborn | timeout | score |")
     print("|---|---|---|---|---|---|---|---|")
     for h in headers:
-        mine = [recorded[key(s)] for s in sites(h) if key(s) in recorded]
+        here = sites(h)
+        mine = [completed(recorded[key(s)], s) for s in here if key(s) in recorded]
         n = dict.fromkeys(statuses, 0)
         for r in mine:
             n[r["status"]] += 1
             cpu += r["build_cpu_s"] + r["run_cpu_s"]
         survivors += [r for r in mine if r["status"] == "survived"]
         decided = n["killed"] + n["survived"]
-        total["mutants"] += len(sites(h))
+        total["mutants"] += len(here)
         total["recorded"] += len(mine)
         for k in statuses:
             total[k] += n[k]
         score = f"{100.0 * n['killed'] / decided:.1f} %" if decided else "-"
         print(f"| `{os.path.relpath(h, os.path.join(ROOT, 'include', 'motionbus'))}` | "
-              f"{len(sites(h))} | {len(mine)} | " + " | ".join(str(n[k]) for k in statuses) +
+              f"{len(here)} | {len(mine)} | " + " | ".join(str(n[k]) for k in statuses) +
               f" | {score} |")
     decided = total["killed"] + total["survived"]
     score = f"{100.0 * total['killed'] / decided:.1f} %" if decided else "-"
@@ -545,6 +559,10 @@ def main():
         for site in sample:
             print(listing(site))
         return 0
+    if args.records and os.path.exists(args.records) and not args.resume:
+        # a records file named is never thrown away (the full run's)
+        print(f"mutate: {args.records} exists: --resume to add to it", file=sys.stderr)
+        return 2
     build = os.path.abspath(args.build)
     build_cmd = ["cmake", "--build", build, "-j", str(args.jobs)]
     rc, out = run(build_cmd, args.timeout * 8)
@@ -579,10 +597,10 @@ def main():
     partial = args.records or report + ".partial"  # a line a mutant as each ends: --resume
     done = {}
     if args.resume and os.path.exists(partial):
-        done = {r["key"]: r for r in read_records(partial)}
+        done = read_records(partial)
     elif os.path.exists(partial):
         os.remove(partial)
-    results = [done[key(site)] for site in sample if key(site) in done]
+    results = [completed(done[key(site)], site) for site in sample if key(site) in done]
     todo = [site for site in sample if key(site) not in done]
     if results:
         print(f"mutate: {len(results)} mutants resumed from {partial}", flush=True)
