@@ -6,7 +6,7 @@ score, killed / (killed + survived).
 
 Usage: mutate.py --build DIR [--seed N] [--count N | --all | --site TEXT ...] [--files GLOB ...]
                  [--timeout S] [--report FILE] [--records FILE] [--resume] [--list]
-                 [--parallel N] [--jobs N]
+                 [--parallel N] [--jobs N] [--run-factor X] [--run-floor S]
        mutate.py --summary --records FILE [--files GLOB ...]
 
 DIR: a configured Ninja build of this source tree (fast: clang -O0 without debug information,
@@ -28,7 +28,10 @@ tests/modbus/server_test.cpp), the other doctest sources, then the other tests, 
 cheapest to rebuild first; each has its objects that include the header compiled with the
 mutant, is linked (a program of its own; the project's static libraries by their objects)
 and run as ctest runs it; the first that fails kills the mutant and the rest are not built; a
-mutant that fails to compile or link is stillborn; one that passes them all survives. A test
+mutant that fails to compile or link is stillborn; one that passes them all survives; one
+whose run of a test takes more than --run-factor times that test's run without the mutant
+(measured at the start; at least --run-floor seconds, at most --timeout) timed out (a loop
+the mutant made endless: before these options, each cost the whole --timeout). A test
 whose rebuilt objects the mutant leaves byte for byte as the build has them is not linked or
 run again: its programs are those that passed at the start ("unchanged" counts such tests).
 --all takes every mutant, --seed and --count a sample, --site TEXT (repeatable) every mutant
@@ -289,6 +292,8 @@ class Suite:
             raise SystemExit("mutate: no test runs tests/motionbus_tests")
         self.main = [o for o in self.unit.objects
                      if self.unit.source[o].endswith(os.sep + os.path.join("tests", "main.cpp"))]
+        self.seconds = {}  # test name -> wall seconds of its run without a mutant
+        self.factor, self.floor = 10.0, 10.0  # a mutant's run may take that many times more
         self.cost = {}  # object -> milliseconds its last build took (Ninja's log)
         try:
             with open(os.path.join(build, ".ninja_log"), encoding="utf-8") as f:
@@ -298,6 +303,13 @@ class Suite:
                         self.cost[part[3].strip()] = int(part[1]) - int(part[0])
         except OSError:
             pass
+
+    def run_limit(self, label, argv):
+        """The seconds a mutant's run of a test may take before it counts as a time-out: the
+        factor times the test's run without a mutant (a doctest source alone: the whole
+        suite's), at least the floor."""
+        base = self.seconds.get(label if argv is not None else None, self.seconds.get(None))
+        return max(self.floor, self.factor * (base or self.floor))
 
     def plan(self, header, users):
         """The steps for a mutant of `header`: (label, [(program, [objects to rebuild])], argv
@@ -396,8 +408,8 @@ def mutate_one(job):
             cmd, cwd = [next(iter(binaries.values())), "--no-version"], suite.build
         else:
             cmd = [binaries.get(a, a) for a in argv]
-        limit = float(limit) if limit else timeout
-        rc, out, cpu = step(cmd, cwd, min(limit, timeout))
+        limit = min(float(limit) if limit else timeout, timeout, suite.run_limit(label, argv))
+        rc, out, cpu = step(cmd, cwd, limit)
         run_cpu += cpu
         if rc is None or rc != 0:
             status, by = ("timeout" if rc is None else "killed"), label
@@ -503,6 +515,11 @@ def main():
     ap.add_argument("--count", type=int, default=300)
     ap.add_argument("--files", nargs="*", default=["include/motionbus/**/*.hpp"])
     ap.add_argument("--timeout", type=float, default=300, help="seconds per build and per run")
+    ap.add_argument("--run-factor", type=float, default=10.0,
+                    help="a mutant's test run times out after this many times the test's run "
+                    "without a mutant (measured at the start; default 10)")
+    ap.add_argument("--run-floor", type=float, default=10.0,
+                    help="... but never before this many seconds (default 10)")
     ap.add_argument("--report", default=None, help="JSON report (default: BUILD/mutants.json)")
     ap.add_argument("--list", action="store_true", help="list the sample, mutate nothing")
     ap.add_argument("--site", action="append", default=[],
@@ -574,8 +591,13 @@ def main():
         print("mutate: no dependency log (ninja -t deps)", file=sys.stderr)
         return 2
     suite = Suite(build)
-    for name, argv, cwd, limit, _ in suite.tests:  # each must pass without a mutant
+    suite.factor, suite.floor = args.run_factor, args.run_floor
+    for name, argv, cwd, limit, targets in suite.tests:  # each must pass without a mutant
+        t0 = time.time()
         rc, out = run(argv, float(limit) if limit else args.timeout, cwd=cwd)
+        suite.seconds[name] = time.time() - t0
+        if targets == ["tests/motionbus_tests"]:
+            suite.seconds[None] = max(suite.seconds.get(None, 0.0), suite.seconds[name])
         if rc != 0:
             print(f"mutate: {name} fails without a mutant:\n" + out[-3000:], file=sys.stderr)
             return 2
