@@ -11,7 +11,9 @@
 // then end(). Oracles: after end() no byte is held; one output line for each frame settled
 // and each missing response (every record printed, one per line), each JSON line an object
 // that parses with an "ok" field, its times (time_us, latency_us, request_time_us) no later
-// than the end (none wrapped below 0); the tally consistent (frames at most the bytes heard,
+// than the end (none wrapped below 0), the lines' time_us rising (a response found missing
+// while a frame that began before its deadline was still arriving was once printed after it
+// and later than its time); the tally consistent (frames at most the bytes heard,
 // garbage bytes at most the bytes heard).
 
 // fuzz-max-len: 1024 (the option byte and 1023 of operations and their bytes: four times the
@@ -90,6 +92,7 @@ void run(Monitor& m, const std::uint8_t* data, std::size_t size, std::uint32_t b
   std::istringstream lines(out.str());
   std::string line;
   std::uint64_t printed = 0;
+  std::uint64_t last_time = 0;
   while (std::getline(lines, line)) {
     ++printed;
     if (json) {
@@ -97,6 +100,10 @@ void run(Monitor& m, const std::uint8_t* data, std::size_t size, std::uint32_t b
       MOTIONBUS_FUZZ_CHECK(!j.is_discarded() && j.is_object() && j.contains("ok"));
       for (const char* key : {"time_us", "latency_us", "request_time_us"}) {
         MOTIONBUS_FUZZ_CHECK(!j.contains(key) || j[key].get<std::uint64_t>() <= end);
+      }
+      if (j.contains("time_us")) {
+        MOTIONBUS_FUZZ_CHECK(j["time_us"].get<std::uint64_t>() >= last_time);
+        last_time = j["time_us"].get<std::uint64_t>();
       }
     }
   }

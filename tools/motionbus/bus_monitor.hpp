@@ -122,13 +122,16 @@ class line_monitor {
     });
   }
   /// Time passes: `silent_us` since the last byte. A silence of the gap settles what is held.
+  /// A request's response is missing once the response time has passed since the request
+  /// began, reported at that deadline; but bytes that began before the deadline are first
+  /// settled (they may be the response, or a request that reports it missing at its own start),
+  /// so that the records' times rise.
   void tick(std::uint64_t time_us, std::uint64_t silent_us) {
+    settle_missing(time_us);
     if (!heard_.empty() && silent_us >= gap_us_) {
       silence();
     }
-    if (pending_ && time_us - pending_time_ >= response_us_) {
-      self().missing(time_us);
-    }
+    settle_missing(time_us);
   }
   /// The line is no longer watched: what is held is settled.
   void end(std::uint64_t time_us) {
@@ -144,6 +147,17 @@ class line_monitor {
 
  protected:
   Protocol& self() { return static_cast<Protocol&>(*this); }
+
+  void settle_missing(std::uint64_t time_us) {
+    if (!pending_ || time_us - pending_time_ < response_us_) {
+      return;
+    }
+    const std::uint64_t deadline = pending_time_ + response_us_;
+    // (bytes that began after the deadline may have been settled first)
+    if (heard_.empty() || heard_.front().start >= deadline) {
+      self().missing(deadline > printed_ ? deadline : printed_);
+    }
+  }
 
   void silence() {
     for (auto r = listener_.idle(); !r.is_incomplete(); r = listener_.idle()) {
@@ -170,6 +184,7 @@ class line_monitor {
     const char* uart_error = nullptr;
     std::size_t error_at = 0;
     const std::uint64_t time = heard_.front().start;
+    printed_ = time;
     for (std::size_t i = 0; i < n; ++i) {
       frame.push_back(heard_.front().value);
       if (uart_error == nullptr && heard_.front().uart_error != nullptr) {
@@ -200,6 +215,7 @@ class line_monitor {
     std::vector<std::uint8_t> bad;
     const char* uart_error = nullptr;
     const std::uint64_t time = heard_.front().start;
+    printed_ = time;
     for (std::size_t i = 0; i < n; ++i) {
       bad.push_back(heard_.front().value);
       if (uart_error == nullptr) {
@@ -234,7 +250,8 @@ class line_monitor {
   std::deque<heard_byte> heard_;
   bool first_ = true;
   std::uint64_t last_start_ = 0;
-  std::string failure_;  // the first failure among the bytes dropped since the last frame
+  std::uint64_t printed_ = 0;  // the time of the last frame or run of bytes settled
+  std::string failure_;        // the first failure among the bytes dropped since the last frame
   std::uint32_t expected_ = 0;
   std::uint32_t received_ = 0;
   std::vector<std::uint8_t> request_;
