@@ -229,3 +229,32 @@ TEST_CASE("bit reader find: 0s and 1s, MSB and LSB first, past 64 bits, not foun
   CHECK(msb.field_at(90, 8).error() == errc::truncated);
   CHECK(msb.field_at(97, 0).error() == errc::truncated);
 }
+
+TEST_CASE("the end is a position: a zero-bit field at size(), seek(size())") {
+  // Positions run 0..size() (seek's contract) and only a field that runs past the end is
+  // truncated, so the empty field at size() is 0 and seek(size()) leaves nothing to read.
+  const std::uint8_t bytes[] = {0xFF, 0x00, 0xAA};
+  bit_reader r(bytes, bit_order::msb_first, 0, 20);
+  const auto empty = r.field_at(20, 0);
+  REQUIRE(empty.ok());
+  CHECK(empty.value() == 0U);
+  CHECK(r.field_at(21, 0).error() == errc::truncated);
+  CHECK(r.seek(20) == errc::ok);
+  CHECK(r.position() == 20U);
+  CHECK(r.remaining() == 0U);
+  CHECK(r.read_bit().error() == errc::truncated);
+  CHECK(r.seek(0) == errc::ok);
+  CHECK(r.read(8).value() == 0xFFU);
+}
+
+TEST_CASE("a bit_writer without an offset writes from the first bit") {
+  std::uint8_t out[2] = {0x00, 0x00};
+  bit_writer w(out);
+  CHECK(w.order() == bit_order::msb_first);
+  CHECK(w.position() == 0U);
+  CHECK(w.remaining() == 16U);
+  CHECK(w.write(0x5, 3) == errc::ok);  // 101 in the top three bits of the first byte
+  CHECK(out[0] == 0xA0);
+  CHECK(out[1] == 0x00);
+  CHECK(w.position() == 3U);
+}
