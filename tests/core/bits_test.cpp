@@ -258,3 +258,23 @@ TEST_CASE("a bit_writer without an offset writes from the first bit") {
   CHECK(out[1] == 0x00);
   CHECK(w.position() == 3U);
 }
+
+TEST_CASE("bit_writer fill: the run and not a bit past it, longer than 64 bits too") {
+  std::uint8_t ones[12] = {};  // 96 bits
+  bit_writer msb(ones, bit_order::msb_first, 2);
+  CHECK(msb.fill(true, 70) == errc::ok);  // stream bits 2..71: the top six of byte 0, bytes 1..8
+  CHECK(msb.position() == 72U);
+  CHECK(ones[0] == 0x3F);
+  for (int i = 1; i <= 8; ++i) {
+    CHECK(ones[i] == 0xFF);
+  }
+  CHECK(ones[9] == 0x00);  // stream bit 72, the first after the run, as it was
+  CHECK(ones[10] == 0x00);
+  CHECK(ones[11] == 0x00);
+
+  std::uint8_t zeros[2] = {0xFF, 0xFF};
+  bit_writer lsb(zeros, bit_order::lsb_first);
+  CHECK(lsb.fill(false, 5) == errc::ok);  // bits 0..4 of byte 0, counted from its LSB
+  CHECK(zeros[0] == 0xE0);
+  CHECK(zeros[1] == 0xFF);
+}
