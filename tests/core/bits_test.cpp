@@ -229,3 +229,52 @@ TEST_CASE("bit reader find: 0s and 1s, MSB and LSB first, past 64 bits, not foun
   CHECK(msb.field_at(90, 8).error() == errc::truncated);
   CHECK(msb.field_at(97, 0).error() == errc::truncated);
 }
+
+TEST_CASE("the end is a position: a zero-bit field at size(), seek(size())") {
+  // Positions run 0..size() (seek's contract) and only a field that runs past the end is
+  // truncated, so the empty field at size() is 0 and seek(size()) leaves nothing to read.
+  const std::uint8_t bytes[] = {0xFF, 0x00, 0xAA};
+  bit_reader r(bytes, bit_order::msb_first, 0, 20);
+  const auto empty = r.field_at(20, 0);
+  REQUIRE(empty.ok());
+  CHECK(empty.value() == 0U);
+  CHECK(r.field_at(21, 0).error() == errc::truncated);
+  CHECK(r.seek(20) == errc::ok);
+  CHECK(r.position() == 20U);
+  CHECK(r.remaining() == 0U);
+  CHECK(r.read_bit().error() == errc::truncated);
+  CHECK(r.seek(0) == errc::ok);
+  CHECK(r.read(8).value() == 0xFFU);
+}
+
+TEST_CASE("a bit_writer without an offset writes from the first bit") {
+  std::uint8_t out[2] = {0x00, 0x00};
+  bit_writer w(out);
+  CHECK(w.order() == bit_order::msb_first);
+  CHECK(w.position() == 0U);
+  CHECK(w.remaining() == 16U);
+  CHECK(w.write(0x5, 3) == errc::ok);  // 101 in the top three bits of the first byte
+  CHECK(out[0] == 0xA0);
+  CHECK(out[1] == 0x00);
+  CHECK(w.position() == 3U);
+}
+
+TEST_CASE("bit_writer fill: the run and not a bit past it, longer than 64 bits too") {
+  std::uint8_t ones[12] = {};  // 96 bits
+  bit_writer msb(ones, bit_order::msb_first, 2);
+  CHECK(msb.fill(true, 70) == errc::ok);  // stream bits 2..71: the top six of byte 0, bytes 1..8
+  CHECK(msb.position() == 72U);
+  CHECK(ones[0] == 0x3F);
+  for (int i = 1; i <= 8; ++i) {
+    CHECK(ones[i] == 0xFF);
+  }
+  CHECK(ones[9] == 0x00);  // stream bit 72, the first after the run, as it was
+  CHECK(ones[10] == 0x00);
+  CHECK(ones[11] == 0x00);
+
+  std::uint8_t zeros[2] = {0xFF, 0xFF};
+  bit_writer lsb(zeros, bit_order::lsb_first);
+  CHECK(lsb.fill(false, 5) == errc::ok);  // bits 0..4 of byte 0, counted from its LSB
+  CHECK(zeros[0] == 0xE0);
+  CHECK(zeros[1] == 0xFF);
+}
