@@ -458,3 +458,19 @@ TEST_CASE("crc_parameters: == compares every field, each one alone") {
   CHECK(p != crc_parameters{16, 0x8005, 0xFFFF, true, false, 0x0000});
   CHECK(p != crc_parameters{16, 0x8005, 0xFFFF, true, true, 0x0001});
 }
+
+TEST_CASE("table_entries: the table a size names, 256 where slices do not apply") {
+  // The sizes are the numbers MOTIONBUS_CRC_DEFAULT_TABLE takes (core/config.hpp), each the
+  // entries of the table it names (crc_table_size's comment).
+  CHECK(crc16_modbus<crc_table_size::bitwise>::table_entries() == 0U);
+  CHECK(crc16_modbus<crc_table_size::nibble>::table_entries() == 16U);
+  CHECK(crc16_modbus<crc_table_size::byte>::table_entries() == 256U);
+  CHECK(crc16_modbus<crc_table_size::slice4>::table_entries() == 1024U);
+  CHECK(crc16_modbus<crc_table_size::slice8>::table_entries() == 2048U);
+  CHECK(crc6_biss<crc_table_size::slice8>::table_entries() == 2048U);  // MSB first, width <= 8
+  // CRC-16/XMODEM: MSB first and wider than 8 bits, so the slices fall back to the byte table
+  using xmodem = crc_spec<16, 0x1021, 0x0000, false, false, 0x0000>;
+  CHECK(crc<xmodem, crc_table_size::slice4>::table_entries() == 256U);
+  CHECK(crc<xmodem, crc_table_size::slice8>::table_entries() == 256U);
+  CHECK(crc<xmodem, crc_table_size::slice8>::compute(check_input) == 0x31C3);
+}
