@@ -467,6 +467,7 @@ TEST_CASE("table_entries: the table a size names, 256 where slices do not apply"
   CHECK(crc16_modbus<crc_table_size::byte>::table_entries() == 256U);
   CHECK(crc16_modbus<crc_table_size::slice4>::table_entries() == 1024U);
   CHECK(crc16_modbus<crc_table_size::slice8>::table_entries() == 2048U);
+  CHECK(crc8_tformat<crc_table_size::slice4>::table_entries() == 1024U);  // reflected, width 8
   CHECK(crc6_biss<crc_table_size::slice8>::table_entries() == 2048U);  // MSB first, width <= 8
   // CRC-16/XMODEM: MSB first and wider than 8 bits, so the slices fall back to the byte table
   using xmodem = crc_spec<16, 0x1021, 0x0000, false, false, 0x0000>;
