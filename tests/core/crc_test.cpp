@@ -29,9 +29,11 @@ std::uint32_t all_tables_agree_bits(std::uint64_t bits, unsigned count) {
   const std::uint32_t b = crc<Spec, crc_table_size::nibble>::compute_bits(bits, count);
   const std::uint32_t c = crc<Spec, crc_table_size::byte>::compute_bits(bits, count);
   const std::uint32_t d = crc<Spec, crc_table_size::slice4>::compute_bits(bits, count);
+  const std::uint32_t e = crc<Spec, crc_table_size::slice8>::compute_bits(bits, count);
   REQUIRE(a == b);
   REQUIRE(a == c);
   REQUIRE(a == d);
+  REQUIRE(a == e);
   return a;
 }
 
@@ -467,7 +469,10 @@ TEST_CASE("table_entries: the table a size names, 256 where slices do not apply"
   CHECK(crc16_modbus<crc_table_size::byte>::table_entries() == 256U);
   CHECK(crc16_modbus<crc_table_size::slice4>::table_entries() == 1024U);
   CHECK(crc16_modbus<crc_table_size::slice8>::table_entries() == 2048U);
-  CHECK(crc8_tformat<crc_table_size::slice4>::table_entries() == 1024U);  // reflected, width 8
+  // CRC-8/MAXIM-DOW: reflected at width 8, so it slices (check value from the CRC catalogue)
+  using maxim = crc_spec<8, 0x31, 0x00, true, true, 0x00>;
+  CHECK(crc<maxim, crc_table_size::slice4>::table_entries() == 1024U);
+  CHECK(crc<maxim, crc_table_size::slice4>::compute(check_input) == 0xA1);
   CHECK(crc6_biss<crc_table_size::slice8>::table_entries() == 2048U);  // MSB first, width <= 8
   // CRC-16/XMODEM: MSB first and wider than 8 bits, so the slices fall back to the byte table
   using xmodem = crc_spec<16, 0x1021, 0x0000, false, false, 0x0000>;
