@@ -231,6 +231,17 @@ TEST_CASE("random longer inputs: tables, reference, incremental and bit-stream p
   random_long_inputs<crc4_biss_spec>(4);
 }
 
+TEST_CASE("polynomial x^W + 1: the T-format CRC's XOR of the bytes at width 8 only") {
+  // From width 8 up, the table of x^W + 1 is the identity (a byte's register change is the
+  // byte itself), yet only at width 8 is the CRC the XOR of the bytes: at the other widths it
+  // is the XOR of W-bit words, which the engine must look up.
+  random_long_inputs<crc_spec<16, 0x0001, 0x0000, true, true, 0x0000>>(6);
+  random_long_inputs<crc_spec<16, 0x0001, 0xFFFF, false, false, 0x0000>>(7);
+  random_long_inputs<crc_spec<32, 0x00000001, 0x00000000, true, true, 0xFFFFFFFF>>(8);
+  random_long_inputs<crc_spec<12, 0x001, 0x000, false, false, 0x000>>(9);
+  random_long_inputs<crc_spec<8, 0x01, 0xFF, false, false, 0x00>>(10);
+}
+
 TEST_CASE(
     "value_before: the last byte's step run backwards; from 0, init exactly where a frame starts") {
   testutil::splitmix64 rng(5);
