@@ -209,6 +209,36 @@ TEST_CASE("update_bits with a count of 8..64 bits, constant or not: byte steps v
   every_constant_count<crc4_biss_spec>(std::make_integer_sequence<unsigned, 57>());
 }
 
+namespace {
+
+// compute_bits in constant evaluation (where MOTIONBUS_CONSTANT_P sees the count, as an
+// optimiser that inlines a fixed count does) and at run time, against the reference.
+template <class Spec, unsigned Count>
+void constant_evaluation_matches(std::uint64_t bits) {
+  using engine = crc<Spec, crc_table_size::byte>;
+  constexpr std::uint64_t fixed = 0x0123456789ABCDEFULL;
+  constexpr std::uint32_t folded = engine::compute_bits(fixed, Count);
+  constexpr std::uint64_t mask =
+      Count == 64U ? ~std::uint64_t{0} : (std::uint64_t{1} << Count) - 1U;
+  CHECK(folded == ref::crc_of_bits(model_of<Spec>(), fed_order<Spec>(fixed & mask, Count)));
+  CHECK(engine::compute_bits(bits, testutil::at_run_time(Count)) ==
+        ref::crc_of_bits(model_of<Spec>(), fed_order<Spec>(bits & mask, Count)));
+}
+
+}  // namespace
+
+TEST_CASE("compute_bits with a count known at compile time: every kind of CRC, not only BiSS") {
+  // The constant-count byte steps are for MSB-first CRCs in a one-byte register; reflected and
+  // wider CRCs must keep the shared kernel however the count is known.
+  using xmodem = crc_spec<16, 0x1021, 0x0000, false, false, 0x0000>;
+  using crc32 = crc_spec<32, 0x04C11DB7, 0xFFFFFFFF, true, true, 0xFFFFFFFF>;
+  constant_evaluation_matches<crc16_modbus_spec, 40>(0x5A5A5A5A5AULL);
+  constant_evaluation_matches<crc8_tformat_spec, 24>(0xC0FFEEULL);
+  constant_evaluation_matches<xmodem, 33>(0x1DEADBEEFULL);
+  constant_evaluation_matches<crc32, 64>(0xFEDCBA9876543210ULL);
+  constant_evaluation_matches<crc6_biss_spec, 34>(0x3FFFFFFFFULL);
+}
+
 TEST_CASE("exhaustive: every input up to 16 bits, all table sizes vs the reference") {
   SUBCASE("T-format") {
     exhaustive_up_to_16_bits<crc8_tformat_spec>();
