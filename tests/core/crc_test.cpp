@@ -436,6 +436,16 @@ TEST_CASE("update_stream: words of 16 and 32 bits, truncation leaves the CRC unc
   CHECK(t.update_stream(span<const std::uint32_t>(words, 3), bit_order::msb_first, 97, 0) ==
         errc::truncated);
   CHECK(t.value() == before);
+  // the end is a position: no bits from it, and the last bits up to it, are not truncated
+  CHECK(t.update_stream(span<const std::uint32_t>(words, 3), bit_order::msb_first, 96, 0) ==
+        errc::ok);
+  CHECK(t.value() == before);
+  std::uint32_t tail[3] = {0, 0, 0};
+  basic_bit_writer<std::uint32_t> wt(span<std::uint32_t>(tail, 3), bit_order::msb_first, 62);
+  REQUIRE(wt.write(bits, 34) == errc::ok);
+  CHECK(t.update_stream(span<const std::uint32_t>(tail, 3), bit_order::msb_first, 62, 34) ==
+        errc::ok);
+  CHECK(t.value() == crc6_biss<>::compute_bits(bits, 34));
 }
 
 TEST_CASE("dynamic_crc: run-time parameters, every reflection, against the reference model") {
@@ -470,6 +480,14 @@ TEST_CASE("dynamic_crc: run-time parameters, every reflection, against the refer
 TEST_CASE("crc_parameters: valid() refuses each out-of-range value alone; dynamic_crc clamps") {
   const crc_parameters good{8, 0x07, 0x00, false, false, 0x00};
   CHECK(good.valid());
+  // the defaults are this CRC-8 (CRC-8/SMBUS in the CRC catalogue, check value 0xF4)
+  constexpr std::uint8_t nine[] = {'1', '2', '3', '4', '5', '6', '7', '8', '9'};
+  CHECK(crc_parameters{} == good);
+  CHECK(dynamic_crc(crc_parameters{}).update(nine).value() == 0xF4U);
+  // width 1 is the narrowest valid one, its parameters kept as given
+  const crc_parameters one{1, 1, 1, true, false, 1};
+  CHECK(one.valid());
+  CHECK(dynamic_crc(one).parameters() == one);
   crc_parameters p = good;
   p.width = 0;
   CHECK_FALSE(p.valid());
