@@ -262,9 +262,10 @@ TEST_CASE("random longer inputs: tables, reference, incremental and bit-stream p
 }
 
 TEST_CASE("polynomial x^W + 1: the T-format CRC's XOR of the bytes at width 8 only") {
-  // From width 8 up, the table of x^W + 1 is the identity (a byte's register change is the
-  // byte itself), yet only at width 8 is the CRC the XOR of the bytes: at the other widths it
-  // is the XOR of W-bit words, which the engine must look up.
+  // From width 8 up, the MSB-first table of x^W + 1 is the identity (a byte's register change
+  // is the byte itself), yet only at width 8 is the CRC the XOR of the bytes: at the other
+  // widths it is the XOR of W-bit words, which the engine must look up. (Reflected, the
+  // entries are i << (W - 8): the identity at width 8 only.)
   random_long_inputs<crc_spec<16, 0x0001, 0x0000, true, true, 0x0000>>(6);
   random_long_inputs<crc_spec<16, 0x0001, 0xFFFF, false, false, 0x0000>>(7);
   random_long_inputs<crc_spec<32, 0x00000001, 0x00000000, true, true, 0xFFFFFFFF>>(8);

@@ -53,6 +53,10 @@ static_assert(byte_steps_agree(0xFEDCBA9876543210ULL, 64) && byte_steps_agree(0x
 // A frame with its CRC appended (low byte first) has residue 0 for CRC-16/MODBUS.
 constexpr std::uint8_t modbus_with_crc[] = {0x11, 0x03, 0x00, 0x6B, 0x00, 0x03, 0x76, 0x87};
 static_assert(mb::crc16_modbus<>::compute(modbus_with_crc) == 0x0000, "Modbus residue");
+// ... and with the slice walks, whose last step ends at the frame's end (eight bytes)
+static_assert(mb::crc16_modbus<mb::crc_table_size::slice4>::compute(modbus_with_crc) == 0x0000 &&
+                  mb::crc16_modbus<mb::crc_table_size::slice8>::compute(modbus_with_crc) == 0x0000,
+              "Modbus residue, slice-by-4 and slice-by-8");
 
 // T-format: a request CF alone (ID0 = 0x02) has CRC 0x02; XOR of any bytes.
 constexpr std::uint8_t tformat_bytes[] = {0x02, 0x20, 0xB4};
