@@ -19,6 +19,11 @@
 # two instances with disjoint regexes to use two cores). Each target's row is also kept in
 # <work>/<target>/row.md, so the rows of several instances can be put in one table.
 # Exit status 1 when any target reported a finding.
+# libFuzzer's -timeout (10 s here) is wall-clock time: a campaign under `nice` beside a job
+# that keeps every core busy (a build, the test command) gets so little CPU that an input of
+# a few tens of milliseconds can exceed it (cli_monitor, session 21: a 47-79 ms input timed
+# out after 11 s beside a clean-clone test run). Run campaigns beside at most one busy core
+# per free one, and replay any timeout alone before calling it a finding.
 set -euo pipefail
 usage="usage: fuzz_campaign.sh [--runs N] BUILD_DIR SECONDS [TARGET_REGEX]"
 runs=""
