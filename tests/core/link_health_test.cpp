@@ -129,3 +129,31 @@ TEST_CASE("names") {
   CHECK(to_string(link_state::up) == std::string("up"));
   CHECK(to_string(link_state::lost) == std::string("lost"));
 }
+
+TEST_CASE("the defaults: restored after three successes, lost after three failures") {
+  link_health h;
+  CHECK(h.record(link_outcome::ok) == link_event::none);
+  CHECK(h.record(link_outcome::ok) == link_event::none);
+  CHECK(h.record(link_outcome::ok) == link_event::restored);
+  CHECK(h.record(link_outcome::timeout) == link_event::none);
+  CHECK(h.record(link_outcome::timeout) == link_event::none);
+  CHECK(h.record(link_outcome::timeout) == link_event::lost);
+  const link_config c;
+  CHECK(c.lose_after == 3);
+  CHECK(c.restore_after == 3);
+}
+
+TEST_CASE("the enumerators' numbers are part of the interface") {
+  // firmware logs outcomes, states and events as integers (the meter's expectations are such
+  // numbers), so they are fixed here as the header states them
+  CHECK(static_cast<int>(link_outcome::ok) == 0);
+  CHECK(static_cast<int>(link_outcome::alarm) == 1);
+  CHECK(static_cast<int>(link_outcome::crc_error) == 2);
+  CHECK(static_cast<int>(link_outcome::timeout) == 3);
+  CHECK(static_cast<int>(link_outcome::invalid) == 4);
+  CHECK(static_cast<int>(link_state::up) == 0);
+  CHECK(static_cast<int>(link_state::lost) == 1);
+  CHECK(static_cast<int>(link_event::none) == 0);
+  CHECK(static_cast<int>(link_event::lost) == 1);
+  CHECK(static_cast<int>(link_event::restored) == 2);
+}

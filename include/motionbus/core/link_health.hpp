@@ -20,7 +20,7 @@
 
 namespace motionbus {
 
-/// What one transaction came to.
+/// What one transaction came to. These enums' numbers are interface: firmware logs them.
 enum class link_outcome : std::uint8_t {
   ok = 0,         ///< a good frame, no device alarm
   alarm = 1,      ///< a good frame whose device reports an alarm (a success for the link)
