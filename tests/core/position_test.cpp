@@ -273,3 +273,132 @@ TEST_CASE("turns, within_turn, millidegrees, revolutions and degrees, negative p
   CHECK(huge.update(std::uint64_t{1} << 60U) == position_status::accepted);
   CHECK(huge.millidegrees() == 180000);
 }
+
+TEST_CASE("the defaults: a single-turn reading of 2^17 counts, max_step (M - 1) / 2") {
+  // position_config{} (a default-constructed tracker's) is the TS5700N8500's ID0 reading
+  const position_config c;
+  CHECK(c.counts_per_turn == 131072);
+  CHECK(c.turns == 1);
+  CHECK(c.max_step == 0);
+  position_tracker t;
+  CHECK(t.counts_per_turn() == 131072);
+  CHECK(t.max_step() == 65535);
+  CHECK(t.update(0) == position_status::seeded);
+  CHECK(t.update(65535) == position_status::accepted);  // the largest step, half a turn less 1
+  CHECK(t.update(131072) == position_status::out_of_range);  // M is one turn
+  CHECK(t.update(0) == position_status::accepted);  // -65535 (+65537 is the longer way)
+  CHECK(t.counts() == 0);
+}
+
+TEST_CASE("the range's limits: M up to 2^62, from_bits up to 62 bits in all") {
+  CHECK(max_position_range == std::uint64_t{1} << 62U);
+  CHECK(position_config{std::uint64_t{1} << 62U, 1, 0}.valid());
+  CHECK(position_config{std::uint64_t{1} << 61U, 2, 0}.valid());
+  CHECK_FALSE(position_config{std::uint64_t{1} << 62U, 2, 0}.valid());
+  CHECK_FALSE(position_config{std::uint64_t{1} << 63U, 1, 0}.valid());
+  CHECK(position_config::from_bits(62, 0).valid());
+  CHECK(position_config::from_bits(62, 0).range() == std::uint64_t{1} << 62U);
+  CHECK(position_config::from_bits(0, 62).valid());
+  CHECK(position_config::from_bits(0, 62).range() == std::uint64_t{1} << 62U);
+  CHECK_FALSE(position_config::from_bits(62, 1).valid());
+  CHECK_FALSE(position_config::from_bits(1, 62).valid());
+  position_tracker t(position_config::from_bits(62, 0));
+  CHECK(t.update((std::uint64_t{1} << 62U) - 1U) == position_status::seeded);
+  CHECK(t.update(0) == position_status::accepted);  // +1 across the rollover
+  CHECK(t.counts() == std::int64_t{1} << 62U);
+}
+
+TEST_CASE("a reading out of range is a period missed, as a rejected one is") {
+  position_tracker t(position_config::from_bits(10, 0, 100));  // M = 1024
+  CHECK(t.update(500) == position_status::seeded);
+  CHECK(t.update(1024) == position_status::out_of_range);
+  CHECK(t.periods() == 2);
+  CHECK(t.plausible_step() == 200);
+  CHECK(t.update(1024, 0) == position_status::out_of_range);  // the single-turn field
+  CHECK(t.update(0, 1) == position_status::out_of_range);     // the multi-turn field
+  CHECK(t.periods() == 4);
+  CHECK(t.plausible_step() == 400);
+  CHECK(t.update(900) == position_status::accepted);  // four periods' worth
+  CHECK(t.counts() == 900);
+  CHECK(t.implausible_steps() == 0);
+}
+
+TEST_CASE("before the first reading: counts, step and reading 0, one period, max_step") {
+  const position_tracker t(position_config::from_bits(10, 0, 100));
+  CHECK_FALSE(t.has_position());
+  CHECK(t.counts() == 0);
+  CHECK(t.step() == 0);
+  CHECK(t.reading() == 0);
+  CHECK(t.periods() == 1);
+  CHECK(t.plausible_step() == 100);
+  CHECK(t.implausible_steps() == 0);
+}
+
+TEST_CASE("the first reading is the last accepted one: periods missed before it are forgotten") {
+  position_tracker t(position_config::from_bits(10, 0, 100));  // M = 1024
+  t.missed();
+  t.missed();  // the encoder does not answer yet
+  CHECK(t.periods() == 3);
+  CHECK(t.plausible_step() == 300);
+  CHECK(t.update(500) == position_status::seeded);
+  CHECK(t.periods() == 1);
+  CHECK(t.plausible_step() == 100);
+  CHECK(t.step() == 0);
+  CHECK(t.update(601) == position_status::implausible_step);  // one period's bound, not three
+  // the same after reset(), periods missed between it and the reading
+  CHECK(t.update(600) == position_status::accepted);
+  t.reset();
+  t.missed();
+  t.missed();
+  CHECK(t.update(10) == position_status::seeded);
+  CHECK(t.periods() == 1);
+  CHECK(t.plausible_step() == 100);
+  CHECK(t.step() == 0);
+  CHECK(t.update(111) == position_status::implausible_step);
+}
+
+TEST_CASE("reset() after use: step 0, one period, max_step, as a new tracker's") {
+  position_tracker t(position_config::from_bits(10, 0, 100));  // M = 1024
+  CHECK(t.update(500) == position_status::seeded);
+  CHECK(t.update(550) == position_status::accepted);
+  CHECK(t.update(900) == position_status::implausible_step);
+  t.missed();
+  CHECK(t.step() == 50);
+  CHECK(t.periods() == 3);
+  CHECK(t.plausible_step() == 300);
+  t.reset();
+  CHECK_FALSE(t.has_position());
+  CHECK(t.step() == 0);
+  CHECK(t.periods() == 1);
+  CHECK(t.plausible_step() == 100);
+  CHECK(t.implausible_steps() == 1);  // counted since construction
+}
+
+TEST_CASE("whole turns: a turn's first count is in that turn, at 0 and below 0 too") {
+  position_tracker t(position_config::from_bits(4, 4));  // 16 counts x 16 turns, steps to 127
+  CHECK(t.update(0) == position_status::seeded);
+  CHECK(t.turns() == 0);
+  CHECK(t.within_turn() == 0);
+  CHECK(t.millidegrees() == 0);
+  CHECK(t.update(256 - 16) == position_status::accepted);  // one turn back: -16
+  CHECK(t.counts() == -16);
+  CHECK(t.turns() == -1);
+  CHECK(t.within_turn() == 0);
+  CHECK(t.millidegrees() == -360000);
+  CHECK(t.update(32) == position_status::accepted);  // +48
+  CHECK(t.counts() == 32);
+  CHECK(t.turns() == 2);
+  CHECK(t.within_turn() == 0);
+  CHECK(t.millidegrees() == 720000);
+}
+
+TEST_CASE("the enumerators' numbers are part of the interface") {
+  // firmware logs the status as an integer (the meter's position expectations are such numbers),
+  // so the numbers are fixed here as the header states them
+  CHECK(static_cast<int>(position_status::accepted) == 0);
+  CHECK(static_cast<int>(position_status::seeded) == 1);
+  CHECK(static_cast<int>(position_status::implausible_step) == 2);
+  CHECK(static_cast<int>(position_status::out_of_range) == 3);
+  CHECK(static_cast<int>(position_status::invalid_config) == 4);
+  CHECK(static_cast<int>(position_status::no_reading) == 5);
+}

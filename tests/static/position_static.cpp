@@ -39,6 +39,20 @@ constexpr std::int64_t largest_range() {
 }
 static_assert(largest_range() == -(std::int64_t{1} << 61U) + 1, "");
 
+// millidegrees() (a bit-by-bit multiply-divide) in constant evaluation: exact where
+// within_turn() x 360000 does not fit 64 bits, and below zero.
+constexpr std::int64_t millidegrees_at(std::uint64_t counts_per_turn, std::uint64_t first,
+                                       std::uint64_t second) {
+  mb::position_tracker t(mb::position_config{counts_per_turn, 2, 0});
+  (void)t.update(first);
+  (void)t.update(second);
+  return t.millidegrees();
+}
+static_assert(millidegrees_at(std::uint64_t{1} << 61U, (std::uint64_t{1} << 61U) - 1U,
+                              (std::uint64_t{1} << 61U) - 1U) == 359999,
+              "");
+static_assert(millidegrees_at(131072, 100, 2 * 131072 - 49900) == -137055, "");
+
 constexpr mb::link_event lost_after_three() {
   mb::link_health h({3, 1});
   (void)h.record(mb::link_outcome::ok);

@@ -63,12 +63,12 @@ struct position_config {
   }
 };
 
-/// What one update did.
+/// What one update did. Its numbers are interface: firmware logs them.
 enum class position_status : std::uint8_t {
   accepted = 0,          ///< the step was plausible: the position moved by it
   seeded = 1,            ///< the first reading (or the first after reset()): the position is it
   implausible_step = 2,  ///< the step exceeds max_step x periods: not applied, reported
-  out_of_range = 3,      ///< a reading outside 0..M-1 (or a field outside its own range)
+  out_of_range = 3,      ///< a reading outside 0..M-1 or a field outside its range: a period missed
   invalid_config = 4,    ///< position_config::valid() is false: nothing is tracked
   no_reading = 5,        ///< (adapters) the transaction gave no reading: counted as missed()
 };
@@ -162,7 +162,7 @@ class position_tracker {
     periods_ += periods_ != 0xFFFFFFFFU ? 1U : 0U;
     bound_ = limit_ - bound_ < max_step_ ? limit_ : bound_ + max_step_;
   }
-  /// Forgets the position: the next reading seeds it.
+  /// Forgets the position: the next reading seeds it; step(), periods(), plausible_step() as new.
   constexpr void reset() noexcept {
     seeded_ = false;
     step_ = 0;
