@@ -4,6 +4,8 @@
 #include <doctest/doctest.h>
 
 #include <cstdint>
+#include <type_traits>
+#include <utility>
 
 #include "motionbus/core/errc.hpp"
 #include "motionbus/core/span.hpp"
@@ -50,6 +52,20 @@ decode_result<frame> toy_build(byte_view in) {
   }
   return r;
 }
+
+// Whether a result has the byte names (consumed(), needed()) or the bit names.
+template <class R, class = void>
+struct has_byte_names : std::false_type {};
+template <class R>
+struct has_byte_names<R, std::void_t<decltype(std::declval<const R&>().consumed()),
+                                     decltype(std::declval<const R&>().needed())>>
+    : std::true_type {};
+template <class R, class = void>
+struct has_bit_names : std::false_type {};
+template <class R>
+struct has_bit_names<R, std::void_t<decltype(std::declval<const R&>().consumed_bits()),
+                                    decltype(std::declval<const R&>().needed_bits())>>
+    : std::true_type {};
 
 template <class T, class Steps>
 decode_result<T> settled(Steps steps) {
@@ -183,4 +199,50 @@ TEST_CASE("results at run time: an ok error code, set_consumed() of an incomplet
   const decode_result<int> none;  // default-constructed: incomplete, at least one more byte
   CHECK(none.is_incomplete());
   CHECK(none.needed() == 1);
+}
+
+TEST_CASE("the unit is in the names: a byte result has no bit names, a bit result no byte names") {
+  using byte_result = decode_result<int>;
+  using bit_result = decode_result<int, input_unit::bits>;
+  CHECK_FALSE(std::is_same<byte_result, bit_result>::value);
+  CHECK(has_byte_names<byte_result>::value);
+  CHECK_FALSE(has_bit_names<byte_result>::value);
+  CHECK(has_bit_names<bit_result>::value);
+  CHECK_FALSE(has_byte_names<bit_result>::value);
+}
+
+TEST_CASE("need_input{} is one more unit; decode_failure{code} drops nothing and has no evidence") {
+  const decode_result<int> more = need_input{};
+  CHECK(more.is_incomplete());
+  CHECK(more.needed() == 1);
+  const decode_result<int> bad = decode_failure{errc::no_frame};
+  CHECK(bad.is_failed());
+  CHECK(bad.consumed() == 0);
+  CHECK(bad.expected() == 0);
+  CHECK(bad.received() == 0);
+  // fail(e, consumed) of an outcome: no evidence either
+  const auto plain = settled<int>([](decode_result<int>::outcome o) { o.fail(errc::no_frame, 3); });
+  CHECK(plain.consumed() == 3);
+  CHECK(plain.expected() == 0);
+  CHECK(plain.received() == 0);
+}
+
+TEST_CASE("an outcome settles a result whatever it held: a stream object's last result") {
+  decode_result<int> r = decode_result<int>::complete(5, 2);
+  decode_result<int>::outcome(r).need(3);
+  CHECK(r.is_incomplete());
+  CHECK(r.needed() == 3);
+  CHECK(r.consumed() == 0);
+  CHECK(r.value() == 0);
+  decode_result<int> f = decode_failure{errc::crc_mismatch, 4, 0x4B, 0x12};
+  decode_result<int>::outcome(f).need(1);
+  CHECK(f.is_incomplete());
+  CHECK(f.needed() == 1);
+  CHECK(f.error() == errc::ok);
+  CHECK(f.expected() == 0);
+  decode_result<int>::outcome(f).fail(errc::no_frame, 1);
+  CHECK(f.is_failed());
+  CHECK(f.error() == errc::no_frame);
+  CHECK(f.expected() == 0);
+  CHECK(f.received() == 0);
 }

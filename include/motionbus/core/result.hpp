@@ -122,7 +122,7 @@ class [[nodiscard]] decode_result {
   class outcome {
    public:
     constexpr explicit outcome(decode_result& r) noexcept : r_(r) {}
-    /// Incomplete: at least `at_least` more units (1 if 0).
+    /// Incomplete, whatever the result held: at least `at_least` more units (1 if 0).
     constexpr void need(std::size_t at_least) noexcept {
       r_.status_ = decode_status::incomplete;
       r_.count_ = at_least == 0 ? 1 : at_least;
