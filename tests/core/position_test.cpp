@@ -284,9 +284,9 @@ TEST_CASE("the defaults: a single-turn reading of 2^17 counts, max_step (M - 1) 
   CHECK(t.counts_per_turn() == 131072);
   CHECK(t.max_step() == 65535);
   CHECK(t.update(0) == position_status::seeded);
-  CHECK(t.update(65535) == position_status::accepted);  // the largest step, half a turn less 1
+  CHECK(t.update(65535) == position_status::accepted);       // the largest step, half a turn less 1
   CHECK(t.update(131072) == position_status::out_of_range);  // M is one turn
-  CHECK(t.update(0) == position_status::accepted);  // -65535 (+65537 is the longer way)
+  CHECK(t.update(0) == position_status::accepted);           // -65535 (+65537 is the longer way)
   CHECK(t.counts() == 0);
 }
 
