@@ -150,6 +150,11 @@ TEST_CASE("ABSYS serial number and device ID decoders (§2.4, §2.5)") {
     CAPTURE(at);
     CHECK(ab::decode_serial_number(bad).error() == errc::out_of_range);
   }
+  std::uint8_t del[8] = {0x7F, 'T', 'J', 0x00, 0xBC, 0x61, 0x4E, 0x7F};  // 0x7F is ASCII (DEL)
+  const auto with_del = ab::decode_serial_number(del);
+  REQUIRE(with_del.is_complete());
+  CHECK(with_del->prefix[0] == '\x7F');
+  CHECK(with_del->suffix == '\x7F');
   const std::uint8_t dev[] = {'X', 'X', 0x00, 0x11, 0xF5, 0x8E, '0', '1'};
   const auto d = ab::decode_device_id(dev);
   REQUIRE(d.is_complete());
@@ -163,4 +168,50 @@ TEST_CASE("ABSYS serial number and device ID decoders (§2.4, §2.5)") {
   bad_dev[7] = '1';
   bad_dev[1] = 0x80;
   CHECK(ab::decode_device_id(bad_dev).error() == errc::out_of_range);
+}
+
+TEST_CASE("the register map (§2.1), the banks (§2.2) and the command and preset values (§2.3)") {
+  // the addresses and values of the vendor's tables: a firmware that names a register by the
+  // profile's constant reaches the register the manual lists
+  CHECK(ab::reg::bank_window == 0x00);
+  CHECK(ab::reg::bank_select == 0x40);
+  CHECK(ab::reg::eds_bank == 0x41);
+  CHECK(ab::reg::profile_id == 0x42);
+  CHECK(ab::reg::serial_number == 0x44);
+  CHECK(ab::reg::offset == 0x4C);
+  CHECK(ab::reg::command == 0x60);
+  CHECK(ab::reg::position == 0x63);
+  CHECK(ab::reg::preset_mode == 0x6A);
+  CHECK(ab::reg::error_status == 0x6B);
+  CHECK(ab::reg::functional_reserve == 0x6F);
+  CHECK(ab::reg::functional_reserve_indicator == 0x70);
+  CHECK(ab::reg::device_id == 0x75);
+  CHECK(ab::reg::revision == 0x7D);
+  CHECK(ab::reg::manufacturer_id == 0x7E);
+  CHECK(ab::bank::eds_common == 0x80);
+  CHECK(ab::bank::eds_bp3 == 0x81);
+  CHECK(ab::bank::eds_reserved_3 == 0x82);
+  CHECK(ab::bank::eds_reserved_4 == 0x83);
+  CHECK(ab::bank::user == 0x84);
+  CHECK(ab::bank::not_allowed == 0xFF);
+  CHECK(static_cast<int>(ab::command::set_offset_to_position) == 0x02);
+  CHECK(static_cast<int>(ab::command::reset_offset) == 0x03);
+  CHECK(static_cast<int>(ab::command::reset_errors) == 0x06);
+  CHECK(static_cast<int>(ab::preset_mode::with_offset) == 0x00);
+  CHECK(static_cast<int>(ab::preset_mode::actual) == 0x01);
+}
+
+TEST_CASE("ABSYS records default-constructed hold no error and no figure") {
+  const ab::error_status s;
+  CHECK(!s.error);
+  CHECK(!s.warning);
+  CHECK(s.undefined == 0);
+  const ab::serial_number sn;
+  CHECK(sn.prefix[0] == 0);
+  CHECK(sn.number == 0U);
+  CHECK(sn.suffix == 0);
+  const ab::device_id id;
+  CHECK(id.prefix[0] == 0);
+  CHECK(id.number == 0U);
+  CHECK(id.suffix[1] == 0);
 }
