@@ -468,3 +468,189 @@ TEST_CASE("emulator resolution: the readings keep their bits, up to 32 (no 32-bi
   CHECK(wide.abs() == 0xFFFFFFFFU);
   CHECK(wide.abm() == 0xFFFFFFFFU);
 }
+
+TEST_CASE("rotation within the 16-bit turn range raises no counter overflow") {
+  // spec §6.5: OF when the multi-turn counter overflows; turn 0 is in its range (0~65,535)
+  ts::emulator enc;
+  enc.rotate(5);
+  CHECK(enc.abm() == 0);
+  CHECK(!has_alarm(enc.almc(), almc_bit::of));
+  enc.set_position(0, 1);
+  enc.rotate(-131072);  // back one whole turn, to turn 0
+  CHECK(enc.abm() == 0);
+  CHECK(enc.abs() == 0);
+  CHECK(!has_alarm(enc.almc(), almc_bit::of));
+  enc.rotate(-1);  // below turn 0: wraps, OF latches
+  CHECK(enc.abm() == 0xFFFF);
+  CHECK(has_alarm(enc.almc(), almc_bit::of));
+}
+
+TEST_CASE("EEPROM: eeprom() shows pages 0 to 5 at addresses 0 to 126 only; address 0 reads back") {
+  ts::emulator enc;
+  master m{enc};
+  CHECK(m.ask(data_id::eeprom_write, 127, 1, 100).is_complete());
+  CHECK(m.ask(data_id::eeprom_write, 0, 0x11, 18000).is_complete());  // page 1, address 0
+  CHECK(m.ask(data_id::eeprom_write, 127, 5, 18000).is_complete());
+  CHECK(m.ask(data_id::eeprom_write, 126, 0x55, 18000).is_complete());  // page 5, address 126
+  CHECK(m.ask(data_id::eeprom_write, 127, 0, 18000).is_complete());
+  CHECK(m.ask(data_id::eeprom_write, 0, 0x42, 18000).is_complete());  // page 0, address 0
+  CHECK(m.ask(data_id::eeprom_write, 10, 0x24, 18000).is_complete());
+  CHECK(m.ask(data_id::eeprom_write, 127, 0, 18000).is_complete());  // page 0 specified again
+  // the page as specified again reads back from its first address on (spec §10)
+  CHECK(m.ask(data_id::eeprom_read, 0, 0, 18000)->edf == 0x42);
+  CHECK(m.ask(data_id::eeprom_read, 10, 0, 100)->edf == 0x24);
+  CHECK(enc.eeprom(1, 0) == 0x11);
+  CHECK(enc.eeprom(5, 126) == 0x55);
+  CHECK(enc.eeprom(0, 127) == 0);  // the page select, not page 1's first byte
+  CHECK(enc.eeprom(6, 0) == 0);    // no page 6 (spec §6.1.1: pages 0~5)
+  CHECK(enc.eeprom(6, 10) == 0);
+  CHECK(enc.eeprom(7, 4) == 0);  // page 7 is not a user page
+}
+
+TEST_CASE("resets: any other request restarts the count of 10 (spec §10: \"in one sequence\")") {
+  // Each case: five reset-errors requests, then the request that breaks the sequence, then nine
+  // more reset-errors requests: the latched over-speed flag stays; a tenth releases it.
+  enum class breaker { eeprom_read, eeprom_write, abnormal, turning, too_soon_after_read };
+  for (const breaker b : {breaker::eeprom_read, breaker::eeprom_write, breaker::abnormal,
+                          breaker::turning, breaker::too_soon_after_read}) {
+    CAPTURE(static_cast<int>(b));
+    ts::emulator enc;
+    master m{enc};
+    enc.set_condition(almc_bit::os, true);
+    enc.set_condition(almc_bit::os, false);
+    for (int i = 0; i < 5; ++i) {
+      (void)m.ask(data_id::reset_errors, 0, 0, 50);
+    }
+    switch (b) {
+      case breaker::eeprom_read: (void)m.ask(data_id::eeprom_read, 1, 0, 50); break;
+      case breaker::eeprom_write: (void)m.ask(data_id::eeprom_write, 1, 0x33, 50); break;
+      case breaker::abnormal: {
+        const std::uint8_t bad_parity[] = {0x82};
+        m.now += 50;
+        CHECK(enc.respond(bad_parity, m.now).size == 11);
+        break;
+      }
+      case breaker::turning:  // one request while the shaft turns, then it stops
+        enc.set_speed_rpm(200);
+        (void)m.ask(data_id::reset_errors, 0, 0, 50);
+        enc.set_speed_rpm(0);
+        break;
+      case breaker::too_soon_after_read:
+        // a read 10 us after the fifth reset request: the new sequence's first request, 20 us
+        // after the old sequence's last one, has no previous request of its own sequence to
+        // keep 40 us from, and counts
+        (void)m.ask(data_id::read_abs, 0, 0, 10);
+        (void)m.ask(data_id::reset_errors, 0, 0, 10);
+        for (int i = 0; i < 8; ++i) {
+          (void)m.ask(data_id::reset_errors, 0, 0, 50);
+        }
+        CHECK(has_alarm(enc.almc(), almc_bit::os));
+        (void)m.ask(data_id::reset_errors, 0, 0, 50);  // the tenth of the new sequence
+        CHECK(!has_alarm(enc.almc(), almc_bit::os));
+        continue;
+    }
+    for (int i = 0; i < 9; ++i) {
+      (void)m.ask(data_id::reset_errors, 0, 0, 50);
+    }
+    CHECK(has_alarm(enc.almc(), almc_bit::os));
+    (void)m.ask(data_id::reset_errors, 0, 0, 50);
+    CHECK(!has_alarm(enc.almc(), almc_bit::os));
+  }
+}
+
+TEST_CASE("resets: another reset ID restarts the count; after a reset, the next takes 10 again") {
+  ts::emulator enc;
+  master m{enc};
+  enc.set_position(5000, 9);
+  for (int i = 0; i < 5; ++i) {
+    (void)m.ask(data_id::reset_errors, 0, 0, 50);
+  }
+  for (int i = 0; i < 9; ++i) {
+    (void)m.ask(data_id::reset_multi_turn, 0, 0, 50);
+  }
+  CHECK(enc.abm() == 9);  // nine of IDC: not yet
+  (void)m.ask(data_id::reset_multi_turn, 0, 0, 50);
+  CHECK(enc.abm() == 0);
+  // a second sequence of the same ID counts from 0 again
+  enc.set_position(5000, 9);
+  (void)m.ask(data_id::reset_multi_turn, 0, 0, 50);
+  CHECK(enc.abm() == 9);  // one request does not reset
+  for (int i = 0; i < 8; ++i) {
+    (void)m.ask(data_id::reset_multi_turn, 0, 0, 50);
+  }
+  CHECK(enc.abm() == 9);
+  (void)m.ask(data_id::reset_multi_turn, 0, 0, 50);
+  CHECK(enc.abm() == 0);
+}
+
+TEST_CASE("a single-turn reset writes EEPROM: busy 18 ms after the tenth request (spec §10)") {
+  ts::emulator enc;
+  master m{enc};
+  enc.set_position(5000, 9);
+  for (int i = 0; i < 10; ++i) {
+    (void)m.ask(data_id::reset_single_turn, 0, 0, 50);
+  }
+  CHECK(enc.abs() == 0);
+  CHECK(enc.busy(m.now));
+  CHECK(m.ask(data_id::eeprom_read, 1, 0, 100)->busy);
+  CHECK(m.ask(data_id::eeprom_read, 1, 0, ts::eeprom_write_us)->busy == false);
+  // the other resets write nothing: not busy after them
+  for (int i = 0; i < 10; ++i) {
+    (void)m.ask(data_id::reset_errors, 0, 0, 50);
+  }
+  CHECK(!enc.busy(m.now));
+}
+
+TEST_CASE("over-heat: the threshold temperature itself is not over it; a new threshold acts") {
+  // spec §6.5: OH when the temperature "exceeds" the detection temperature (§7.2.1: 0xDA, 90 °C)
+  ts::emulator enc;
+  enc.set_temperature(90);
+  CHECK(!has_alarm(enc.almc(), almc_bit::oh));
+  enc.set_temperature(91);
+  CHECK(has_alarm(enc.almc(), almc_bit::oh));
+  // 60 °C, below the factory 90 °C: no over-heat until a 50 °C threshold is written
+  ts::emulator cool;
+  master c{cool};
+  cool.set_temperature(60);
+  CHECK(!has_alarm(cool.almc(), almc_bit::oh));
+  CHECK(c.ask(data_id::eeprom_write, 127, 7, 100).is_complete());
+  CHECK(c.ask(data_id::eeprom_write, 4, ts::encode_overheat_threshold(50).value(), 18000)
+            .is_complete());
+  CHECK(has_alarm(cool.almc(), almc_bit::oh));
+}
+
+TEST_CASE("a new emulator: 25 °C, at 0, not busy; a static one is all zeros, 932 bytes") {
+  // The header's firmware contract: a default-constructed model is all zeros (a `static` one
+  // lands in .bss) and the emulator is 932 bytes (no pointer or wider member: the same on
+  // 64-bit hosts as on the Cortex-M4). Its substrate starts at 25 °C (the header's
+  // default_celsius), the temperature a demo or bench reads before it sets one.
+  static ts::emulator blank;
+  const auto* bytes = reinterpret_cast<const unsigned char*>(&blank);
+  std::size_t nonzero = 0;
+  for (std::size_t i = 0; i < sizeof blank; ++i) {
+    nonzero += bytes[i] != 0U ? 1U : 0U;
+  }
+  CHECK(nonzero == 0);
+  CHECK(sizeof(ts::emulator) == 932);
+  ts::emulator enc;
+  master m{enc};
+  CHECK(enc.abs() == 0);
+  CHECK(enc.abm() == 0);
+  CHECK(enc.almc() == 0);
+  CHECK(!enc.busy(0));
+  CHECK(m.ask(data_id::eeprom_write, 127, 7, 100).is_complete());
+  CHECK(ts::decode_temperature(m.ask(data_id::eeprom_read, 5, 0, 18000)->edf) == 25);
+}
+
+TEST_CASE("a reading too wide for T-format's 24-bit fields gets no reply, not a partial one") {
+  // resolution{32, 32} is the emulator's own (the fields hold 24 bits): a position it cannot
+  // encode leaves the reply empty, as the encoder staying silent (reply: size 0)
+  ts::emulator_config cfg;
+  cfg.res = resolution{32, 32};
+  ts::emulator wide(cfg);
+  wide.set_position(0x01000000U, 0);
+  const std::uint8_t id0[] = {0x02};
+  CHECK(wide.respond(id0, 0).size == 0);
+  wide.set_position(0x00FFFFFFU, 0);
+  CHECK(wide.respond(id0, 100).size == 6);
+}
