@@ -375,3 +375,86 @@ TEST_CASE(
   CHECK(wide.pulses_per_revolution() == 0U);
   CHECK(ab::emulator().pulses_per_revolution() == (std::uint64_t{512} << 10U));
 }
+
+TEST_CASE("ABSYS emulator as built: at 0, not busy, reserve 254, 100 us frames, frame defaults") {
+  // §2.6: "After power-on the Functional Reserve will always be 254 till movement is
+  // detected"; the indicator has no default in §2.1 ("-"): the emulator starts at 0. The frame
+  // period (100 us, the header's "frame period of 100 µs or more") and frame()'s line delay 1
+  // and Ack 1 are the defaults the Python binding repeats (python/src/absys.cpp: absys.Emulator
+  // and its frame()); the position starts at 0 until set_position().
+  ab::emulator e;
+  CHECK(e.frame_period_us() == 100U);
+  CHECK(e.absolute_position() == 0U);
+  CHECK(e.reported_position() == 0U);
+  CHECK(!e.busy());
+  ab::emulator::registers regs(e);
+  CHECK(regs.ready());
+  CHECK(regs.read(ab::reg::functional_reserve) == 254);
+  CHECK(regs.read(ab::reg::functional_reserve_indicator) == 0);
+  std::uint32_t by_default[2] = {};
+  std::uint32_t explicit_args[2] = {};
+  const auto n = e.frame(by_default);
+  REQUIRE(n.ok());
+  CHECK(*n == 1U + 1U + 2U + 40U);  // line delay 1, Ack 1, Start and CDS, 40 bits of data
+  CHECK(*n == *e.frame(explicit_args, 1, 1));
+  CHECK(by_default[0] == explicit_args[0]);
+  CHECK(by_default[1] == explicit_args[1]);
+  std::uint32_t span_words[2] = {};
+  CHECK(*e.frame(span<std::uint32_t>(span_words, 2)) == *n);
+  CHECK(span_words[0] == explicit_args[0]);
+  CHECK(span_words[1] == explicit_args[1]);
+}
+
+TEST_CASE("ABSYS emulator: sensor_error's numbers (interface: the Python binding's SensorError)") {
+  // python/src/absys.cpp binds SensorError as none 0, in_operation 1, at_power_on 2
+  CHECK(static_cast<int>(ab::sensor_error::none) == 0);
+  CHECK(static_cast<int>(ab::sensor_error::in_operation) == 1);
+  CHECK(static_cast<int>(ab::sensor_error::at_power_on) == 2);
+}
+
+TEST_CASE("ABSYS emulator: SIP_RES 31 still gives pulses per revolution, 32 does not") {
+  ab::emulator_config cfg;
+  cfg.sip_count = 1;
+  cfg.sip_resolution = 31;
+  const ab::emulator e(cfg);
+  CHECK(e.pulses_per_revolution() == (std::uint64_t{1} << 31U));
+  cfg.sip_resolution = 32;  // no pulses per revolution: the plain difference (rotary_position)
+  const ab::emulator past(cfg);
+  CHECK(past.pulses_per_revolution() == 0U);
+}
+
+TEST_CASE("ABSYS emulator registers: each multi-byte register's first and last byte, and past") {
+  // §2.1: 0x40 bank selection "can be written or read" whatever the bank (§2.2); 0x4C..0x4F the
+  // offset, 0x50..0x5F reserved (0x00); 0x60 the command register, R/W; 0x63..0x66 the
+  // position, 0x67..0x69 reserved; 0x75..0x7C the device ID, 0x7D the revision
+  ab::emulator e;
+  ab::emulator::registers regs(e);
+  regs.write(ab::reg::bank_select, 0x90);  // a reserved bank: the window closes, 0x40 does not
+  CHECK_FALSE(regs.readable(0x3F));
+  CHECK(regs.readable(ab::reg::bank_select));
+  CHECK(regs.read(ab::reg::bank_select) == 0x90);
+  const std::uint8_t offset[] = {0xA1, 0xB2, 0xC3, 0xD4};
+  for (std::uint8_t i = 0; i < 4; ++i) {
+    regs.write(static_cast<std::uint8_t>(ab::reg::offset + i), offset[i]);
+  }
+  CHECK(e.offset() == 0xA1B2C3D4U);
+  CHECK(regs.read(ab::reg::serial_number + 7U) == 'C');  // the serial number's last byte
+  for (std::uint8_t i = 0; i < 4; ++i) {
+    CHECK(regs.read(static_cast<std::uint8_t>(ab::reg::offset + i)) == offset[i]);
+  }
+  CHECK(regs.read(ab::reg::offset + 4U) == 0);  // 0x50: reserved
+  regs.write(ab::reg::command, 0x77);
+  CHECK(regs.read(ab::reg::command) == 0x77);  // R/W: the value written reads back
+  regs.write(ab::reg::preset_mode, static_cast<std::uint8_t>(ab::preset_mode::actual));
+  e.set_position(0xCAFEBABEU);
+  const std::uint8_t position[] = {0xCA, 0xFE, 0xBA, 0xBE};
+  for (std::uint8_t i = 0; i < 4; ++i) {
+    CHECK(regs.read(static_cast<std::uint8_t>(ab::reg::position + i)) == position[i]);
+  }
+  CHECK(regs.read(ab::reg::position + 4U) == 0);  // 0x67: reserved
+  const ab::emulator_config cfg;
+  for (std::uint8_t i = 0; i < ab::device_id_size; ++i) {
+    CHECK(regs.read(static_cast<std::uint8_t>(ab::reg::device_id + i)) == cfg.device_id[i]);
+  }
+  CHECK(regs.read(ab::reg::revision) == ab::revision_03);
+}

@@ -215,3 +215,36 @@ TEST_CASE("ABSYS records default-constructed hold no error and no figure") {
   CHECK(id.number == 0U);
   CHECK(id.suffix[1] == 0);
 }
+
+TEST_CASE("ABSYS device ID: any 32-bit ID between the ASCII pairs, a ninth byte ignored (§2.5)") {
+  // §2.5: two ASCII bytes, the ID on four bytes (most significant first, any value: here one
+  // with bit 31 set), two ASCII bytes; decode_device_id reads 8 bytes and ignores more
+  const std::uint8_t dev[] = {'Q', 'R', 0x80, 0x11, 0xF5, 0x8E, '0', '1', 0xFF};
+  const auto d = ab::decode_device_id(dev);
+  REQUIRE(d.is_complete());
+  CHECK(d.consumed() == 8U);
+  CHECK(d->prefix[0] == 'Q');
+  CHECK(d->prefix[1] == 'R');
+  CHECK(d->number == 0x8011F58EU);
+  CHECK(d->suffix[0] == '0');
+  CHECK(d->suffix[1] == '1');
+}
+
+TEST_CASE("ABSYS timings: §3.4's register access times and Table 1's power-on delay") {
+  // §3.4: persistent registers ">4 ms" to write, "0x02 or 0x03 ... four EEPROM Write
+  // operations (17 ms delay)", other registers ">0.05 ms" to read; §1, Table 1: "Power-on
+  // Delay 1.8 sec"
+  CHECK(ab::persistent_write_us == 4000U);
+  CHECK(ab::offset_command_us == 17000U);
+  CHECK(ab::eeprom_read_us == 50U);
+  CHECK(ab::power_on_delay_ms == 1800U);
+  CHECK(ab::write_time_us(ab::reg::offset, 0x12) == 4000U);
+  CHECK(ab::write_time_us(ab::reg::command, 0x02) == 17000U);
+}
+
+TEST_CASE("linear position with offset: the largest positive difference, 0x7FFFFFFF (§2.3)") {
+  // signed two's complement on 32 bits: 0x7FFFFFFF is INT32_MAX, 0x80000000 the first negative
+  CHECK(ab::linear_position(0x7FFFFFFFU, 0) == INT_MAX);
+  CHECK(ab::linear_position(0xFFFFFFFFU, 0x80000000U) == INT_MAX);
+  CHECK(ab::linear_position(0x80000000U, 0) == INT_MIN);
+}
