@@ -231,3 +231,132 @@ TEST_CASE("SM unit: password_registers pads with NUL, whatever follows the passw
     CHECK(regs[r] == 0);
   }
 }
+
+TEST_CASE("SM unit: the line (§2–§4), the address list (§7, §9, §10) and the warning bits (§9)") {
+  // the values of the guideline's tables: a firmware that names a register or a bit by the
+  // profile's constant reaches what the guideline lists
+  CHECK(sm::baud == 9600U);   // §2: 9600 bps, 8 bits, EVEN, 1 stop bit
+  CHECK(sm::min_slave == 1);  // §2: slave addresses 1-16
+  CHECK(sm::max_slave == 16);
+  CHECK(sm::min_silent_interval_us == 5000U);     // §4 note *1: 5 ms or longer
+  CHECK(sm::min_command_interval_us == 100000U);  // §3: at least 0.1 second between commands
+  CHECK(sm::coil::warning_count_clear == 0);      // §8
+  CHECK(sm::coil::warning_reset == 100);
+  CHECK(sm::input::set_parameters == 0);  // §7, §9: 0-8
+  CHECK(sm::input::set_parameter_count == 9);
+  CHECK(sm::input::instantaneous == 100);  // 100-108
+  CHECK(sm::input::instantaneous_count == 9);
+  CHECK(sm::input::state == 200);  // 200-207
+  CHECK(sm::input::state_count == 8);
+  CHECK(sm::input::login_status == 300);
+  CHECK(sm::input::logged_in == 0xFF00);  // §9: login 0xFF00, logout 0x0000
+  CHECK(sm::input::logged_out == 0x0000);
+  CHECK(sm::input::log_samples == 20);  // xx00-xx19
+  CHECK(sm::holding::settings == 0);    // §7, §10: 0-39
+  CHECK(sm::holding::setting_count == 40);
+  CHECK(sm::holding::login == 100);     // 100-107
+  CHECK(sm::holding::password == 200);  // 200-207
+  CHECK(sm::holding::password_registers == 8);
+  CHECK(sm::holding::product_code == 300);  // 300-301
+  CHECK(sm::holding::product_code_registers == 2);
+  CHECK(sm::holding::mfg_number == 350);  // 350-354
+  CHECK(sm::holding::mfg_number_registers == 5);
+  // §9 note *1: bit 0 torque upper limit A, 1 upper B, 2 lower A, 3 lower B, 5 overheat,
+  // 6 excessive shock; bits 4 and 7..15 are not used
+  CHECK(sm::warning::torque_upper_a == 0x0001);
+  CHECK(sm::warning::torque_upper_b == 0x0002);
+  CHECK(sm::warning::torque_lower_a == 0x0004);
+  CHECK(sm::warning::torque_lower_b == 0x0008);
+  CHECK(sm::warning::overheat == 0x0020);
+  CHECK(sm::warning::excessive_shock == 0x0040);
+  CHECK(sm::warning::defined == 0x006F);
+  // the read of the state parameters asks for exactly 200..207
+  std::uint8_t out[256] = {};
+  REQUIRE(sm::read_state(1, out).ok());
+  CHECK(out[2] == 0x00);
+  CHECK(out[3] == 0xC8);
+  CHECK(out[4] == 0x00);
+  CHECK(out[5] == 0x08);
+}
+
+TEST_CASE("SM unit: the signed channels at the limits of two's complement (§9)") {
+  CHECK(sm::raw_value(sm::channel::temperature, 0x8000) == -32768);
+  CHECK(sm::raw_value(sm::channel::temperature, 0x7FFF) == 32767);
+  CHECK(sm::raw_value(sm::channel::acceleration_x, 0x8000) == -32768);
+  CHECK(sm::raw_value(sm::channel::acceleration_z, 0xFFFF) == -1);
+  CHECK(sm::raw_value(sm::channel::torque, 0x8000) == 32768);  // unsigned
+}
+
+TEST_CASE("SM unit builders: slaves 1..16 only (§2), whatever the builder") {
+  std::uint8_t out[256] = {};
+  const mutable_byte_view o(out, sizeof out);
+  const std::uint16_t values[2] = {100, 100};
+  const span<const std::uint16_t> two(values, 2);
+  // 16, the last address, is taken by each
+  CHECK(sm::read_instantaneous(16, o).ok());
+  CHECK(sm::write_setting(16, 36, 700, o).ok());
+  CHECK(sm::write_settings(16, 36, two, o).ok());
+  CHECK(sm::login(16, text("password"), o).ok());
+  CHECK(sm::change_password(16, text("password"), o).ok());
+  CHECK(sm::read_holding_block(16, sm::holding::product_code, 2, o).ok());
+  CHECK(sm::set_coil(16, sm::coil::warning_reset, o).ok());
+  CHECK(sm::read_version(16, o).ok());
+  // 17, an address the Modbus frame could carry but no SM unit has, is refused by each
+  CHECK(sm::read_instantaneous(17, o).error() == errc::modbus_slave_address);
+  CHECK(sm::write_setting(17, 36, 700, o).error() == errc::modbus_slave_address);
+  CHECK(sm::write_settings(17, 36, two, o).error() == errc::modbus_slave_address);
+  CHECK(sm::login(17, text("password"), o).error() == errc::modbus_slave_address);
+  CHECK(sm::change_password(17, text("password"), o).error() == errc::modbus_slave_address);
+  CHECK(sm::read_holding_block(17, sm::holding::product_code, 2, o).error() ==
+        errc::modbus_slave_address);
+  CHECK(sm::set_coil(17, sm::coil::warning_reset, o).error() == errc::modbus_slave_address);
+  CHECK(sm::read_version(17, o).error() == errc::modbus_slave_address);
+  // broadcast (0) for the writes only (§6 note *2)
+  CHECK(sm::write_settings(0, 36, two, o).ok());
+  CHECK(sm::login(0, text("password"), o).ok());
+  CHECK(sm::set_coil(0, sm::coil::warning_reset, o).ok());
+  CHECK(sm::read_holding_block(0, sm::holding::product_code, 2, o).error() ==
+        errc::modbus_slave_address);
+}
+
+TEST_CASE("SM unit: settings at their lower limits, and the first password character checked") {
+  std::uint8_t out[256] = {};
+  // §10: torque limits 0..200, start time 1..300: each lower limit itself is taken
+  const std::uint16_t lowest[] = {0, 0, 0, 0, 1, 0, 0, 0, 0};
+  CHECK(sm::write_settings(1, 0, lowest, out).ok());
+  const std::uint16_t log_interval[] = {1};  // setting 38: 1..100
+  CHECK(sm::write_settings(1, 38, log_interval, out).ok());
+  // §10: every character 0x21..0x7E, the first as the others
+  CHECK(sm::check_password(text(" bcdefgh")) == errc::invalid_argument);
+  CHECK(sm::check_password(text("\x7f"
+                                "bcdefgh")) == errc::invalid_argument);
+  CHECK(sm::login(1, text(" bcdefgh"), out).error() == errc::invalid_argument);
+}
+
+TEST_CASE("SM unit: password_registers writes 8 registers at most, reads no character past") {
+  // `out` longer than 8 registers: the 9th is left as it was
+  std::uint16_t regs[9] = {};
+  regs[8] = 0xABCD;
+  sm::password_registers(text("abcdefghijklmnop"), regs);
+  CHECK(regs[7] == 0x6F70);  // "op"
+  CHECK(regs[8] == 0xABCD);
+  // an odd length (9 characters) in a longer buffer: the last register is "i" and a NUL
+  const std::uint8_t memory[] = {'a', 'b', 'c', 'd', 'e', 'f', 'g', 'h', 'i', 'X', 'Y'};
+  std::uint16_t odd[8] = {};
+  sm::password_registers(byte_view(memory, 9), odd);
+  CHECK(odd[3] == 0x6768);  // "gh"
+  CHECK(odd[4] == 0x6900);  // "i", NUL
+  CHECK(odd[5] == 0);
+}
+
+TEST_CASE("SM unit: a version record, default-constructed or of a failed decode, is 0.0") {
+  const sm::version v;
+  CHECK(v.upper == 0);
+  CHECK(v.lower == 0);
+  mo::response r;
+  r.function = 0x03;  // not FC11
+  const auto failed = sm::decode_version(r);
+  REQUIRE(!failed.ok());
+  CHECK(failed.value().upper == 0);
+  CHECK(failed.value().lower == 0);
+}
