@@ -350,3 +350,227 @@ TEST_CASE("SM unit emulator: a channel outside the enumeration reads 0") {
   CHECK(unit.instantaneous_register(static_cast<sm::channel>(sm::channel_count)) == 0);
   CHECK(unit.instantaneous_register(sm::channel::frequency) == 50);
 }
+
+TEST_CASE("SM unit emulator: the factory settings at power-on") {
+  // the header's power-on state: every limit off (0) but those whose lower limit is 1 (the
+  // start times, the log interval), overheat at 80.0 degC, excessive shock at 50.00 m/s2, a
+  // log interval of 1.0 s
+  const sm::emulator unit;
+  for (std::uint16_t i = 0; i < sm::holding::setting_count; ++i) {
+    CAPTURE(i);
+    if (i == 36) {
+      CHECK(unit.setting(i) == 800);
+    } else if (i == 37) {
+      CHECK(unit.setting(i) == 5000);
+    } else if (i == 38) {
+      CHECK(unit.setting(i) == 10);
+    } else {
+      CHECK(unit.setting(i) == sm::setting_limits(i).value().lower);
+    }
+  }
+  // the acquisition intervals of logs 1..3 (input 205..207, §9) are that 1.0 s
+  sm::emulator copy = unit;
+  CHECK(serve_pdu(copy, 1, {0x04, 0x00, 0xCD, 0x00, 0x03}) ==
+        bytes{0x04, 0x06, 0x00, 0x0A, 0x00, 0x0A, 0x00, 0x0A});
+}
+
+TEST_CASE("SM unit emulator: warning factor logs 1..3 hold the last three warnings (§9)") {
+  sm::emulator unit;
+  unit.inject_warning(sm::warning::torque_upper_a);
+  unit.inject_warning(sm::warning::torque_lower_b);
+  unit.inject_warning(sm::warning::overheat);
+  unit.inject_warning(sm::warning::excessive_shock);
+  // 200 count, 201 status, 202 the last factor, 203 the one before, 204 three times before
+  CHECK(serve_pdu(unit, 1, {0x04, 0x00, 0xC8, 0x00, 0x05}) ==
+        bytes{0x04, 0x0A, 0x00, 0x04, 0x00, 0x69, 0x00, 0x40, 0x00, 0x20, 0x00, 0x08});
+}
+
+TEST_CASE("SM unit emulator: the functions of §6, an address before the data, FC11 alone") {
+  sm::emulator unit;
+  // FC0F (Force Multiple Coils, §6) on the warning reset coil: served, the warning reset
+  unit.inject_warning(sm::warning::overheat);
+  CHECK(serve_pdu(unit, 1, {0x0F, 0x00, 0x64, 0x00, 0x01, 0x01, 0x01}) ==
+        bytes{0x0F, 0x00, 0x64, 0x00, 0x01});
+  CHECK(unit.warning_status() == 0);
+  // FC07 is not in §6: a function error, even with an address and a quantity
+  CHECK(serve_pdu(unit, 1, {0x07, 0x00, 0x00, 0x00, 0x01}) == bytes{0x87, 0x01});
+  // cut after an unsupported address (500): the address error comes first (02 before 03, §5)
+  CHECK(serve_pdu(unit, 1, {0x03, 0x01, 0xF4}) == bytes{0x83, 0x02});
+  // cut inside the address: the number of bytes is invalid (03), whatever follows the PDU
+  const std::uint8_t cut[] = {0x03, 0x01, 0xF4};
+  std::uint8_t out[256] = {};
+  const auto n = mo::serve_pdu(unit, byte_view(cut, 2), mutable_byte_view(out, sizeof out));
+  REQUIRE(n.ok());
+  CHECK(bytes(out, out + n.value()) == bytes{0x83, 0x03});
+  // FC11 has no data (§11): bytes after its code are a data error, not an address error
+  CHECK(serve_pdu(unit, 1, {0x11, 0x00, 0x00}) == bytes{0x91, 0x03});
+}
+
+TEST_CASE("SM unit emulator: the areas of §7 to their last address, and not one past it") {
+  sm::emulator unit;
+  // holding 0..39: 39 alone is a setting, 39..40 runs past the area
+  CHECK(serve_pdu(unit, 1, {0x03, 0x00, 0x27, 0x00, 0x01}) == bytes{0x03, 0x02, 0x00, 0x00});
+  CHECK(serve_pdu(unit, 1, {0x03, 0x00, 0x27, 0x00, 0x02}) == bytes{0x83, 0x02});
+  CHECK(serve_pdu(unit, 1, {0x06, 0x00, 0x27, 0x00, 0x3C}) == bytes{0x06, 0x00, 0x27, 0x00, 0x3C});
+  CHECK(unit.setting(39) == 60);
+  // input 300 (login status) is one register
+  CHECK(serve_pdu(unit, 1, {0x04, 0x01, 0x2C, 0x00, 0x02}) == bytes{0x84, 0x02});
+  // logs 1..3, channels 0 (voltage) .. 8 (torque): 1000 and 3800 taken, 4000 and 1900 not
+  CHECK(serve_pdu(unit, 1, {0x04, 0x03, 0xE8, 0x00, 0x14}).size() == 42);
+  CHECK(serve_pdu(unit, 1, {0x04, 0x0E, 0xD8, 0x00, 0x14}).size() == 42);
+  CHECK(serve_pdu(unit, 1, {0x04, 0x0F, 0xA0, 0x00, 0x14}) == bytes{0x84, 0x02});
+  CHECK(serve_pdu(unit, 1, {0x04, 0x07, 0x6C, 0x00, 0x14}) == bytes{0x84, 0x02});
+}
+
+TEST_CASE("SM unit emulator: settings at both their limits are written (§10)") {
+  sm::emulator unit;
+  CHECK(serve_pdu(unit, 1, {0x06, 0x00, 0x00, 0x00, 0xC8}) == bytes{0x06, 0x00, 0x00, 0x00, 0xC8});
+  CHECK(unit.setting(0) == 200);  // torque upper limit: 0..200 %
+  CHECK(serve_pdu(unit, 1, {0x06, 0x00, 0x00, 0x00, 0x00}) == bytes{0x06, 0x00, 0x00, 0x00, 0x00});
+  CHECK(unit.setting(0) == 0);
+  CHECK(serve_pdu(unit, 1, {0x06, 0x00, 0x26, 0x00, 0x01}) == bytes{0x06, 0x00, 0x26, 0x00, 0x01});
+  CHECK(unit.setting(38) == 1);  // log interval: 1..100
+  CHECK(serve_pdu(unit, 1, {0x10, 0x00, 0x25, 0x00, 0x02, 0x04, 0x3A, 0x98, 0x00, 0x64}) ==
+        bytes{0x10, 0x00, 0x25, 0x00, 0x02});
+  CHECK(unit.setting(37) == 15000);  // excessive shock: 0..15000
+  CHECK(unit.setting(38) == 100);
+  // a block of settings writes those it names and no other
+  CHECK(serve_pdu(unit, 1, {0x10, 0x00, 0x23, 0x00, 0x02, 0x04, 0x00, 0x07, 0x00, 0x08}) ==
+        bytes{0x10, 0x00, 0x23, 0x00, 0x02});
+  CHECK(unit.setting(35) == 7);
+  CHECK(unit.setting(36) == 8);
+  CHECK(unit.setting(37) == 15000);
+}
+
+TEST_CASE("SM unit emulator: the product code and MFG number it answers") {
+  // §10: product-specific numbers set at shipment, which the guideline does not give; the
+  // emulator's are "SM01" and "2611220042", two ASCII characters per register, high byte
+  // first (pinned here: a client of the emulator sees these)
+  sm::emulator unit;
+  CHECK(serve_pdu(unit, 1, {0x03, 0x01, 0x2C, 0x00, 0x02}) ==
+        bytes{0x03, 0x04, 'S', 'M', '0', '1'});
+  CHECK(serve_pdu(unit, 1, {0x03, 0x01, 0x5E, 0x00, 0x05}) ==
+        bytes{0x03, 0x0A, '2', '6', '1', '1', '2', '2', '0', '0', '4', '2'});
+}
+
+TEST_CASE("SM unit emulator: every password character checked, and the settings kept") {
+  bench b;
+  // setting 0 not 0, to see that the password's changes leave the settings alone
+  CHECK(b.pdu(1, {0x06, 0x00, 0x00, 0x00, 0x64}).size() == 5);
+  // a password differing from "password" in its first character only: 04
+  CHECK(b.ask([](auto out) { return sm::login(1, text("Password"), out); }) == bytes{0x90, 0x04});
+  CHECK(b.unit.logged_in());
+  // '~' (0x7E), the last character allowed (§10), in a new password of 16 characters
+  CHECK(b.ask([](auto out) { return sm::change_password(1, text("~pass~word~16ch~"), out); }) ==
+        bytes{0x10, 0x00, 0xC8, 0x00, 0x08});
+  CHECK(b.unit.setting(0) == 100);
+  CHECK(b.ask([](auto out) { return sm::login(1, text("~pass~word~16ch~"), out); }).size() == 5);
+  CHECK(!b.unit.logged_in());
+  CHECK(b.ask([](auto out) { return sm::login(1, text("~pass~word~16ch~"), out); }).size() == 5);
+  CHECK(b.unit.logged_in());
+  // and one of 8 characters again
+  CHECK(b.ask([](auto out) { return sm::change_password(1, text("pass~ord"), out); }).size() == 5);
+  CHECK(b.unit.setting(0) == 100);
+  CHECK(b.ask([](auto out) { return sm::login(1, text("pass~ord"), out); }).size() == 5);
+  CHECK(!b.unit.logged_in());
+}
+
+TEST_CASE("SM unit emulator: the accessors touch no register past the span they are given") {
+  sm::emulator unit;
+  // reads fill `out`, not the register after it
+  std::uint16_t regs[10] = {};
+  regs[3] = 0xABCD;
+  CHECK(unit.read_registers(0x03, 36, span<std::uint16_t>(regs, 3)) == 0);
+  CHECK(regs[0] == 800);
+  CHECK(regs[2] == 10);
+  CHECK(regs[3] == 0xABCD);
+  regs[9] = 0xABCD;
+  CHECK(unit.read_registers(0x04, 100, span<std::uint16_t>(regs, 9)) == 0);
+  CHECK(regs[7] == 50);  // frequency
+  CHECK(regs[9] == 0xABCD);
+  // writes take the values of `values`, not the one after it
+  const std::uint16_t values[3] = {900, 6000, 77};
+  CHECK(unit.write_registers(36, span<const std::uint16_t>(values, 2)) == 0);
+  CHECK(unit.setting(36) == 900);
+  CHECK(unit.setting(37) == 6000);
+  CHECK(unit.setting(38) == 10);
+  // the login block reads 8 registers, not a 9th after them: "password" padded with NUL logs
+  // out, whatever follows
+  const std::uint16_t login[9] = {0x7061, 0x7373, 0x776F, 0x7264, 0, 0, 0, 0, 0x5858};
+  CHECK(unit.write_registers(sm::holding::login, span<const std::uint16_t>(login, 8)) == 0);
+  CHECK(!unit.logged_in());
+  // a password block of another length than 8 registers is a data error, for a caller that
+  // does not go through admit() (the header keeps the check for such callers)
+  CHECK(unit.write_registers(sm::holding::login, span<const std::uint16_t>(login, 4)) ==
+        sm::emulator::data_error);
+  CHECK(!unit.logged_in());
+  // FC11's two bytes both written
+  std::uint8_t id[4] = {0xAA, 0xAA, 0xAA, 0xAA};
+  std::size_t size = 0;
+  CHECK(unit.report_server_id(mutable_byte_view(id, sizeof id), size) == 0);
+  CHECK(size == 2);
+  CHECK(id[0] == 0x01);
+  CHECK(id[1] == 0x00);
+}
+
+namespace {
+
+// A channel's waveform: a triangle of `period` tenths of a second from `low` at time 0 up to
+// `low + amplitude` at half the period and back, in whole register steps (x * amplitude /
+// (period / 2), truncated).
+struct wave {
+  sm::channel c;
+  std::int32_t low;
+  std::uint32_t period;
+  std::int32_t amplitude;
+};
+
+std::int32_t triangle(const wave& w, std::uint32_t tenths) {
+  const std::int32_t half = static_cast<std::int32_t>(w.period / 2U);
+  const std::int32_t p = static_cast<std::int32_t>(tenths % w.period);
+  const std::int32_t rise = p <= half ? p : static_cast<std::int32_t>(w.period) - p;
+  return w.low + rise * w.amplitude / half;
+}
+
+}  // namespace
+
+TEST_CASE("SM unit emulator: instantaneous data, triangle waves in the header's ranges") {
+  // The ranges are those the header's comments give (200.0..206.0 V, 1.50..1.90 A,
+  // 260.0..290.0 W, 35.0..43.0 degC, -0.30..0.30 m/s2, 12.0..15.0 N.m; Y from -0.10 to 0.10 and
+  // Z from 9.79 to 9.83 m/s2, 50 Hz). The periods (5, 8, 8, 60, 2, 3, 1 and 4 s) are the
+  // emulator's own choice (its header says "slow triangle waves"), pinned here with the steps:
+  // docs/modbus.md §6 shows the values a client reads at 0.5 s.
+  const wave waves[] = {
+      {sm::channel::voltage, 2000, 50, 60},       {sm::channel::current, 150, 80, 40},
+      {sm::channel::power, 2600, 80, 300},        {sm::channel::temperature, 350, 600, 80},
+      {sm::channel::acceleration_x, -30, 20, 60}, {sm::channel::acceleration_y, -10, 30, 20},
+      {sm::channel::acceleration_z, 979, 10, 4},  {sm::channel::frequency, 50, 10, 0},
+      {sm::channel::torque, 120, 40, 30},
+  };
+  sm::emulator unit;
+  for (const wave& w : waves) {
+    CAPTURE(static_cast<int>(w.c));
+    std::int32_t lowest = 1 << 20;
+    std::int32_t highest = -(1 << 20);
+    for (std::uint32_t tenths = 0; tenths <= 2U * w.period + 1U; ++tenths) {
+      CAPTURE(tenths);
+      unit.set_time_ms(100U * tenths + 99U);  // 0.1 s steps: the same all through the step
+      const std::int32_t v = sm::raw_value(w.c, unit.instantaneous_register(w.c));
+      CHECK(v == triangle(w, tenths));
+      lowest = v < lowest ? v : lowest;
+      highest = v > highest ? v : highest;
+    }
+    CHECK(lowest == w.low);
+    CHECK(highest == w.low + w.amplitude);
+  }
+  // docs/modbus.md §6: "voltage=201.2 V current=1.55 A power=263.7 W temperature=35.1 degC
+  // acceleration_x=0 m/s2 acceleration_y=-0.04 m/s2 acceleration_z=9.83 m/s2 frequency=50 Hz
+  // torque=12.7 N.m", at 0.5 s
+  unit.set_time_ms(500);
+  const std::int32_t docs[] = {2012, 155, 2637, 351, 0, -4, 983, 50, 127};
+  for (std::size_t i = 0; i < sm::channel_count; ++i) {
+    CAPTURE(i);
+    const auto c = static_cast<sm::channel>(i);
+    CHECK(sm::raw_value(c, unit.instantaneous_register(c)) == docs[i]);
+  }
+}
