@@ -51,6 +51,12 @@ TEST_CASE("LRC: the two's complement of the 8-bit sum (Serial Line §2.5.2.2, §
   static_assert(lrc::compute(byte_view{}) == 0, "constexpr");
 }
 
+TEST_CASE("ASCII sizes and the inter-character timeout, as Serial Line §2.5.2.1 gives them") {
+  CHECK(max_ascii_size == 513U);  // ':', 2 x 255 hex digits, CR LF
+  CHECK(max_ascii_bytes == 255U);
+  CHECK(ascii_char_timeout_ms == 1000U);  // "an interval greater than 1 second"
+}
+
 TEST_CASE("encode_ascii: ':', uppercase hex of address, PDU and LRC, CR LF") {
   CHECK(ascii(0x11, {0x03, 0x00, 0x6B, 0x00, 0x03}) == chars(":1103006B00037E\r\n"));
   CHECK(ascii(0x00, {0x06, 0x00, 0x01, 0xAB, 0xCD}) == chars(":00060001ABCD81\r\n"));
@@ -126,6 +132,7 @@ TEST_CASE("decode_ascii: each kind of bad input its own error") {
   CHECK(decode_ascii(view(chars(":0101FE\r\n")), out).is_complete());  // the shortest: FC only
   fails(":\r\n", errc::modbus_pdu_length, 3);
   fails(":F8030000000104\r\n", errc::modbus_slave_address, 17);
+  CHECK(decode_ascii(view(ascii(0xF7, {0x07})), out).is_complete());  // 247: the last unicast
   // too long: 256 bytes (a 254-byte PDU)
   std::string s = ":01";
   for (std::size_t i = 0; i < max_pdu_size + 1U; ++i) {
@@ -230,12 +237,15 @@ TEST_CASE("ascii framer: the errors of a frame, each reported once, and the next
 
 TEST_CASE("ascii framer: idle() is the inter-character timeout, a frame cut short is truncated") {
   ascii_framer f(framer_role::server, {0x11});
-  CHECK(f.idle().is_incomplete());  // nothing held
+  const auto none = f.idle();
+  CHECK(none.is_incomplete());  // nothing held: the next character, as feed() asks for
+  CHECK(none.needed() == 1U);
   CHECK(f.feed(view(chars(":1103006B00"))).is_incomplete());
   CHECK(f.inside());
   CHECK(f.pending() == 5U);
   const auto r = f.idle();
   CHECK(r.error() == errc::truncated);
+  CHECK(r.consumed() == 0U);  // a timeout takes no character
   CHECK(!f.inside());
   CHECK(f.pending() == 0U);
   CHECK(f.idle().is_incomplete());
@@ -324,6 +334,16 @@ TEST_CASE("ascii listener: each frame a request or its response, by pairing") {
   ascii_framer repeated(framer_role::listener);
   CHECK(directions(repeated, {ascii(0x11, read), ascii(0x11, read), ascii(0x11, answer)}, 0) ==
         std::vector<bool>{false, false, true});
+  // and with function 01, no_response() or a response leaves no function expected (none is 0)
+  const bytes coils = {0x01, 0x00, 0x00, 0x00, 0x08};
+  const bytes coils_answer = {0x01, 0x01, 0x5A};
+  ascii_framer again(framer_role::listener);
+  CHECK(directions(again, {ascii(0x11, coils), ascii(0x11, coils), ascii(0x11, coils_answer)}, 0) ==
+        std::vector<bool>{false, false, true});
+  ascii_framer answered(framer_role::listener);
+  CHECK(directions(answered, {ascii(0x11, coils), ascii(0x11, coils_answer), ascii(0x11, coils),
+                              ascii(0x11, coils_answer)}) ==
+        std::vector<bool>{false, true, false, true});
   ascii_framer unpaired(framer_role::listener);  // the same without it: paired, as the rule says
   CHECK(directions(unpaired, {ascii(0x11, read), ascii(0x11, read), ascii(0x11, answer)}) ==
         std::vector<bool>{false, true, false});
@@ -379,6 +399,19 @@ TEST_CASE("ascii framer put(): byte by byte, the results of feed() in chunks (ra
     CHECK(by_feed.pending() == by_put.pending());
     CHECK(by_feed.dropped() == by_put.dropped());
   }
+  // what put() settles took one character: the one put
+  ascii_framer f(framer_role::server, {0x11});
+  const bytes frame = ascii(0x11, {0x07});
+  for (std::size_t i = 0; i + 1U < frame.size(); ++i) {
+    CHECK(!f.put(frame[i]));
+  }
+  REQUIRE(f.put(frame.back()));
+  CHECK(f.result().is_complete());
+  CHECK(f.result().consumed() == 1U);
+  CHECK(!f.put(':'));
+  REQUIRE(f.put('G'));
+  CHECK(f.result().error() == errc::modbus_ascii_character);
+  CHECK(f.result().consumed() == 1U);
 }
 
 namespace {

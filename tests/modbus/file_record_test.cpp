@@ -399,3 +399,23 @@ TEST_CASE("file records: the RTU framer sizes FC14/15 requests and responses by 
   });
   CHECK(frames == std::vector<bytes>{read_response});
 }
+
+TEST_CASE("file records: default-constructed ones, and value() of a failure, hold nothing") {
+  const auto none = [](const file_record& rec) {
+    return rec.data.empty() && rec.file == 0U && rec.record == 0U && rec.length == 0U;
+  };
+  const auto nothing = [](const file_records& r) {
+    return r.body.empty() && r.requests.empty() && r.function == 0U && r.count == 0U &&
+           !r.response && !r.exception && r.exception_code == 0U;
+  };
+  CHECK(none(file_record{}));
+  CHECK(nothing(file_records{}));
+  const auto failed = decode_file_record_request(view(bytes{0x14, 0x0E}));
+  REQUIRE(failed.is_failed());
+  CHECK(nothing(failed.value()));
+  const auto request = decode_file_record_request(view(read_request));
+  REQUIRE(request.is_complete());
+  const auto past = file_record_at(request.value(), 2);
+  CHECK(past.error() == errc::out_of_range);
+  CHECK(none(past.value()));
+}

@@ -498,6 +498,21 @@ TEST_CASE("fixed-role framers frame as the run-time role does") {
 TEST_CASE("frame size prediction: each length rule, and when it cannot tell yet") {
   // §6: fixed sizes per function; a byte count where the response has one.
   CHECK(predict_request_size(view({0x11})) == 0);  // the function is not in yet
+  // each rule tells as soon as its last byte is in: the function code, or the count
+  CHECK(predict_request_size(view({0x11, 0x03})) == 8);
+  CHECK(predict_request_size(view({0x11, 0x10, 0x00, 0x01, 0x00, 0x02})) == 0);
+  CHECK(predict_request_size(view({0x11, 0x10, 0x00, 0x01, 0x00, 0x02, 0x04})) == 13);
+  const bytes fc17 = {0x11, 0x17, 0x00, 0x03, 0x00, 0x06, 0x00, 0x0E, 0x00, 0x03};
+  CHECK(predict_request_size(view(fc17)) == 0);
+  CHECK(predict_request_size(view(cat({fc17, {0x06}}))) == 19);
+  CHECK(predict_request_size(view({0x11, 0x14})) == 0);
+  CHECK(predict_request_size(view({0x11, 0x14, 0x07})) == 12);
+  CHECK(predict_request_size(view({0x11, 0x15, 0x0D})) == 18);
+  // 0x20 and above: no rule here (nor one of a function code's bits: no shift by 32 or more)
+  CHECK(predict_request_size(view({0x11, 0x20})) == unknown_length);
+  CHECK(predict_request_size(view({0x11, 0x41})) == unknown_length);
+  CHECK(predict_response_size(view({0x11, 0x0C, 0x08}), 0x0C) == 13);  // Get Comm Event Log
+  CHECK(predict_response_size(view({0x11, 0x0D, 0x08}), 0x0D) == unknown_length);
   CHECK(predict_response_size(view({0x11}), 0x03) == 0);
   CHECK(predict_response_size(view({0x11, 0x04}), 0x03) == unknown_length);  // not the one asked
   CHECK(predict_response_size(view({0x11, 0x07}), 0x07) == 5);  // address, FC, status, CRC
