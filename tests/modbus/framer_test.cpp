@@ -513,6 +513,11 @@ TEST_CASE("frame size prediction: each length rule, and when it cannot tell yet"
   CHECK(predict_request_size(view({0x11, 0x41})) == unknown_length);
   CHECK(predict_response_size(view({0x11, 0x0C, 0x08}), 0x0C) == 13);  // Get Comm Event Log
   CHECK(predict_response_size(view({0x11, 0x0D, 0x08}), 0x0D) == unknown_length);
+  CHECK(predict_response_size(view({0x11, 0x11}), 0x11) == 0);  // Report Server ID: its count
+  CHECK(predict_response_size(view({0x11, 0x11, 0x05}), 0x11) == 10);
+  // FC2B with no object: its size is known at its 8th byte, the number of objects
+  CHECK(predict_response_size(view({0x11, 0x2B, 0x0E, 0x01, 0x81, 0x00, 0x00}), 0x2B) == 0);
+  CHECK(predict_response_size(view({0x11, 0x2B, 0x0E, 0x01, 0x81, 0x00, 0x00, 0x00}), 0x2B) == 10);
   CHECK(predict_response_size(view({0x11}), 0x03) == 0);
   CHECK(predict_response_size(view({0x11, 0x04}), 0x03) == unknown_length);  // not the one asked
   CHECK(predict_response_size(view({0x11, 0x07}), 0x07) == 5);  // address, FC, status, CRC
@@ -535,6 +540,12 @@ TEST_CASE("frame size prediction: each length rule, and when it cannot tell yet"
   CHECK(predict_response_size(view(walk), 0x2B) == walk.size() + 1U);
   walk.resize(8U + 202U + 1U);  // the second object's header is cut: wait for it
   CHECK(predict_response_size(view(walk), 0x2B) == 0);
+  // objects ending at byte 256 exactly (no room for the CRC): wait for them, then too long
+  bytes edge = {0x11, 0x2B, 0x0E, 0x01, 0x81, 0x00, 0x00, 0x01, 0x00, 246};
+  edge.resize(100, 'x');
+  CHECK(predict_response_size(view(edge), 0x2B) == 0);
+  edge.resize(max_rtu_size, 'x');
+  CHECK(predict_response_size(view(edge), 0x2B) == max_rtu_size + 2U);
 }
 
 TEST_CASE("framer framing by silence: a full buffer with no frame end resynchronises") {
@@ -995,4 +1006,10 @@ TEST_CASE("client framer: put() frames an FC08 response (the echo) byte by byte"
       CHECK(ev[0].pdu == bytes(frame->begin() + 1, frame->end() - 2));
     }
   }
+}
+
+TEST_CASE("frame_end's numbers are part of the interface: the Python binding repeats them") {
+  // python/src/modbus.cpp: FrameEnd {silence 0, length 1}, cast to frame_end as given
+  CHECK(static_cast<int>(frame_end::silence) == 0);
+  CHECK(static_cast<int>(frame_end::length) == 1);
 }
