@@ -574,3 +574,20 @@ TEST_CASE("SM unit emulator: instantaneous data, triangle waves in the header's 
     CHECK(sm::raw_value(c, unit.instantaneous_register(c)) == docs[i]);
   }
 }
+
+TEST_CASE("SM unit emulator: read_registers() reads 0 just past each holding block (§7)") {
+  // the accessor, as a caller that does not go through admit() uses it: the register after
+  // each block (settings 0..39, password 200..207, product code 300..301, MFG number 350..354)
+  // is no register of the unit
+  sm::emulator unit;
+  REQUIRE(unit.logged_in());             // at power-on (§6 note *1): setting 0 may be written
+  const std::uint16_t first[1] = {100};  // setting 0 nonzero: the bytes behind the password
+  REQUIRE(unit.write_registers(0, span<const std::uint16_t>(first, 1)) == 0);
+  for (const unsigned last : {39U, 207U, 301U, 354U}) {
+    CAPTURE(last);
+    std::uint16_t regs[2] = {0xABCD, 0xABCD};
+    CHECK(unit.read_registers(0x03, static_cast<std::uint16_t>(last),
+                              span<std::uint16_t>(regs, 2)) == 0);
+    CHECK(regs[1] == 0);
+  }
+}
