@@ -535,11 +535,11 @@ std::int32_t triangle(const wave& w, std::uint32_t tenths) {
 }  // namespace
 
 TEST_CASE("SM unit emulator: instantaneous data, triangle waves in the header's ranges") {
-  // The ranges are those the header's comments give (200.0..206.0 V, 1.50..1.90 A,
-  // 260.0..290.0 W, 35.0..43.0 degC, -0.30..0.30 m/s2, 12.0..15.0 N.m; Y from -0.10 to 0.10 and
-  // Z from 9.79 to 9.83 m/s2, 50 Hz). The periods (5, 8, 8, 60, 2, 3, 1 and 4 s) are the
-  // emulator's own choice (its header says "slow triangle waves"), pinned here with the steps:
-  // docs/modbus.md §6 shows the values a client reads at 0.5 s.
+  // The ranges of the header's comments (200.0..206.0 V, 1.50..1.90 A, 260.0..290.0 W,
+  // 35.0..43.0 degC, -0.30..0.30 m/s2, 12.0..15.0 N.m); Y's (-0.10..0.10 m/s2), Z's
+  // (9.79..9.83 m/s2), the frequency's (50 Hz) and the periods (5, 8, 8, 60, 2, 3, 1 and 4 s)
+  // are the emulator's own choice (its header says "slow triangle waves"), pinned here with
+  // the steps; they give the transcript of docs/modbus.md §6 at 0.5 s.
   const wave waves[] = {
       {sm::channel::voltage, 2000, 50, 60},       {sm::channel::current, 150, 80, 40},
       {sm::channel::power, 2600, 80, 300},        {sm::channel::temperature, 350, 600, 80},
@@ -565,7 +565,7 @@ TEST_CASE("SM unit emulator: instantaneous data, triangle waves in the header's 
   }
   // docs/modbus.md §6: "voltage=201.2 V current=1.55 A power=263.7 W temperature=35.1 degC
   // acceleration_x=0 m/s2 acceleration_y=-0.04 m/s2 acceleration_z=9.83 m/s2 frequency=50 Hz
-  // torque=12.7 N.m", at 0.5 s
+  // torque=12.7 N.m" (a transcript of a real-time run: these are the values at 0.5 s)
   unit.set_time_ms(500);
   const std::int32_t docs[] = {2012, 155, 2637, 351, 0, -4, 983, 50, 127};
   for (std::size_t i = 0; i < sm::channel_count; ++i) {
