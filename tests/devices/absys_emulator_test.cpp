@@ -370,7 +370,7 @@ TEST_CASE(
   CHECK(regs.read(ab::reg::functional_reserve) == 7);
   CHECK(regs.read(ab::reg::functional_reserve_indicator) == 1);
   ab::emulator_config cfg;
-  cfg.sip_resolution = 32;  // pulses per revolution would not fit 64 bits: 0
+  cfg.sip_resolution = 32;  // past the emulator's limit, 31 (§2.9.4 allows 0 to 20): 0
   const ab::emulator wide(cfg);
   CHECK(wide.pulses_per_revolution() == 0U);
   CHECK(ab::emulator().pulses_per_revolution() == (std::uint64_t{512} << 10U));
@@ -413,6 +413,8 @@ TEST_CASE("ABSYS emulator: sensor_error's numbers (interface: the Python binding
 }
 
 TEST_CASE("ABSYS emulator: SIP_RES 31 still gives pulses per revolution, 32 does not") {
+  // §2.9.4 allows SIP_RES 0 to 20; the emulator computes SIP_CNT x 2^SIP_RES up to 31, its own
+  // limit (a 32-bit count so shifted fits 64 bits), and reports 0 above it
   ab::emulator_config cfg;
   cfg.sip_count = 1;
   cfg.sip_resolution = 31;
