@@ -591,3 +591,26 @@ TEST_CASE("SM unit emulator: read_registers() reads 0 just past each holding blo
     CHECK(regs[1] == 0);
   }
 }
+
+TEST_CASE("SM unit emulator: read_registers() reads 0 for an input outside the areas of §7") {
+  // the accessor, as a caller that does not go through admit() uses it: set parameters 0..8,
+  // instantaneous data 100..108, logs 1..3 (channel 0..8, sample 0..19) and the others of §7;
+  // any other input is no register of the unit, as a holding register outside §7 is not
+  sm::emulator unit;
+  const std::uint16_t tenth[1] = {7};  // setting 9: nonzero, behind the set parameters
+  REQUIRE(unit.write_registers(9, span<const std::uint16_t>(tenth, 1)) == 0);
+  std::uint16_t regs[1] = {};
+  for (const unsigned outside : {9U, 109U, 1020U, 1900U, 3999U, 4000U, 999U}) {
+    CAPTURE(outside);
+    regs[0] = 0xABCD;
+    CHECK(unit.read_registers(0x04, static_cast<std::uint16_t>(outside),
+                              span<std::uint16_t>(regs, 1)) == 0);
+    CHECK(regs[0] == 0);
+  }
+  // inside: the last sample of log 3's torque, and the first of log 1's voltage
+  unit.set_time_ms(0);
+  CHECK(unit.read_registers(0x04, 3819, span<std::uint16_t>(regs, 1)) == 0);
+  CHECK(regs[0] == unit.instantaneous_register(sm::channel::torque) + 19U * 3U);
+  CHECK(unit.read_registers(0x04, 1000, span<std::uint16_t>(regs, 1)) == 0);
+  CHECK(regs[0] == unit.instantaneous_register(sm::channel::voltage));
+}

@@ -293,11 +293,11 @@ class emulator {
       case 300: return logged_in_ ? input::logged_in : input::logged_out;
       default: break;
     }
-    // logs: a recorded ramp per channel, the last sample at the warning
-    const unsigned sample = a % 100U;
-    const auto c = static_cast<channel>((a / 100U) % 10U);
-    const std::uint16_t base = instantaneous_register(c);
-    return static_cast<std::uint16_t>(base + sample * (a / 1000U));
+    // logs 1..3 (§7): a recorded ramp per channel, the last sample at the warning; else none: 0
+    const unsigned log = a / 1000U, c = (a / 100U) % 10U, sample = a % 100U;
+    const bool in_log = log - 1U < 3U && c < channel_count && sample < input::log_samples;
+    const unsigned base = in_log ? instantaneous_register(static_cast<channel>(c)) : 0U;
+    return static_cast<std::uint16_t>(in_log ? base + sample * log : 0U);
   }
 
   constexpr std::uint16_t holding_register(std::uint16_t a) const noexcept {
