@@ -338,6 +338,7 @@ TEST_CASE("idle() frames functions without a length rule, and drops partial fram
   const auto r = f.idle();
   REQUIRE(r.is_complete());
   CHECK(r->pdu.size() == 4);
+  CHECK(r.consumed() == 0);  // the silence takes no byte: they were all taken by feed()
   CHECK(f.idle().is_incomplete());
   const bytes good = rtu(0x11, {0x03, 0x00, 0x6B, 0x00, 0x03});
   ev = run(f, bytes(good.begin(), good.begin() + 5), 5);
@@ -463,6 +464,7 @@ TEST_CASE("idle(): a frame for another address ends in silence too, and is skipp
   CHECK(f.pending() == other.size());
   CHECK(f.idle().is_incomplete());
   CHECK(f.skipped() == 1);
+  CHECK(f.dropped() == 0);  // a frame skipped, no byte dropped
   CHECK(f.pending() == 0);
   // a partial frame: the length rule wants more, the silence says it is cut short
   const bytes cut = {0x11, 0x03, 0x00};
@@ -725,6 +727,18 @@ TEST_CASE("listener: a frame cut short by the silence, then the frames behind it
   out = listen_chunks(f, request, 3);
   REQUIRE(out.size() == 1U);
   CHECK(out[0].e.ok);
+  // idle() itself: the silence takes no byte (consumed 0), and leaves the listener as a new
+  // one, which needs two bytes (an address and a function) before it can decide anything
+  CHECK(f.feed(view(cut)).is_incomplete());
+  const auto r = f.idle();
+  REQUIRE(r.is_failed());  // read as the response to the request heard: a CRC mismatch
+  CHECK(r.consumed() == 0U);
+  while (!f.idle().is_incomplete()) {
+  }
+  CHECK(f.pending() == 0U);
+  rtu_listener fresh;
+  CHECK(fresh.feed(byte_view{}).needed() == 2U);
+  CHECK(f.feed(byte_view{}).needed() == fresh.feed(byte_view{}).needed());
 }
 
 TEST_CASE("listener put(): byte by byte, the results of feed() in chunks (random streams)") {
@@ -1018,5 +1032,106 @@ TEST_CASE("client framer: put() frames an FC08 response (the echo) byte by byte"
       CHECK(ev[0].ok);
       CHECK(ev[0].pdu == bytes(frame->begin() + 1, frame->end() - 2));
     }
+  }
+}
+
+TEST_CASE("server framer put(): a frame that ends 254 bytes into the buffer, then the next one") {
+  // A 255-byte FC10 request whose CRC fails (framing by length alone) holds, near its end, an
+  // FC03 request for this node; dropped one byte at a time, the bytes before it are garbage to
+  // the length rule (address 0x41 starts no function code's rule). That request is handed
+  // over with one byte behind it, at index 254: the next request's address, whose function
+  // code must then find room in the buffer for its frame.
+  const bytes inner = rtu(0x41, {0x03, 0x00, 0x6B, 0x00, 0x03});
+  bytes line = {0x01, 0x10, 0x00, 0x00, 0x00, 0x7B, 0xF6};  // 246 data bytes: 255 in all
+  line.resize(246, 0x00);
+  line.insert(line.end(), inner.begin(), inner.end());
+  const bytes next = rtu(0x41, {0x03, 0x00, 0x01, 0x00, 0x02});
+  line.insert(line.end(), next.begin(), next.end());  // its address is the FC10's 255th byte
+  framer_options options{0x41};
+  options.ends = frame_end::length;
+  for (int form = 0; form < 2; ++form) {
+    CAPTURE(form);
+    rtu_framer f(framer_role::server, options);
+    rtu_server_framer g(options);
+    const auto ev = form == 0 ? run_put(f, line) : run_put(g, line);
+    REQUIRE(ev.size() == 3);
+    CHECK(ev[0].error == errc::crc_mismatch);  // the FC10 request
+    CHECK(ev[1].ok);
+    CHECK(ev[1].pdu == bytes{0x03, 0x00, 0x6B, 0x00, 0x03});
+    CHECK(ev[2].ok);
+    CHECK(ev[2].pdu == bytes{0x03, 0x00, 0x01, 0x00, 0x02});
+    CHECK((form == 0 ? f.pending() : g.pending()) == 0);
+    CHECK((form == 0 ? f.dropped() : g.dropped()) == 246);
+    rtu_framer chunked(framer_role::server, options);
+    CHECK(run(chunked, line, 7) == ev);  // feed() in chunks: the same
+  }
+}
+
+TEST_CASE("server framer put(): a request is handed over at its last byte, whatever its CRC") {
+  // The CRC's last byte here (0x01) is also a function code whose request size is known
+  // (FC01: 8 bytes): at a frame's last byte put() ends the frame, never reads a function code
+  const bytes a = rtu(0x11, {0x03, 0x02, 0xA5, 0x00, 0x01});
+  REQUIRE(a.back() == 0x01);
+  for (const frame_end ends : {frame_end::silence, frame_end::length}) {
+    rtu_server_framer f({0x11, ends});
+    for (std::size_t i = 0; i + 1 < a.size(); ++i) {
+      CHECK(!f.put(a[i]));
+    }
+    REQUIRE(f.put(a.back()));
+    REQUIRE(f.result().is_complete());
+    CHECK(bytes(f.result()->pdu.begin(), f.result()->pdu.end()) ==
+          bytes{0x03, 0x02, 0xA5, 0x00, 0x01});
+    CHECK(f.pending() == 0);
+  }
+}
+
+TEST_CASE("feed(): incomplete, the bytes the length rule still wants are needed") {
+  const bytes request = rtu(0x11, {0x03, 0x00, 0x6B, 0x00, 0x03});
+  rtu_server_framer server({0x11});
+  auto r = server.feed(byte_view(request.data(), 3));
+  REQUIRE(r.is_incomplete());
+  CHECK(r.needed() == 5);  // an 8-byte request
+  r = server.feed(byte_view(request.data() + 3, 4));
+  CHECK(r.needed() == 1);
+  CHECK(server.feed(byte_view(request.data() + 7, 1)).is_complete());
+  const bytes response = rtu(0x11, {0x03, 0x06, 0x02, 0x2B, 0x00, 0x00, 0x00, 0x64});
+  rtu_client_framer client({0x11});
+  testutil::sent_to(client, 0x11, 0x03);
+  r = client.feed(byte_view(response.data(), 4));
+  REQUIRE(r.is_incomplete());
+  CHECK(r.needed() == 7);  // 5 + the byte count 6: 11 bytes
+}
+
+TEST_CASE("client framer: sent() drops a wait for the silence and a frame begun") {
+  const bytes request = rtu(0x11, {0x03, 0x00, 0x00, 0x00, 0x01});
+  const bytes response = rtu(0x11, {0x03, 0x02, 0x12, 0x34});
+  for (const frame_end ends : {frame_end::silence, frame_end::length}) {
+    CAPTURE(static_cast<int>(ends));
+    rtu_client_framer f({0x11, ends});
+    // a frame from an FC04 exchange, no length rule for an FC03 request: with frame_end::silence
+    // it waits for the silence, which never comes before the next request
+    f.sent(view(request));
+    for (const std::uint8_t b : rtu(0x11, {0x04, 0x02, 0x00, 0x01})) {
+      (void)f.put(b);
+    }
+    f.sent(view(request));
+    CHECK(f.pending() == 0);
+    CHECK(run_put(f, response) ==
+          std::vector<event>{{true, errc::ok, 0x11, {0x03, 0x02, 0x12, 0x34}}});
+    // the first bytes of an FC06 response (8 bytes by the length rule), cut by the next request
+    const bytes request6 = rtu(0x11, {0x06, 0x00, 0x01, 0x00, 0x03});
+    f.sent(view(request6));
+    CHECK(!f.put(request6[0]));
+    CHECK(!f.put(request6[1]));
+    CHECK(!f.put(request6[2]));
+    f.sent(view(request));
+    CHECK(f.pending() == 0);
+    std::vector<event> ev;
+    for (const std::uint8_t b : response) {
+      if (f.put(b)) {
+        ev.push_back(note(f.result()));
+      }
+    }
+    CHECK(ev == std::vector<event>{{true, errc::ok, 0x11, {0x03, 0x02, 0x12, 0x34}}});
   }
 }
