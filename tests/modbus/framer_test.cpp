@@ -1154,3 +1154,43 @@ TEST_CASE("client framer: sent() drops a wait for the silence and a frame begun"
     CHECK(ev == std::vector<event>{{true, errc::ok, 0x11, {0x03, 0x02, 0x12, 0x34}}});
   }
 }
+
+TEST_CASE("idle(): the framer is then as a new one, whatever the silence ended") {
+  // What idle() ends: a frame with no length rule for this node (handed over), one for another
+  // node (skipped), a single byte (truncated); after it the framer answers as a new one: an
+  // FC07 request, put() byte by byte, is handed over at its last byte (its address 01 is also
+  // FC01's code, whose request is 8 bytes: an address is never read as a function code), and
+  // feed() of nothing needs what a new framer's needs
+  const bytes ours = rtu(0x01, {0x41, 0x01, 0x02});
+  const bytes other = rtu(0x02, {0x41, 0x01, 0x02});
+  const bytes one = {0x01};
+  const bytes fc07 = rtu(0x01, {0x07});
+  for (const bytes* held : {&ours, &other, &one}) {
+    CAPTURE(held->size());
+    rtu_server_framer f({0x01});
+    rtu_server_framer g({0x01});
+    for (rtu_server_framer* x : {&f, &g}) {
+      CHECK(x->feed(view(*held)).is_incomplete());
+      const auto r = x->idle();
+      if (held == &ours) {
+        CHECK(r.is_complete());
+      } else if (held == &other) {
+        CHECK(r.is_incomplete());
+        CHECK(x->skipped() == 1);
+      } else {
+        CHECK(r.error() == errc::truncated);
+        CHECK(r.consumed() == 0);  // the silence takes no byte
+        CHECK(x->dropped() == 1);
+      }
+      CHECK(x->pending() == 0);
+    }
+    for (std::size_t i = 0; i + 1 < fc07.size(); ++i) {
+      CHECK(!f.put(fc07[i]));
+    }
+    REQUIRE(f.put(fc07.back()));
+    REQUIRE(f.result().is_complete());
+    CHECK(bytes(f.result()->pdu.begin(), f.result()->pdu.end()) == bytes{0x07});
+    rtu_server_framer fresh({0x01});
+    CHECK(g.feed(byte_view{}).needed() == fresh.feed(byte_view{}).needed());
+  }
+}
