@@ -1194,3 +1194,23 @@ TEST_CASE("idle(): the framer is then as a new one, whatever the silence ended")
     CHECK(g.feed(byte_view{}).needed() == fresh.feed(byte_view{}).needed());
   }
 }
+
+TEST_CASE("server framer put(): an FC10 request whose first 8 bytes end with a valid CRC") {
+  // Write 0xA500 to register 0x0100: its first 6 bytes' CRC is 02 A5, its byte count and first
+  // data byte, and its register address's high byte (01) is also FC01's code (8-byte
+  // requests). FC10's length is its byte count's (9 + 2 bytes): the 8 bytes are no frame.
+  const bytes request = rtu(0x11, {0x10, 0x01, 0x00, 0x00, 0x01, 0x02, 0xA5, 0x00});
+  REQUIRE(decode_rtu(byte_view(request.data(), 8)).is_complete());
+  for (const frame_end ends : {frame_end::silence, frame_end::length}) {
+    CAPTURE(static_cast<int>(ends));
+    rtu_server_framer f({0x11, ends});
+    for (std::size_t i = 0; i + 1 < request.size(); ++i) {
+      CHECK(!f.put(request[i]));
+    }
+    REQUIRE(f.put(request.back()));
+    REQUIRE(f.result().is_complete());
+    CHECK(bytes(f.result()->pdu.begin(), f.result()->pdu.end()) ==
+          bytes(request.begin() + 1, request.end() - 2));
+    CHECK(f.pending() == 0);
+  }
+}
