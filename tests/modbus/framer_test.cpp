@@ -141,6 +141,7 @@ TEST_CASE("framer put(): result() holds what the last true settled") {
   REQUIRE(f.put(bad.back()));
   CHECK(f.result().error() == errc::crc_mismatch);
   CHECK(f.result().expected() != f.result().received());
+  CHECK(f.result().consumed() == 1);  // put() took one byte
 }
 
 TEST_CASE("server framer: lengths from function codes and counts, any chunking") {
