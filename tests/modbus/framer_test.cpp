@@ -1215,3 +1215,39 @@ TEST_CASE("server framer put(): an FC10 request whose first 8 bytes end with a v
     CHECK(f.pending() == 0);
   }
 }
+
+TEST_CASE("listener: with no request pending, each response that carries its own length") {
+  // MODBUS Application Protocol V1.1b3 §6: the responses whose length their own bytes give (a
+  // byte count, FC18's two-byte count, FC2B's objects) are heard with no request before them
+  // (the request lost), as responses; the request after them as a request
+  const std::vector<bytes> pdus = {
+      {0x01, 0x01, 0x05},
+      {0x02, 0x01, 0x0A},
+      {0x03, 0x02, 0x12, 0x34},
+      {0x04, 0x02, 0x00, 0x0A},
+      {0x0C, 0x06, 0x00, 0x00, 0x01, 0x08, 0x01, 0x21},                    // §6.9
+      {0x11, 0x02, 0x01, 0xFF},                                            // §6.13
+      {0x14, 0x04, 0x03, 0x06, 0x0D, 0xFE},                                // §6.14
+      {0x15, 0x09, 0x06, 0x00, 0x04, 0x00, 0x07, 0x00, 0x01, 0x06, 0xAF},  // §6.15
+      {0x17, 0x02, 0x00, 0xFE},                                            // §6.17
+      {0x18, 0x00, 0x06, 0x00, 0x02, 0x01, 0xB8, 0x12, 0x84},              // §6.18
+      {0x2B, 0x0E, 0x01, 0x01, 0x00, 0x00, 0x01, 0x00, 0x02, 'A', 'B'},    // §6.21
+  };
+  const bytes next = rtu(0x11, {0x06, 0x00, 0x01, 0x00, 0x03});
+  for (const bytes& pdu : pdus) {
+    CAPTURE(static_cast<int>(pdu[0]));
+    const bytes line = cat({rtu(0x11, pdu), next});
+    rtu_listener f;
+    const auto all = listen_chunks(f, line, 3);
+    const auto frames = frames_of(all);
+    REQUIRE(frames.size() == 2U);
+    // FC14's and FC15's responses have their requests' layout (a byte count third, FC15's an
+    // echo): with no request pending the request rule, tried first, frames them as requests
+    CHECK(frames[0].response == (pdu[0] != 0x14U && pdu[0] != 0x15U));
+    CHECK(frames[0].e.pdu == pdu);
+    CHECK(!frames[1].response);
+    CHECK(frames[1].e.pdu == bytes(next.begin() + 1, next.end() - 2));
+    rtu_listener g;
+    CHECK(listen_bytes(g, line) == all);
+  }
+}
