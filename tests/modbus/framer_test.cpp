@@ -1251,3 +1251,35 @@ TEST_CASE("listener: with no request pending, each response that carries its own
     CHECK(listen_bytes(g, line) == all);
   }
 }
+
+TEST_CASE("server framer: a frame fed with two bytes behind it, then put() an FC10's rest") {
+  // An 18-byte FC10 request whose CRC fails (framing by length alone) holds an FC03 request for
+  // this node; its last two bytes, behind that request, are the address and function of an FC10
+  // request (23 registers from 0x0102) whose first 6 bytes' CRC is 2E FB, its byte count and
+  // first data byte. feed() reports the failure, then (fed nothing) the FC03 request, with two
+  // bytes held; put() takes the rest: with two bytes held the next byte, 01, is a register
+  // address, never a function code, and the FC10 request is framed by its byte count
+  const bytes inner = rtu(0x41, {0x03, 0x00, 0x6B, 0x00, 0x03});
+  bytes pdu10 = {0x10, 0x01, 0x02, 0x00, 0x17, 0x2E, 0xFB};
+  pdu10.resize(6 + 46, 0x00);
+  const bytes fc10 = rtu(0x41, pdu10);
+  REQUIRE(decode_rtu(byte_view(fc10.data(), 8)).is_complete());
+  const bytes first = cat({{0x01, 0x10, 0x00, 0x00, 0x00, 0x0A, 0x09, 0x00}, inner, {0x41, 0x10}});
+  framer_options options{0x41};
+  options.ends = frame_end::length;
+  rtu_server_framer f(options);
+  const auto failed = f.feed(view(first));
+  CHECK(failed.error() == errc::crc_mismatch);  // the 18-byte FC10 request
+  CHECK(failed.consumed() == first.size());
+  const auto r = f.feed(byte_view{});
+  REQUIRE(r.is_complete());
+  CHECK(bytes(r->pdu.begin(), r->pdu.end()) == bytes{0x03, 0x00, 0x6B, 0x00, 0x03});
+  CHECK(f.pending() == 2);
+  for (std::size_t i = 2; i + 1 < fc10.size(); ++i) {
+    CHECK(!f.put(fc10[i]));
+  }
+  REQUIRE(f.put(fc10.back()));
+  REQUIRE(f.result().is_complete());
+  CHECK(bytes(f.result()->pdu.begin(), f.result()->pdu.end()) == pdu10);
+  CHECK(f.pending() == 0);
+}
