@@ -336,6 +336,10 @@ TEST_CASE("idle() frames functions without a length rule, and drops partial fram
   auto ev = run(f, custom, 2);
   CHECK(ev.empty());
   CHECK(f.pending() == custom.size());
+  rtu_framer g(framer_role::server, {0x11});
+  const auto held = g.feed(view(custom));  // held for the silence: the next byte decides again
+  CHECK(held.is_incomplete());
+  CHECK(held.needed() == 1);
   const auto r = f.idle();
   REQUIRE(r.is_complete());
   CHECK(r->pdu.size() == 4);
