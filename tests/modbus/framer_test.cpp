@@ -603,6 +603,24 @@ TEST_CASE("framer framing by silence: a full buffer with no frame end resynchron
   CHECK(!completed);
   CHECK(f.dropped() > 0);
   CHECK(f.pending() <= max_rtu_size);
+  // a request whose CRC fails waits for the silence too ("instead of failing here"); when the
+  // buffer fills it is dropped a byte at a time, unreported, as the other bytes held, and the
+  // silence then finds the request that ends what is held
+  bytes bad = rtu(0x11, {0x03, 0x00, 0x6B, 0x00, 0x03});
+  bad.back() ^= 0x01U;
+  const bytes good = rtu(0x11, {0x06, 0x00, 0x01, 0x00, 0x03});
+  const bytes line = cat({bad, bytes(250, 0x00), good});
+  for (const std::size_t chunk : {std::size_t{1}, std::size_t{7}}) {
+    rtu_server_framer g({0x11});
+    CHECK(run_put(g, line).empty());
+    rtu_framer h(framer_role::server, {0x11});
+    CHECK(run(h, line, chunk).empty());
+    CHECK(h.dropped() > 0);
+    CHECK(h.dropped() + h.pending() == line.size());
+    const auto r = h.idle();
+    REQUIRE(r.is_complete());
+    CHECK(bytes(r->pdu.begin(), r->pdu.end()) == bytes(good.begin() + 1, good.end() - 2));
+  }
 }
 
 namespace {
