@@ -1130,7 +1130,10 @@ TEST_CASE("server framer put(): a request is handed over at its last byte, whate
 TEST_CASE("feed(): incomplete, the bytes the length rule still wants are needed") {
   const bytes request = rtu(0x11, {0x03, 0x00, 0x6B, 0x00, 0x03});
   rtu_server_framer server({0x11});
-  auto r = server.feed(byte_view(request.data(), 3));
+  auto r = server.feed(byte_view(request.data(), 1));
+  REQUIRE(r.is_incomplete());
+  CHECK(r.needed() == 1);  // the function code, which tells more
+  r = server.feed(byte_view(request.data() + 1, 2));
   REQUIRE(r.is_incomplete());
   CHECK(r.needed() == 5);  // an 8-byte request
   r = server.feed(byte_view(request.data() + 3, 4));
