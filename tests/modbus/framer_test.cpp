@@ -427,6 +427,15 @@ TEST_CASE("FC08 sub-function 00 (Return Query Data): 8 + 2k bytes, the CRC tells
     stream.insert(stream.end(), f->begin(), f->end());
   }
   const std::vector<std::size_t> sizes = {7, 5, 13, 5, 7, 5};
+  {
+    // fed in part: the frame may end at the next even length, so no more than 2 bytes are
+    // needed (a lower bound)
+    rtu_server_framer f({0x01});
+    const auto r = f.feed(byte_view(longer.data(), 10));
+    REQUIRE(r.is_incomplete());
+    CHECK(r.needed() == 2);
+    CHECK(f.feed(byte_view(longer.data() + 10, longer.size() - 10)).is_complete());
+  }
   for (const frame_end ends : {frame_end::silence, frame_end::length}) {
     for (const framer_role role : {framer_role::server, framer_role::client}) {
       for (std::size_t chunk = 1; chunk <= stream.size(); chunk += 4) {
@@ -781,6 +790,12 @@ TEST_CASE("listener: a frame cut short by the silence, then the frames behind it
   rtu_listener fresh;
   CHECK(fresh.feed(byte_view{}).needed() == 2U);
   CHECK(f.feed(byte_view{}).needed() == fresh.feed(byte_view{}).needed());
+  CHECK(f.feed(byte_view(request.data(), 1)).needed() == 1U);
+  // one byte held at the silence starts no frame: dropped, counted
+  const std::size_t before = f.dropped();
+  CHECK(f.idle().is_incomplete());
+  CHECK(f.dropped() == before + 1U);
+  CHECK(f.pending() == 0U);
 }
 
 TEST_CASE("listener put(): byte by byte, the results of feed() in chunks (random streams)") {
