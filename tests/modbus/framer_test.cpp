@@ -1323,3 +1323,21 @@ TEST_CASE("server framer: a frame fed with two bytes behind it, then put() an FC
   CHECK(bytes(f.result()->pdu.begin(), f.result()->pdu.end()) == pdu10);
   CHECK(f.pending() == 0);
 }
+
+TEST_CASE("listener: a frame longer than its function's rule is no frame (FC08's echo aside)") {
+  // An FC03 request with two bytes too many, its CRC after them: 10 bytes whose CRC matches,
+  // but FC03's request is 8 bytes (only Return Query Data is 8 + 2k): a CRC mismatch at 8, the
+  // bytes dropped one at a time, and the request behind them heard
+  const bytes odd = rtu(0x11, {0x03, 0x00, 0x6B, 0x00, 0x03, 0xAA, 0xBB});
+  const bytes next = rtu(0x11, {0x06, 0x00, 0x01, 0x00, 0x03});
+  const bytes line = cat({odd, next});
+  rtu_listener f;
+  const auto all = listen_chunks(f, line, 3);
+  REQUIRE(!all.empty());
+  CHECK(all[0].e.error == errc::crc_mismatch);
+  const auto frames = frames_of(all);
+  REQUIRE(frames.size() == 1U);
+  CHECK(frames[0].e.pdu == bytes(next.begin() + 1, next.end() - 2));
+  rtu_listener g;
+  CHECK(listen_bytes(g, line) == all);
+}
