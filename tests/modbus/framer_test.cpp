@@ -1335,9 +1335,37 @@ TEST_CASE("listener: a frame longer than its function's rule is no frame (FC08's
   const auto all = listen_chunks(f, line, 3);
   REQUIRE(!all.empty());
   CHECK(all[0].e.error == errc::crc_mismatch);
+  for (const heard& h : all) {  // no silence before the end: nothing truncated
+    CHECK((h.e.ok || h.e.error == errc::crc_mismatch));
+  }
   const auto frames = frames_of(all);
   REQUIRE(frames.size() == 1U);
   CHECK(frames[0].e.pdu == bytes(next.begin() + 1, next.end() - 2));
+  CHECK(f.dropped() == odd.size());  // each of its bytes dropped, one at a time
   rtu_listener g;
   CHECK(listen_bytes(g, line) == all);
+}
+
+TEST_CASE("listener: after a failure, feed() of nothing reports the frame among the bytes held") {
+  // An 18-byte FC10 request whose CRC fails holds an FC03 request (the bytes before it start
+  // no rule); after the failure the listener rescans what it holds at once
+  const bytes inner = rtu(0x41, {0x03, 0x00, 0x6B, 0x00, 0x03});
+  const bytes line = cat({{0x01, 0x10, 0x00, 0x00, 0x00, 0x0A, 0x09, 0x00}, inner, {0x41, 0x10}});
+  rtu_listener f;
+  const auto failed = f.feed(view(line));
+  CHECK(failed.error() == errc::crc_mismatch);
+  CHECK(failed.consumed() == line.size());
+  const auto r = f.feed(byte_view{});
+  REQUIRE(r.is_complete());
+  CHECK(bytes(r->pdu.begin(), r->pdu.end()) == bytes{0x03, 0x00, 0x6B, 0x00, 0x03});
+  CHECK(f.dropped() == 8U);
+  CHECK(f.pending() == 2U);
+  // an FC14 whose byte count makes it 260 bytes (too long) fails at its third byte; the two
+  // bytes left, 14 FF, are rescanned at once: an exception from slave 0x14 (5 bytes), 3 more
+  rtu_listener g;
+  CHECK(g.feed(view(bytes{0x11, 0x14, 0xFF})).error() == errc::modbus_pdu_length);
+  CHECK(g.pending() == 2U);
+  const auto rescan = g.feed(byte_view{});
+  CHECK(rescan.is_incomplete());
+  CHECK(rescan.needed() == 3U);
 }
