@@ -999,7 +999,8 @@ TEST_CASE("server framer: several addresses on one port (framer_options::last_ad
                 "a range of addresses, broadcasts aside");
 }
 
-TEST_CASE("heard_response(): false for a server and a client framer, whatever they framed") {
+TEST_CASE(
+    "heard_response(): false for a server and a client, whatever they framed, and a new listener") {
   rtu_framer server({0x11});
   const bytes req = rtu(0x11, {0x03, 0x00, 0x00, 0x00, 0x01});
   CHECK(server.feed(view(req)).is_complete());
@@ -1009,6 +1010,9 @@ TEST_CASE("heard_response(): false for a server and a client framer, whatever th
   const bytes resp = rtu(0x11, {0x03, 0x02, 0x00, 0x07});
   CHECK(client.feed(view(resp)).is_complete());
   CHECK_FALSE(client.heard_response());
+  // a listener that has framed nothing has heard no response
+  const rtu_listener listener;
+  CHECK_FALSE(listener.heard_response());
 }
 
 TEST_CASE("listener: a Return Query Data whose CRC never matches within 256 bytes, then a frame") {
