@@ -1297,6 +1297,23 @@ TEST_CASE("listener: with no request pending, each response that carries its own
   }
 }
 
+TEST_CASE("listener: with no request pending, a response sized by its request is not heard") {
+  // Only a response whose own bytes give its length is framed with no request before it
+  // (MODBUS Application Protocol V1.1b3 §6: FC07's is sized by the function, FC10's is the
+  // echo of the address and quantity): the request rule reads these bytes and fails, and the
+  // request after them is heard
+  const bytes next = rtu(0x11, {0x06, 0x00, 0x01, 0x00, 0x03});
+  for (const bytes& pdu : {bytes{0x07, 0x6D}, bytes{0x10, 0x00, 0x01, 0x00, 0x02}}) {
+    CAPTURE(static_cast<int>(pdu[0]));
+    const bytes line = cat({rtu(0x11, pdu), next});
+    rtu_listener f;
+    const auto frames = frames_of(listen_chunks(f, line, 3));
+    REQUIRE(frames.size() == 1U);
+    CHECK(!frames[0].response);
+    CHECK(frames[0].e.pdu == bytes(next.begin() + 1, next.end() - 2));
+  }
+}
+
 TEST_CASE("server framer: a frame fed with two bytes behind it, then put() an FC10's rest") {
   // An 18-byte FC10 request whose CRC fails (framing by length alone) holds an FC03 request for
   // this node; its last two bytes, behind that request, are the address and function of an FC10
