@@ -277,7 +277,7 @@ class emulator {
     if (a < input::set_parameter_count) {
       return settings_[a];  // the set values of DIP switch setting No.1
     }
-    // coverage-branch: admit() lets FC04 read 0..8 and from 100 on only: here a >= 100
+    // admit() lets FC04 read 0..8 and from 100 on only; read_registers() takes any address
     if (a >= input::instantaneous && a < input::instantaneous + input::instantaneous_count) {
       return instantaneous_register(static_cast<channel>(a - input::instantaneous));
     }
@@ -315,7 +315,7 @@ class emulator {
       return static_cast<std::uint16_t>((static_cast<unsigned>(product[i]) << 8U) |
                                         static_cast<unsigned>(product[i + 1U]));
     }
-    // coverage-branch: admit() lets FC03 read no block past 354 (the last of mfg_number)
+    // the MFG number (admit() lets FC03 read no block past 354; read_registers() any address)
     if (a >= holding::mfg_number && a < holding::mfg_number + holding::mfg_number_registers) {
       const std::size_t i = std::size_t{2} * (a - holding::mfg_number);
       return static_cast<std::uint16_t>((static_cast<unsigned>(mfg[i]) << 8U) |
@@ -327,9 +327,9 @@ class emulator {
   // 8 registers -> text; NUL or SP padding only at the end; 8..16 characters 0x21..0x7E.
   static constexpr bool unpack_password(span<const std::uint16_t> values, std::uint8_t (&text)[16],
                                         std::size_t& length) noexcept {
-    // coverage-branch: never true: admit() takes the password blocks only whole (below)
+    // true only for a caller that does not go through admit(), which takes whole blocks
     if (values.size() != holding::password_registers) {
-      // coverage: admit() takes the password blocks only whole (8 registers); kept for callers
+      // admit() takes the password blocks only whole (8 registers); kept for callers
       return false;
     }
     length = 0;

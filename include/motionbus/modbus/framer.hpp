@@ -218,9 +218,9 @@ class rtu_buffer : public frame_buffer<max_rtu_size> {
   static constexpr std::size_t max_fixed_request = 10;  // fixed_request_size's largest
   /// Makes room for max_fixed_request bytes from the front: moves the bytes held if needed.
   constexpr void reserve_fixed() noexcept {
-    // coverage-branch: true only 247+ bytes into the buffer, as the line below says
+    // true only 247+ bytes into the buffer, as the line below says
     if (static_cast<std::size_t>(start_) + max_fixed_request > max_rtu_size) {
-      // coverage: a frame handed over 247+ bytes into the buffer; no test holds that many yet
+      // a frame handed over 247+ bytes into the buffer with a byte behind it (length mode)
       make_room();
     }
   }
