@@ -38,7 +38,9 @@ run again: its programs are those that passed at the start ("unchanged" counts s
 whose listing line (`path:line: kind: before  ->  after`) contains TEXT: to check one again.
 --parallel N builds and runs N mutants at once. Each mutant's record is appended to the
 records file (--records; REPORT.partial unless named) as it ends; --resume skips those already
-there whose header is unchanged (a full run can be stopped and resumed). The full run keeps its
+there whose header's code is unchanged (a full run can be stopped and resumed; a record's key
+holds the digest of its header's text without comments, line breaks kept, so a comment edited
+without moving a line keeps the header's records, and any other change records it again). The full run keeps its
 records in docs/mutation/records.jsonl, committed as it goes (a records file named with
 --records is never emptied: without --resume the script refuses one that exists): a run longer than a session goes
 on in the next from what was committed. --summary reads a records file and builds nothing: for
@@ -122,6 +124,30 @@ def code_lines(text):
             continue
         out.append((i, line))
     return out
+
+
+# A string or character literal (kept), or a comment (dropped).
+LITERAL_OR_COMMENT = re.compile(r"""'(?:\\.|[^'\\\n])*'|"(?:\\.|[^"\\\n])*"|//[^\n]*|/\*.*?\*/""",
+                                re.S)
+
+
+def code_digest(text):
+    """A header's key in the records: the digest of its text without comments (a comment's line
+    breaks kept, trailing blanks dropped), so that a comment edited without moving a line leaves
+    the header's records standing; any change to code, or a line added or removed, changes it."""
+    def keep(m):
+        s = m.group(0)
+        return s if s[0] in "\"'" else "\n" * s.count("\n")
+    code = "\n".join(line.rstrip() for line in LITERAL_OR_COMMENT.sub(keep, text).split("\n"))
+    return hashlib.sha1(code.encode("utf-8")).hexdigest()[:12]
+
+
+def code_listing(site):
+    """`path:line: kind: before  ->  after` with the lines' comments dropped: a mutant's key
+    ("v3": the tests of the test command, a header's code without its comments)."""
+    path, i, kind, before, after = site
+    return f"{os.path.relpath(path, ROOT)}:{i + 1}: {kind}: " \
+        f"{strip_comment(before)[0].strip()}  ->  {strip_comment(after)[0].strip()}"
 
 
 def strip_comment(line):
@@ -546,13 +572,10 @@ def main():
         return f"{os.path.relpath(path, ROOT)}:{i + 1}: {kind}: {before.strip()}  ->  " \
             f"{after.strip()}"
 
-    digest = {}
-    for h in headers:
-        with open(h, "rb") as f:
-            digest[h] = hashlib.sha1(f.read()).hexdigest()[:12]
+    digest = {h: code_digest(contents(h).decode("utf-8")) for h in headers}
 
-    def key(site):  # "v2": the tests of the test command, not the doctest suite alone
-        return f"v2 {digest[site[0]]} {listing(site)}"
+    def key(site):
+        return f"v3 {digest[site[0]]} {code_listing(site)}"
 
     if args.summary:
         if not args.records:
