@@ -600,7 +600,7 @@ TEST_CASE("SM unit emulator: read_registers() reads 0 for an input outside the a
   const std::uint16_t tenth[1] = {7};  // setting 9: nonzero, behind the set parameters
   REQUIRE(unit.write_registers(9, span<const std::uint16_t>(tenth, 1)) == 0);
   std::uint16_t regs[1] = {};
-  for (const unsigned outside : {9U, 109U, 1020U, 1900U, 3999U, 4000U, 999U}) {
+  for (const unsigned outside : {9U, 109U, 1020U, 1900U, 1905U, 2919U, 3999U, 4000U, 999U}) {
     CAPTURE(outside);
     regs[0] = 0xABCD;
     CHECK(unit.read_registers(0x04, static_cast<std::uint16_t>(outside),
