@@ -2,6 +2,8 @@
 // Modbus Application Protocol V1.1b3 §6, every prefix of its worked examples, FC2B MEI types.
 #include "motionbus/modbus/pdu.hpp"
 
+#include "motionbus/modbus/pdu_client.hpp"
+
 #include <doctest/doctest.h>
 
 #include <cstdint>
@@ -211,4 +213,93 @@ TEST_CASE("FC08 sub-function codes: the specification's table (App. Protocol §6
   CHECK(diagnostic::return_busy_count == 17);
   CHECK(diagnostic::return_overrun_count == 18);
   CHECK(diagnostic::clear_overrun_counter == 20);
+}
+
+TEST_CASE("function and exception codes: the wire values of the Application Protocol (§5.1, §7)") {
+  // The public function codes of Modbus Application Protocol V1.1b3 §5.1 and the exception
+  // codes of §7, as the specification prints them: a wrong constant would put another
+  // function (or another exception) on the wire.
+  CHECK(function_code::read_coils == 0x01);
+  CHECK(function_code::read_discrete_inputs == 0x02);
+  CHECK(function_code::read_holding_registers == 0x03);
+  CHECK(function_code::read_input_registers == 0x04);
+  CHECK(function_code::write_single_coil == 0x05);
+  CHECK(function_code::write_single_register == 0x06);
+  CHECK(function_code::read_exception_status == 0x07);
+  CHECK(function_code::diagnostics == 0x08);
+  CHECK(function_code::get_comm_event_counter == 0x0B);
+  CHECK(function_code::get_comm_event_log == 0x0C);
+  CHECK(function_code::write_multiple_coils == 0x0F);
+  CHECK(function_code::write_multiple_registers == 0x10);
+  CHECK(function_code::report_server_id == 0x11);
+  CHECK(function_code::mask_write_register == 0x16);
+  CHECK(function_code::read_write_multiple_registers == 0x17);
+  CHECK(function_code::read_fifo_queue == 0x18);
+  CHECK(function_code::encapsulated_interface == 0x2B);
+  auto wire = [](exception_code c) { return static_cast<unsigned>(c); };
+  CHECK(wire(exception_code::illegal_function) == 0x01);
+  CHECK(wire(exception_code::illegal_data_address) == 0x02);
+  CHECK(wire(exception_code::illegal_data_value) == 0x03);
+  CHECK(wire(exception_code::server_device_failure) == 0x04);
+  CHECK(wire(exception_code::acknowledge) == 0x05);
+  CHECK(wire(exception_code::server_device_busy) == 0x06);
+  CHECK(wire(exception_code::memory_parity_error) == 0x08);
+  CHECK(wire(exception_code::gateway_path_unavailable) == 0x0A);
+  CHECK(wire(exception_code::gateway_target_failed) == 0x0B);
+  // report_id_format's values are those the Python package's ReportIdFormat and the fuzz
+  // targets pass as a number (0 the standard layout, 1 the SM unit's two bytes)
+  CHECK(static_cast<unsigned>(report_id_format::standard) == 0);
+  CHECK(static_cast<unsigned>(report_id_format::two_bytes_no_count) == 1);
+}
+
+TEST_CASE("a decoded request or response holds 0 in every field its function does not carry") {
+  // FC07 Read Exception Status carries nothing but its function code (a request) and one
+  // status byte (a response): every other field keeps the struct's default, 0, so that two
+  // decodings of the same bytes compare equal field by field
+  const auto q = decode_request(view(bytes{0x07}));
+  REQUIRE(q.is_complete());
+  const request& r = q.value();
+  CHECK(r.function == 0x07);
+  CHECK(r.data.empty());
+  CHECK(r.address == 0);
+  CHECK(r.quantity == 0);
+  CHECK(r.value == 0);
+  CHECK(r.and_mask == 0);
+  CHECK(r.or_mask == 0);
+  CHECK(r.write_address == 0);
+  CHECK(r.write_quantity == 0);
+  CHECK(r.sub_function == 0);
+  CHECK(r.mei_type == 0);
+  CHECK(r.read_code == 0);
+  CHECK(r.object_id == 0);
+  for (const bytes& pdu : {bytes{0x07, 0x6D}, bytes{0x83, 0x02}}) {
+    CAPTURE(pdu.size());
+    const auto a = decode_response_unpaired(view(pdu));
+    REQUIRE(a.is_complete());
+    const response& p = a.value();
+    const bool exception = pdu[0] == 0x83;
+    CHECK(p.function == (exception ? 0x03 : 0x07));
+    CHECK(p.exception == exception);
+    CHECK(p.exception_code == (exception ? 0x02 : 0x00));
+    CHECK(p.status == (exception ? 0x00 : 0x6D));
+    CHECK(p.data.empty());
+    CHECK(p.byte_count == 0);
+    CHECK(p.address == 0);
+    CHECK(p.quantity == 0);
+    CHECK(p.value == 0);
+    CHECK(p.and_mask == 0);
+    CHECK(p.or_mask == 0);
+    CHECK(p.sub_function == 0);
+    CHECK(p.event_count == 0);
+    CHECK(p.message_count == 0);
+    CHECK(p.fifo_count == 0);
+    CHECK(p.conformity == 0);
+    CHECK_FALSE(p.more_follows);
+    CHECK(p.next_object == 0);
+    CHECK(p.object_count == 0);
+  }
+  // and a caller that fills a request or response by hand starts from all zeros: no function
+  CHECK(request{}.function == 0);
+  CHECK(response{}.function == 0);
+  CHECK_FALSE(response{}.exception);
 }
