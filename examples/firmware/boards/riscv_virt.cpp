@@ -88,9 +88,20 @@ void console(const char* text) {
 }
 
 std::uint32_t now_us() {
-  // the low word is enough for differences below 7 minutes; the divide keeps microseconds
-  const std::uint32_t ticks = *reinterpret_cast<volatile std::uint32_t*>(mtime);
-  return ticks / 10U;
+  // mtime / 10 modulo 2^32, so that the clock wraps after 2^32 us as board.hpp says and a
+  // difference across the wrap is right. (The low word alone divided by 10 went back from
+  // 429496729 to 0 every 429.5 s: a difference across that step read as a silence of an hour,
+  // and a frame being received then was cut.) Without a 64-bit division: with mtime = high *
+  // 2^32 + low, 2^32 = 10 * 429496729 + 6 and low = 10 * q + r, mtime / 10 is high *
+  // 429496729 + q + (6 * high + r) / 10 (exact in 32 bits for 9700 years of high words).
+  const volatile std::uint32_t* const t = reinterpret_cast<volatile std::uint32_t*>(mtime);
+  std::uint32_t high = 0;
+  std::uint32_t low = 0;
+  do {  // the high word read again: no carry between the two halves
+    high = t[1];
+    low = t[0];
+  } while (t[1] != high);
+  return high * 429496729U + low / 10U + (6U * high + low % 10U) / 10U;
 }
 
 }  // namespace board
