@@ -3,10 +3,12 @@
 #include "motionbus/modbus/pdu.hpp"
 
 #include "motionbus/modbus/pdu_client.hpp"
+#include "motionbus/modbus/pdu_server.hpp"
 
 #include <doctest/doctest.h>
 
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "../support/bytes.hpp"
@@ -302,4 +304,71 @@ TEST_CASE("a decoded request or response holds 0 in every field its function doe
   CHECK(request{}.function == 0);
   CHECK(response{}.function == 0);
   CHECK_FALSE(response{}.exception);
+}
+
+TEST_CASE("the PDU encoders write the bytes they return and no more; an exact buffer is enough") {
+  // Each encoder into a buffer of 0xA5s: the bytes past the length it returns keep their
+  // 0xA5; into a buffer of exactly that length it writes the same bytes; one byte less is
+  // buffer_too_small. The packed coils are the first two bytes of four, so that a copy one
+  // byte too long would show (0x5A past the end).
+  const std::uint8_t four[4] = {0xFF, 0x03, 0x5A, 0x5A};
+  const byte_view packed(four, 2);
+  const std::uint16_t regs[3] = {0x1234, 0x5678, 0x9ABC};
+  const span<const std::uint16_t> values(regs, 3);
+  using encoder = std::function<result<std::size_t>(mutable_byte_view)>;
+  const encoder encoders[] = {
+      [](mutable_byte_view out) { return encode_read(0x03, 0x0010, 2, out); },
+      [](mutable_byte_view out) { return encode_write_single_coil(0x0020, true, out); },
+      [](mutable_byte_view out) { return encode_write_single_register(0x0030, 0xBEEF, out); },
+      [](mutable_byte_view out) { return encode_mask_write_register(0x0004, 0x00F2, 0x0025, out); },
+      [&](mutable_byte_view out) { return encode_write_multiple_coils(0x0013, 10, packed, out); },
+      [&](mutable_byte_view out) { return encode_write_multiple_registers(0x0001, values, out); },
+      [&](mutable_byte_view out) {
+        return encode_read_write_multiple_registers(0x0003, 6, 0x000E, values, out);
+      },
+      [&](mutable_byte_view out) { return encode_read_bits_response(0x01, 10, packed, out); },
+      [&](mutable_byte_view out) { return encode_read_registers_response(0x03, values, out); },
+      [](mutable_byte_view out) { return encode_comm_event_counter_response(0xFFFF, 0x0108, out); },
+  };
+  for (std::size_t k = 0; k < sizeof encoders / sizeof encoders[0]; ++k) {
+    CAPTURE(k);
+    bytes big(300, 0xA5);
+    const auto n = encoders[k](mutable_byte_view(big.data(), big.size()));
+    REQUIRE(n.ok());
+    const std::size_t len = n.value();
+    for (std::size_t i = len; i < big.size(); ++i) {
+      CAPTURE(i);
+      REQUIRE(big[i] == 0xA5);
+    }
+    bytes exact(len, 0xA5);
+    const auto m = encoders[k](mutable_byte_view(exact.data(), exact.size()));
+    REQUIRE(m.ok());
+    CHECK(m.value() == len);
+    CHECK(exact == bytes(big.begin(), big.begin() + static_cast<std::ptrdiff_t>(len)));
+    bytes short_by_one(len - 1U, 0xA5);
+    CHECK(encoders[k](mutable_byte_view(short_by_one.data(), short_by_one.size())).error() ==
+          errc::buffer_too_small);
+  }
+}
+
+TEST_CASE("FC2B/0E: an object of length 0 that ends the response is inside it") {
+  // Read Device Identification (Application Protocol §6.21): two objects, the last one of
+  // length 0 ending exactly at the PDU's end; both are there, the second with an empty value
+  const bytes pdu = {0x2B, 0x0E, 0x01, 0x01, 0x00, 0x00, 0x02, 0x00, 0x01, 'A', 0x01, 0x00};
+  const auto a = decode_response_unpaired(view(pdu));
+  REQUIRE(a.is_complete());
+  const response& r = a.value();
+  CHECK(r.object_count == 2);
+  const auto first = object_at(r, 0);
+  REQUIRE(first.ok());
+  CHECK(first.value().id == 0x00);
+  CHECK(first.value().value.size() == 1);
+  const auto last = object_at(r, 1);
+  REQUIRE(last.ok());
+  CHECK(last.value().id == 0x01);
+  CHECK(last.value().value.empty());
+  CHECK(object_at(r, 2).error() == errc::out_of_range);
+  // one byte less: the last object's length byte is missing
+  const auto cut = decode_response_unpaired(view(bytes(pdu.begin(), pdu.end() - 1)));
+  CHECK_FALSE(cut.is_complete());
 }
