@@ -149,7 +149,9 @@ TEST_CASE("decode_request<Served>: a function outside the set decodes raw, one i
   // sets with one function of each branch (the others compiled out), and combinations
   check_served_set_all<functions_of(0x01)>();
   check_served_set_all<functions_of(0x02)>();
+  check_served_set_all<functions_of(0x03)>();
   check_served_set_all<functions_of(0x04)>();
+  check_served_set_all<functions_of(0x05)>();
   check_served_set_all<functions_of(0x06)>();
   check_served_set_all<functions_of(0x0F)>();
   check_served_set_all<functions_of(0x10)>();
@@ -159,6 +161,13 @@ TEST_CASE("decode_request<Served>: a function outside the set decodes raw, one i
   check_served_set_all<functions_of(0x11)>();
   check_served_set_all<functions_of(0x16, 0x17)>();
   check_served_set_all<functions_of(0x08, 0x18, 0x2B)>();
+  // each of those alone: a branch that named another function of its group than the one served
+  // would then decode it raw
+  check_served_set_all<functions_of(0x16)>();
+  check_served_set_all<functions_of(0x17)>();
+  check_served_set_all<functions_of(0x08)>();
+  check_served_set_all<functions_of(0x18)>();
+  check_served_set_all<functions_of(0x2B)>();
   check_served_set_all<function_set{0}>();
 }
 
