@@ -130,10 +130,13 @@ void check_served_set_all() {
       {0x16, 0x00, 0x04, 0x00, 0xF2, 0x00, 0x25},
       {0x17, 0x00, 0x00, 0x00, 0x01, 0x00, 0x00, 0x00, 0x01, 0x02, 0x12, 0x34},
       {0x07},
+      {0x07, 0x00},  // data where none is
       {0x0B},
+      {0x0B, 0x00},
       {0x0C},
+      {0x0C, 0x00},
       {0x11},
-      {0x11, 0x00},  // data where none is
+      {0x11, 0x00},
       {0x08, 0x00, 0x00, 0x12, 0x34},
       {0x18, 0x00, 0x04},
       {0x2B, 0x0E, 0x01, 0x00},
@@ -380,4 +383,42 @@ TEST_CASE("FC2B/0E: an object of length 0 that ends the response is inside it") 
   // one byte less: the last object's length byte is missing
   const auto cut = decode_response_unpaired(view(bytes(pdu.begin(), pdu.end() - 1)));
   CHECK_FALSE(cut.is_complete());
+}
+
+TEST_CASE("requests at the edges of their layouts: no data, FC08's data, FC2B's MEI types") {
+  // FC07, 0B, 0C and 11 carry no data (§6.7, 6.9, 6.10, 6.13): one byte more is a byte count
+  // error, not an address
+  for (const std::uint8_t f :
+       {std::uint8_t{0x07}, std::uint8_t{0x0B}, std::uint8_t{0x0C}, std::uint8_t{0x11}}) {
+    CAPTURE(static_cast<unsigned>(f));
+    CHECK(decode_request(view(bytes{f})).is_complete());
+    CHECK(decode_request(view(bytes{f, 0x00})).error() == errc::modbus_byte_count);
+  }
+  // FC08 (§6.8): Return Query Data echoes any even number of bytes, none included; the other
+  // sub-functions take exactly one word
+  const auto none = decode_request(view(bytes{0x08, 0x00, 0x00}));
+  REQUIRE(none.is_complete());
+  CHECK(none->sub_function == diagnostic::return_query_data);
+  CHECK(none->data.empty());
+  const auto four = decode_request(view(bytes{0x08, 0x00, 0x00, 0x01, 0x02, 0x03, 0x04}));
+  REQUIRE(four.is_complete());
+  CHECK(four->data.size() == 4);
+  CHECK(decode_request(view(bytes{0x08, 0x00, 0x00, 0x01, 0x02, 0x03})).error() ==
+        errc::modbus_byte_count);
+  CHECK(decode_request(view(bytes{0x08, 0x00, 0x0A, 0x00, 0x00})).is_complete());
+  CHECK(decode_request(view(bytes{0x08, 0x00, 0x0A, 0x00, 0x00, 0x00, 0x00})).error() ==
+        errc::modbus_byte_count);
+  CHECK(decode_request(view(bytes{0x08, 0x00})).error() == errc::truncated);
+  // FC2B (§6.21): another MEI type with no data is passed on; read device identification
+  // takes read codes 1 to 4 (4: one specific object) and the object id
+  const auto other = decode_request(view(bytes{0x2B, 0x0D}));
+  REQUIRE(other.is_complete());
+  CHECK(other->mei_type == 0x0D);
+  CHECK(other->data.empty());
+  const auto one_object = decode_request(view(bytes{0x2B, 0x0E, 0x04, 0x05}));
+  REQUIRE(one_object.is_complete());
+  CHECK(one_object->read_code == 4);
+  CHECK(one_object->object_id == 0x05);
+  CHECK(decode_request(view(bytes{0x2B, 0x0E, 0x05, 0x00})).error() == errc::modbus_quantity);
+  CHECK(decode_request(view(bytes{0x2B, 0x0E, 0x00, 0x00})).error() == errc::modbus_quantity);
 }
