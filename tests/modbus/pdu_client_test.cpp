@@ -4,7 +4,9 @@
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cstdint>
+#include <iterator>
 #include <vector>
 
 #include "../support/bytes.hpp"
@@ -498,4 +500,152 @@ TEST_CASE("encode_write_file_record writes the request and not a byte past it") 
     CAPTURE(i);
     CHECK(out[i] == 0xEE);
   }
+}
+
+TEST_CASE("client encoders at their limits: the largest PDUs, quantity 1, the bytes written") {
+  std::uint8_t out[260] = {};
+  // FC0F with one coil, FC10 with 123 registers (§6.11, §6.12: the largest quantities)
+  const std::uint8_t one_coil[1] = {0x01};
+  CHECK(output(encode_write_multiple_coils(7, 1, byte_view(one_coil, 1), out), out) ==
+        bytes{0x0F, 0x00, 0x07, 0x00, 0x01, 0x01, 0x01});
+  std::uint16_t regs[123] = {};
+  for (std::size_t i = 0; i < 123; ++i) {
+    regs[i] = static_cast<std::uint16_t>(0x0100U + i);
+  }
+  const auto fc10 = encode_write_multiple_registers(0, span<const std::uint16_t>(regs, 123), out);
+  REQUIRE(fc10.ok());
+  CHECK(fc10.value() == 6U + 246U);
+  CHECK(out[5] == 246);
+  CHECK(out[250] == 0x01);
+  CHECK(out[251] == 0x7A);
+  CHECK(encode_write_multiple_registers(0, span<const std::uint16_t>(regs, 124 - 1), out).ok());
+  // a raw PDU and an FC08 PDU of 253 bytes, the largest (§4.1), and one byte more
+  std::uint8_t data[253] = {};
+  for (std::size_t i = 0; i < sizeof data; ++i) {
+    data[i] = static_cast<std::uint8_t>(i);
+  }
+  CHECK(encode_raw(0x41, byte_view(data, 252), out).value() == 253U);
+  CHECK(out[252] == 251);
+  CHECK(encode_raw(0x41, byte_view(data, 253), out).error() == errc::modbus_pdu_length);
+  CHECK(encode_diagnostics(diagnostic::return_query_data, byte_view(data, 250), out).value() ==
+        253U);
+  CHECK(out[252] == 249);
+  CHECK(encode_diagnostics(diagnostic::return_query_data, byte_view(data, 252), out).error() ==
+        errc::modbus_pdu_length);
+  // the bytes of FC08, FC18 and FC2B requests, each into a buffer of exactly its size, and
+  // nothing written past it (the data are the first bytes of a longer array)
+  std::uint8_t exact[7] = {};
+  const std::uint8_t query[6] = {0x12, 0x34, 0x56, 0x78, 0xEE, 0xEE};
+  std::fill(std::begin(exact), std::end(exact), std::uint8_t{0xA5});
+  CHECK(output(encode_diagnostics(diagnostic::return_query_data, byte_view(query, 4),
+                                  mutable_byte_view(exact, 7)),
+               exact) == bytes{0x08, 0x00, 0x00, 0x12, 0x34, 0x56, 0x78});
+  std::uint8_t room[9] = {0xA5, 0xA5, 0xA5, 0xA5, 0xA5, 0xA5, 0xA5, 0xA5, 0xA5};
+  CHECK(output(encode_diagnostics(diagnostic::clear_counters, byte_view(query, 2),
+                                  mutable_byte_view(room, 9)),
+               room) == bytes{0x08, 0x00, 0x0A, 0x12, 0x34});
+  CHECK(bytes(room + 5, room + 9) == bytes{0xA5, 0xA5, 0xA5, 0xA5});
+  CHECK(encode_diagnostics(diagnostic::return_query_data, byte_view(query, 4),
+                           mutable_byte_view(exact, 6))
+            .error() == errc::buffer_too_small);
+  CHECK(output(encode_raw(0x41, byte_view(query, 2), mutable_byte_view(exact, 3)), exact) ==
+        bytes{0x41, 0x12, 0x34});
+  CHECK(encode_raw(0x41, byte_view(query, 2), mutable_byte_view(exact, 2)).error() ==
+        errc::buffer_too_small);
+  CHECK(output(encode_read_fifo_queue(0x04DE, mutable_byte_view(exact, 3)), exact) ==
+        bytes{0x18, 0x04, 0xDE});
+  CHECK(encode_read_fifo_queue(0x04DE, mutable_byte_view(exact, 2)).error() ==
+        errc::buffer_too_small);
+  CHECK(output(encode_read_device_identification(4, 0x05, mutable_byte_view(exact, 4)), exact) ==
+        bytes{0x2B, 0x0E, 0x04, 0x05});
+  CHECK(encode_read_device_identification(4, 0x05, mutable_byte_view(exact, 3)).error() ==
+        errc::buffer_too_small);
+  // a device object made by hand starts from id 0 and no value
+  CHECK(device_object{}.id == 0);
+  CHECK(device_object{}.value.empty());
+}
+
+TEST_CASE("client decoders: the edges of read, write, FC08 and FC0C responses") {
+  // decode_read_response: a byte count other than the one asked, in a PDU of two bytes, is a
+  // byte count error (not truncated); a read of quantity 0, which no encoder sends, decodes an
+  // empty answer without reading outside it
+  CHECK(decode_read_response(0x03, 1, view({0x03, 0x04})).error() == errc::modbus_byte_count);
+  CHECK(decode_read_response(0x03, 2, view({0x03, 0x04})).error() == errc::truncated);
+  const auto empty_bits = decode_read_response(0x01, 0, view({0x01, 0x00}));
+  REQUIRE(empty_bits.is_complete());
+  CHECK(empty_bits->data.empty());
+  // decode_write_response: fewer than 5 bytes truncated, more a byte count error
+  CHECK(decode_write_response(0x06, 1, 3, view({0x06, 0x00, 0x01, 0x00})).error() ==
+        errc::truncated);
+  CHECK(decode_write_response(0x06, 1, 3, view({0x06, 0x00, 0x01, 0x00, 0x03, 0x00})).error() ==
+        errc::modbus_byte_count);
+  // unpaired reads: the data are the bytes after the count; a count of 0 is an empty read
+  const bytes regs_pdu = {0x03, 0x04, 0x12, 0x34, 0x56, 0x78};  // the data are views into it
+  const auto regs = decode_response_unpaired(view(regs_pdu));
+  REQUIRE(regs.is_complete());
+  CHECK(bytes(regs->data.begin(), regs->data.end()) == bytes{0x12, 0x34, 0x56, 0x78});
+  CHECK(regs->quantity == 2);
+  const auto none = decode_response_unpaired(view({0x03, 0x00}));
+  REQUIRE(none.is_complete());
+  CHECK(none->data.empty());
+  CHECK(none->quantity == 0);
+  // FC08: Return Query Data with no data echoed is three bytes, complete
+  const bytes q0 = {0x08, 0x00, 0x00};
+  CHECK(decode_response_for(view(q0), view(q0)).is_complete());
+  CHECK(decode_response_unpaired(view(q0)).is_complete());
+  // the echo must be exact from its first byte to its last, and no further: the request's and
+  // the response's data are followed by different bytes in their arrays
+  const std::uint8_t sent[6] = {0x08, 0x00, 0x00, 0xA1, 0xB2, 0x11};
+  const std::uint8_t echo[6] = {0x08, 0x00, 0x00, 0xA1, 0xB2, 0x22};
+  const std::uint8_t first_wrong[5] = {0x08, 0x00, 0x00, 0xA0, 0xB2};
+  CHECK(decode_response_for(byte_view(sent, 5), byte_view(echo, 5)).is_complete());
+  CHECK(decode_response_for(byte_view(sent, 5), byte_view(first_wrong, 5)).error() ==
+        errc::modbus_mismatch);
+  // FC0C (§6.10): status, event count, message count and up to 64 events; byte count 70 is
+  // the largest
+  bytes log = {0x0C, 70, 0x12, 0x34, 0x01, 0x08, 0x01, 0x21};
+  for (unsigned i = 0; i < 64U; ++i) {
+    log.push_back(static_cast<std::uint8_t>(i));
+  }
+  const auto full = decode_response_unpaired(view(log));
+  REQUIRE(full.is_complete());
+  CHECK(full->byte_count == 70);
+  CHECK(full->status == 0x1234);
+  CHECK(full->event_count == 0x0108);
+  CHECK(full->message_count == 0x0121);
+  CHECK(full->data.size() == 64);
+  log[1] = 71;
+  log.push_back(0x40);
+  CHECK(decode_response_unpaired(view(log)).error() == errc::modbus_byte_count);
+}
+
+TEST_CASE("client decoders: FC18's longest queue, FC2B/0E's header fields and its shortest PDU") {
+  // FC18 (§6.19): up to 31 registers in the queue; 32 is a quantity error
+  bytes fifo = {0x18, 0x00, 64, 0x00, 31};
+  for (unsigned i = 0; i < 62U; ++i) {
+    fifo.push_back(static_cast<std::uint8_t>(i));
+  }
+  const auto full = decode_response_unpaired(view(fifo));
+  REQUIRE(full.is_complete());
+  CHECK(full->fifo_count == 31);
+  CHECK(full->data.size() == 62);
+  fifo[2] = 66;
+  fifo[4] = 32;
+  fifo.push_back(0x00);
+  fifo.push_back(0x00);
+  CHECK(decode_response_unpaired(view(fifo)).error() == errc::modbus_quantity);
+  // FC2B/0E (§6.21): conformity level, more follows (0xFF), next object id, object count
+  const bytes ident = {0x2B, 0x0E, 0x01, 0x81, 0xFF, 0x03, 0x01, 0x00, 0x02, 'M', 'B'};
+  const auto id = decode_response_unpaired(view(ident));
+  REQUIRE(id.is_complete());
+  CHECK(id->conformity == 0x81);
+  CHECK(id->more_follows);
+  CHECK(id->next_object == 0x03);
+  CHECK(id->object_count == 1);
+  const bytes last = {0x2B, 0x0E, 0x01, 0x81, 0x00, 0x00, 0x00};
+  const auto no_more = decode_response_unpaired(view(last));
+  REQUIRE(no_more.is_complete());
+  CHECK_FALSE(no_more->more_follows);
+  // a response of the MEI type and nothing more is truncated, not passed on as another type
+  CHECK(decode_response_unpaired(view({0x2B, 0x0E})).error() == errc::truncated);
 }
