@@ -1091,3 +1091,79 @@ TEST_CASE("gateway: bytes held at the last call, then more: from_line's 0B disca
   CHECK(h.gw.timeouts() == 1);
   CHECK(!h.gw.awaiting());
 }
+
+TEST_CASE("gateway: the longest request (a 253-byte PDU) goes on the line whole") {
+  harness<2, 2> h;
+  bytes pdu(253, 0xFF);  // FC08 Return Query Data, 250 data bytes: an MBAP length of 254
+  pdu[0] = 0x08;
+  pdu[1] = 0x00;
+  pdu[2] = 0x00;
+  h.client(0, mbap(1, 9, pdu), false);
+  CHECK(h.gw.queued() == 1);
+  h.gw.close(2);  // the first slot past the last: no such slot, nothing changes
+  h.gw.close(1);  // a connection with nothing queued
+  CHECK(h.gw.queued() == 1);
+  CHECK(h.gw.dropped() == 0);
+  const gateway_step s = h.gw.poll(0);
+  REQUIRE(s.action == gateway_action::to_line);
+  CHECK(bytes(s.bytes.begin(), s.bytes.end()) == rtu(9, pdu));  // 256 bytes, the longest ADU
+}
+
+TEST_CASE("gateway: basic_gateway<1, 1>, one connection and a queue of one, forwards each") {
+  harness<1, 1> h;
+  for (std::uint16_t i = 0; i < 3; ++i) {
+    CAPTURE(i);
+    h.client(0, mbap(i, 2, fc03(i, 1)));
+    h.drain();
+    REQUIRE(h.replies[0].size() == i + 1U);
+    CHECK(h.replies[0][i].transaction == i);
+    CHECK(h.replies[0][i].pdu == fc03_answer(2, i, 1));
+    CHECK(h.line.back() == rtu(2, fc03(i, 1)));
+  }
+  CHECK(h.line.size() == 3);
+}
+
+TEST_CASE("gateway: a time one transaction's length before a quiet period counts as inside it") {
+  harness<1, 2> h;
+  const gateway_options& o = h.options;
+  const std::uint32_t heard = 5000000;
+  const bytes stray{0x55};
+  CHECK(h.gw.from_line(view(stray), heard).action == gateway_action::none);  // quiet for t3.5
+  h.client(0, mbap(1, 1, fc03(0, 1)), false);
+  CHECK(h.gw.wait_us(heard) == o.line.t35_us);
+  // one transaction: the response timeout, the turnaround and two of the longest frames
+  const std::uint32_t transaction =
+      o.response_timeout_us + o.turnaround_us + 2U * 256U * o.line.char_us;
+  CHECK(h.gw.wait_us(heard - transaction) == transaction + o.line.t35_us);  // inside: the wait
+  CHECK(h.gw.poll(heard - transaction).action == gateway_action::none);
+  CHECK(h.gw.wait_us(heard - transaction - 1U) == 0);  // any earlier: past it
+  CHECK(h.gw.poll(heard - transaction - 1U).action == gateway_action::to_line);
+}
+
+TEST_CASE("gateway: a response after garbage the framer gives up on, in the same chunk, is taken") {
+  // 300 bytes from the slave asked, FC03, that frame nothing: the framer holds them to a full
+  // buffer and fails on them there (its length rule, then the CRC, rule them out) in the
+  // middle of the chunk; the I/O's loop hands on the rest, which ends with the response
+  testutil::splitmix64 rng(247);
+  bytes in{0x01, 0x03};
+  for (int i = 0; i < 298; ++i) {
+    in.push_back(rng.byte());
+  }
+  const bytes response = rtu(1, {0x03, 0x02, 0xAB, 0xCD});
+  in.insert(in.end(), response.begin(), response.end());
+  harness<1, 2> h;
+  h.client(0, mbap(7, 1, fc03(0, 1)), false);
+  REQUIRE(h.gw.poll(0).action == gateway_action::to_line);
+  const gateway_step first = h.gw.from_line(view(in), 5000);
+  CHECK(first.action == gateway_action::none);
+  CHECK(first.consumed < in.size());  // up to the failure: the rest is the next call's
+  h.now = 5000;
+  feed_line(h.gw, byte_view(in.data() + first.consumed, in.size() - first.consumed), h.now,
+            [&](const gateway_step& s) { h.record(s); });
+  h.drain();
+  REQUIRE(h.replies[0].size() == 1);
+  CHECK(h.replies[0][0].transaction == 7);
+  CHECK(h.replies[0][0].exception == 0);
+  CHECK(h.replies[0][0].pdu == bytes{0x03, 0x02, 0xAB, 0xCD});
+  CHECK(h.gw.timeouts() == 0);
+}
