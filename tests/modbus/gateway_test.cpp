@@ -1167,3 +1167,51 @@ TEST_CASE("gateway: a response after garbage the framer gives up on, in the same
   CHECK(h.replies[0][0].pdu == bytes{0x03, 0x02, 0xAB, 0xCD});
   CHECK(h.gw.timeouts() == 0);
 }
+
+TEST_CASE(
+    "gateway: a deadline is past from it to under 2^31 us after it (half the clock's range)") {
+  // The deadlines live on half the wrapping clock's range (gateway_options, docs/modbus.md
+  // §12): a time less than 2^31 us after one is at or past it; 2^31 after it is 2^31 before.
+  harness<1, 2> h;
+  h.client(0, mbap(1, 9, fc03(0, 1)), false);  // no device at 9
+  REQUIRE(h.gw.poll(0).action == gateway_action::to_line);
+  const std::uint32_t deadline = 8U * h.options.line.char_us + h.options.response_timeout_us;
+  CHECK(h.gw.wait_us(deadline + 0x80000000U) == 0x80000000U);
+  CHECK(h.gw.poll(deadline + 0x80000000U).action == gateway_action::none);
+  CHECK(h.gw.wait_us(deadline + 0x7FFFFFFFU) == 0);
+  const gateway_step s = h.gw.poll(deadline + 0x7FFFFFFFU);
+  CHECK(s.action == gateway_action::to_client);
+  CHECK(s.exception == 0x0B);
+}
+
+TEST_CASE("gateway: a new gateway's clock just before the wrap; a response its silence ends") {
+  // No quiet period has begun: the next request goes t3.5 after the response's last byte,
+  // wherever the I/O's clock starts (here 0.5 s before it wraps)
+  harness<1, 2> h;
+  h.serve = [](const rtu_frame& f, mutable_byte_view out) {
+    return encode_rtu(f.slave, byte_view(bytes{0x41, 9, 8, 7}.data(), 4), out).value();
+  };
+  h.now = 0U - 500000U;
+  h.earliest = h.now;
+  h.client(0, mbap(1, 1, {0x41, 1}));  // no length rule: the t3.5 silence ends its response
+  CHECK(h.replies[0].empty());
+  h.now += h.gw.wait_us(h.now);
+  h.settle();
+  REQUIRE(h.replies[0].size() == 1);
+  CHECK(h.replies[0][0].pdu == bytes{0x41, 9, 8, 7});
+  h.client(0, mbap(2, 2, fc03(0, 1)));  // and the I/O's poll_all after it
+  REQUIRE(h.line.size() == 2);          // at once: t3.5 of silence is over already
+  CHECK(h.line[1] == rtu(2, fc03(0, 1)));
+}
+
+TEST_CASE("gateway: a line timing with no t3.5: bytes heard do not hold the next request") {
+  gateway_options o;
+  o.line.t35_us = 0;
+  harness<1, 2> h(o);
+  const bytes stray{0x55};
+  CHECK(h.gw.from_line(view(stray), 0).action == gateway_action::none);
+  CHECK(h.gw.discarded() == 1);
+  h.client(0, mbap(1, 1, fc03(0, 1)), false);
+  CHECK(h.gw.wait_us(0) == 0);
+  CHECK(h.gw.poll(0).action == gateway_action::to_line);
+}
