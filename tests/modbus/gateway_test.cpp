@@ -702,8 +702,10 @@ TEST_CASE("gateway: after a 0B a late response is discarded, not taken for the n
   // the deadline wins: a response that begins after it is not taken, though poll() has not
   // run since; from_line answers the 0B
   const std::uint32_t b_deadline = late + o.line.t35_us + 8U * o.line.char_us + 100000U;
-  s = h.gw.from_line(view(rtu(1, fc03_answer(1, 0, 1))), b_deadline + 10U);
+  const bytes b_answer = rtu(1, fc03_answer(1, 0, 1));
+  s = h.gw.from_line(view(b_answer), b_deadline + 10U);
   CHECK(s.action == gateway_action::to_client);
+  CHECK(s.consumed == b_answer.size());  // taken (and not framed)
   CHECK(s.connection == 1);
   CHECK(s.exception == 0x0B);
   CHECK(h.gw.timeouts() == 2);
@@ -746,6 +748,14 @@ TEST_CASE("gateway: a response timeout too long for the clock is clamped; connec
   CHECK(s.action == gateway_action::close);
   CHECK(s.connection == 255);
   CHECK(s.error == errc::invalid_argument);
+  CHECK(s.consumed == a.size());  // all of it taken: the I/O's loop ends
+  int steps = 0;
+  feed_client(h.gw, 1, view(a), [&](const gateway_step& c) {
+    CHECK(c.action == gateway_action::close);
+    CHECK(c.connection == 1);
+    REQUIRE(++steps < 10);
+  });
+  CHECK(steps == 1);
 }
 
 TEST_CASE("gateway: bytes during a broadcast's turnaround keep it, near its end extend it") {
@@ -854,4 +864,354 @@ TEST_CASE("unit_set: removing a unit removes that unit alone, for each of the 25
     s.add(static_cast<std::uint8_t>(u));
     CHECK(s.contains(static_cast<std::uint8_t>(u)));
   }
+}
+
+TEST_CASE("unit_set::none() holds no unit, for each of the 256") {
+  const unit_set none = unit_set::none();
+  unsigned held = 0;
+  for (unsigned u = 0; u < 256U; ++u) {
+    held += none.contains(static_cast<std::uint8_t>(u)) ? 1U : 0U;
+  }
+  CHECK(held == 0U);
+  // a gateway allowed one unit answers every other with 0A, nothing on the line
+  gateway_options o;
+  o.units = unit_set::none().add(1);
+  harness<1, 2> h(o);
+  for (unsigned u = 2; u <= 247U; ++u) {
+    h.client(0, mbap(static_cast<std::uint16_t>(u), static_cast<std::uint8_t>(u), fc03(0, 1)));
+  }
+  REQUIRE(h.replies[0].size() == 246);
+  unsigned refused = 0;
+  for (const reply& r : h.replies[0]) {
+    refused += r.exception == 0x0A ? 1U : 0U;
+  }
+  CHECK(refused == 246U);
+  CHECK(h.line.empty());
+}
+
+TEST_CASE("line_timing's default is 19200 baud 8E1; serial_line_timing's is one stop bit") {
+  const line_timing d{};
+  const line_timing even_one = serial_line_timing(19200, parity::even, 1);
+  CHECK(d.char_us == even_one.char_us);  // 11 bits at 19200 baud: 572.9 us
+  CHECK(d.t35_us == even_one.t35_us);
+  CHECK(d.char_us == character_time_us(19200, parity::even, 1));
+  CHECK(d.t35_us == t35_us(19200, parity::even, 1));
+  const line_timing defaults = serial_line_timing(19200);  // parity even, one stop bit
+  CHECK(defaults.char_us == even_one.char_us);
+  CHECK(defaults.t35_us == even_one.t35_us);
+  CHECK(serial_line_timing(9600, parity::none).char_us == character_time_us(9600, parity::none, 1));
+}
+
+TEST_CASE("gateway_options' defaults: a 1 s response timeout, a 100 ms turnaround") {
+  const gateway_options d{};
+  CHECK(d.response_timeout_us == 1000000U);
+  CHECK(d.turnaround_us == 100000U);           // Serial Line §2.4.1: typically 100 to 200 ms
+  harness<1, 4> h;                             // the defaults, in use
+  h.client(0, mbap(1, 9, fc03(0, 1)), false);  // no device at 9
+  REQUIRE(h.gw.poll(0).action == gateway_action::to_line);
+  const std::uint32_t end = 8U * d.line.char_us;
+  CHECK(h.gw.poll(end + 999999U).action == gateway_action::none);
+  const gateway_step s = h.gw.poll(end + 1000000U);
+  CHECK(s.action == gateway_action::to_client);
+  CHECK(s.exception == 0x0B);
+  // a broadcast, then the turnaround before the next request
+  const std::uint32_t t0 = end + 1000000U + d.line.t35_us;
+  h.client(0, mbap(2, 0, {0x06, 0, 1, 0, 2}), false);
+  h.client(0, mbap(3, 1, fc03(0, 1)), false);
+  REQUIRE(h.gw.poll(t0).action == gateway_action::to_line);
+  const std::uint32_t after = t0 + 8U * d.line.char_us + 100000U;
+  CHECK(h.gw.poll(after - 1U).action == gateway_action::none);
+  CHECK(h.gw.poll(after).action == gateway_action::to_line);
+}
+
+TEST_CASE("gateway_step: a default step is none, naming nothing; other steps keep its defaults") {
+  const gateway_step d{};
+  CHECK(d.action == gateway_action::none);
+  CHECK(d.connection == 0);
+  CHECK(d.exception == 0);
+  CHECK(d.error == errc::ok);
+  CHECK(d.transaction == 0);
+  CHECK(d.bytes.empty());
+  CHECK(d.consumed == 0);
+  harness<2, 2> h;
+  h.client(1, mbap(0x1234, 1, fc03(0, 1)), false);
+  const gateway_step s = h.gw.poll(0);  // to_line: connection, transaction and bytes
+  REQUIRE(s.action == gateway_action::to_line);
+  CHECK(s.connection == 1);
+  CHECK(s.transaction == 0x1234);
+  CHECK(s.exception == 0);
+  CHECK(s.error == errc::ok);
+  CHECK(s.consumed == 0);  // (poll takes no bytes)
+  const gateway_step none = h.gw.poll(1);
+  CHECK(none.action == gateway_action::none);
+  CHECK(none.connection == 0);
+  CHECK(none.transaction == 0);
+  CHECK(none.consumed == 0);
+}
+
+TEST_CASE("gateway: read_only forwards every read, Return Query Data and MEI 0E however short") {
+  gateway_options o;
+  o.read_only = true;
+  harness<1, 16> h(o);
+  const bytes reads[] = {
+      {0x01, 0, 0, 0, 1},
+      {0x02, 0, 0, 0, 1},
+      {0x03, 0, 0, 0, 1},
+      {0x04, 0, 0, 0, 1},
+      {0x07},
+      {0x0B},
+      {0x0C},
+      {0x11},
+      {0x14, 7, 6, 0, 1, 0, 0, 0, 1},
+      {0x18, 0, 0},
+      {0x08, 0, 0},  // Return Query Data with no data
+  };
+  std::uint16_t id = 0;
+  for (const bytes& pdu : reads) {
+    h.client(0, mbap(++id, 9, pdu), false);  // unit 9: none answers, nothing to wait for
+  }
+  CHECK(h.replies[0].empty());  // none refused
+  CHECK(h.gw.queued() == 11);
+  // a Read Device Identification too short to be one is refused by the PDU's own check (03),
+  // not by read_only (01): its MEI type says it is a read
+  h.client(0, mbap(12, 9, {0x2B, 0x0E}), false);
+  REQUIRE(h.replies[0].size() == 1);
+  CHECK(h.replies[0][0].pdu == bytes{0xAB, 0x03});
+  // the writes are refused, each with 01
+  h.replies[0].clear();
+  const bytes writes[] = {{0x05, 0, 1, 0xFF, 0},
+                          {0x06, 0, 1, 0, 1},
+                          {0x0F, 0, 0, 0, 8, 1, 0xFF},
+                          {0x10, 0, 1, 0, 1, 2, 0, 1},
+                          {0x15, 9, 6, 0, 1, 0, 0, 0, 1, 0x12, 0x34},
+                          {0x16, 0, 1, 0xFF, 0xFF, 0, 0},
+                          {0x12},
+                          {0x19}};
+  for (const bytes& pdu : writes) {
+    h.client(0, mbap(++id, 9, pdu), false);
+  }
+  REQUIRE(h.replies[0].size() == 8);
+  for (const reply& r : h.replies[0]) {
+    CHECK(r.exception == 0x01);
+  }
+  // the reads go on the line as they came
+  h.drain();
+  REQUIRE(h.line.size() == 11);
+  for (std::size_t i = 0; i < 11; ++i) {
+    CAPTURE(i);
+    CHECK(h.line[i] == rtu(9, reads[i]));
+  }
+}
+
+TEST_CASE("gateway: broadcasts of each write go on the line; FC17, a read too, has no path") {
+  harness<1, 8> h;
+  const bytes writes[] = {{0x05, 0, 1, 0xFF, 0},
+                          {0x06, 0, 1, 0, 1},
+                          {0x0F, 0, 0, 0, 8, 1, 0xFF},
+                          {0x10, 0, 1, 0, 1, 2, 0, 1},
+                          {0x15, 9, 6, 0, 1, 0, 0, 0, 1, 0x12, 0x34},
+                          {0x16, 0, 1, 0xFF, 0xFF, 0, 0}};
+  std::uint16_t id = 0;
+  for (const bytes& pdu : writes) {
+    h.client(0, mbap(++id, 0, pdu), false);
+  }
+  h.client(0, mbap(++id, 0, {0x17, 0, 1, 0, 1, 0, 2, 0, 1, 2, 0, 3}), false);
+  REQUIRE(h.replies[0].size() == 1);  // the FC17 alone
+  CHECK(h.replies[0][0].transaction == 7);
+  CHECK(h.replies[0][0].pdu == bytes{0x97, 0x0A});
+  h.drain();
+  REQUIRE(h.line.size() == 6);
+  for (std::size_t i = 0; i < 6; ++i) {
+    CAPTURE(i);
+    CHECK(h.line[i] == rtu(0, writes[i]));
+  }
+  CHECK(h.replies[0].size() == 1);  // broadcasts are not answered
+}
+
+TEST_CASE("gateway: unit 247, the last slave address, goes on the line") {
+  harness<1, 2> h;
+  h.client(0, mbap(1, 247, fc03(0, 1)), false);
+  CHECK(h.replies[0].empty());
+  const gateway_step s = h.gw.poll(0);
+  REQUIRE(s.action == gateway_action::to_line);
+  CHECK(bytes(s.bytes.begin(), s.bytes.end()) == rtu(247, fc03(0, 1)));
+}
+
+TEST_CASE("gateway: a function set of all but one refuses the functions 64 and up") {
+  gateway_options o;
+  o.functions = ~function_set{0} & ~(function_set{1} << 5U);  // all but 05: not all_functions
+  harness<1, 2> h(o);
+  for (const unsigned code : {0x40U, 0x41U, 0x64U, 0x7FU}) {
+    const auto f = static_cast<std::uint8_t>(code);
+    CAPTURE(f);
+    h.replies[0].clear();
+    h.client(0, mbap(1, 1, {f, 0x01}));
+    REQUIRE(h.replies[0].size() == 1);
+    CHECK(h.replies[0][0].exception == 0x01);
+    CHECK(h.replies[0][0].pdu == bytes{static_cast<std::uint8_t>(f | 0x80U), 0x01});
+  }
+  h.replies[0].clear();
+  h.client(0, mbap(2, 1, {0x05, 0, 1, 0xFF, 0}));
+  REQUIRE(h.replies[0].size() == 1);
+  CHECK(h.replies[0][0].pdu == bytes{0x85, 0x01});
+  CHECK(h.line.empty());
+}
+
+TEST_CASE("gateway: close() in the middle of an ADU; the slot's next request is framed afresh") {
+  harness<1, 2> h;
+  const bytes a = mbap(1, 1, {0x10, 0, 1, 0, 2, 4, 0, 1, 0, 2});  // 17 bytes
+  h.client(0, bytes(a.begin(), a.begin() + 9), false);            // its header and more: size known
+  h.gw.close(0);
+  h.client(0, mbap(2, 2, fc03(0, 1)));  // 12 bytes: a whole request of its own
+  h.drain();
+  REQUIRE(h.replies[0].size() == 1);
+  CHECK(h.replies[0][0].transaction == 2);
+  CHECK(h.replies[0][0].pdu == fc03_answer(2, 0, 1));
+  CHECK(h.closes[0].empty());
+}
+
+TEST_CASE("gateway: bytes held at the last call, then more: from_line's 0B discards them") {
+  gateway_options o;
+  o.response_timeout_us = 10000;
+  harness<1, 2> h(o);
+  h.client(0, mbap(1, 9, fc03(0, 1)), false);
+  REQUIRE(h.gw.poll(0).action == gateway_action::to_line);
+  const std::uint32_t deadline = 8U * o.line.char_us + o.response_timeout_us;
+  const std::uint32_t last_call = deadline + 256U * o.line.char_us;
+  const bytes part = {0x09, 0x03, 0x02};
+  CHECK(h.gw.from_line(view(part), 12U * o.line.char_us).action == gateway_action::none);
+  CHECK(h.gw.discarded() == 0);
+  // no poll since: the next bytes come past the last call; the held ones are too late
+  const bytes rest = {0x00, 0x01};
+  const gateway_step s = h.gw.from_line(view(rest), last_call);
+  REQUIRE(s.action == gateway_action::to_client);
+  CHECK(s.exception == 0x0B);
+  CHECK(s.consumed == rest.size());
+  CHECK(h.gw.discarded() == 2);  // the bytes held, and these
+  CHECK(h.gw.timeouts() == 1);
+  CHECK(!h.gw.awaiting());
+}
+
+TEST_CASE("gateway: the longest request (a 253-byte PDU) goes on the line whole") {
+  harness<2, 2> h;
+  bytes pdu(253, 0xFF);  // FC08 Return Query Data, 250 data bytes: an MBAP length of 254
+  pdu[0] = 0x08;
+  pdu[1] = 0x00;
+  pdu[2] = 0x00;
+  h.client(0, mbap(1, 9, pdu), false);
+  CHECK(h.gw.queued() == 1);
+  h.gw.close(2);  // the first slot past the last: no such slot, nothing changes
+  h.gw.close(1);  // a connection with nothing queued
+  CHECK(h.gw.queued() == 1);
+  CHECK(h.gw.dropped() == 0);
+  const gateway_step s = h.gw.poll(0);
+  REQUIRE(s.action == gateway_action::to_line);
+  CHECK(bytes(s.bytes.begin(), s.bytes.end()) == rtu(9, pdu));  // 256 bytes, the longest ADU
+}
+
+TEST_CASE("gateway: basic_gateway<1, 1>, one connection and a queue of one, forwards each") {
+  harness<1, 1> h;
+  for (std::uint16_t i = 0; i < 3; ++i) {
+    CAPTURE(i);
+    h.client(0, mbap(i, 2, fc03(i, 1)));
+    h.drain();
+    REQUIRE(h.replies[0].size() == i + 1U);
+    CHECK(h.replies[0][i].transaction == i);
+    CHECK(h.replies[0][i].pdu == fc03_answer(2, i, 1));
+    CHECK(h.line.back() == rtu(2, fc03(i, 1)));
+  }
+  CHECK(h.line.size() == 3);
+}
+
+TEST_CASE("gateway: a time one transaction's length before a quiet period counts as inside it") {
+  harness<1, 2> h;
+  const gateway_options& o = h.options;
+  const std::uint32_t heard = 5000000;
+  const bytes stray{0x55};
+  CHECK(h.gw.from_line(view(stray), heard).action == gateway_action::none);  // quiet for t3.5
+  h.client(0, mbap(1, 1, fc03(0, 1)), false);
+  CHECK(h.gw.wait_us(heard) == o.line.t35_us);
+  // one transaction: the response timeout, the turnaround and two of the longest frames
+  const std::uint32_t transaction =
+      o.response_timeout_us + o.turnaround_us + 2U * 256U * o.line.char_us;
+  CHECK(h.gw.wait_us(heard - transaction) == transaction + o.line.t35_us);  // inside: the wait
+  CHECK(h.gw.poll(heard - transaction).action == gateway_action::none);
+  CHECK(h.gw.wait_us(heard - transaction - 1U) == 0);  // any earlier: past it
+  CHECK(h.gw.poll(heard - transaction - 1U).action == gateway_action::to_line);
+}
+
+TEST_CASE("gateway: a response after garbage the framer gives up on, in the same chunk, is taken") {
+  // 300 bytes from the slave asked, FC03, that frame nothing: the framer holds them to a full
+  // buffer and fails on them there (its length rule, then the CRC, rule them out) in the
+  // middle of the chunk; the I/O's loop hands on the rest, which ends with the response
+  testutil::splitmix64 rng(247);
+  bytes in{0x01, 0x03};
+  for (int i = 0; i < 298; ++i) {
+    in.push_back(rng.byte());
+  }
+  const bytes response = rtu(1, {0x03, 0x02, 0xAB, 0xCD});
+  in.insert(in.end(), response.begin(), response.end());
+  harness<1, 2> h;
+  h.client(0, mbap(7, 1, fc03(0, 1)), false);
+  REQUIRE(h.gw.poll(0).action == gateway_action::to_line);
+  const gateway_step first = h.gw.from_line(view(in), 5000);
+  CHECK(first.action == gateway_action::none);
+  CHECK(first.consumed < in.size());  // up to the failure: the rest is the next call's
+  h.now = 5000;
+  feed_line(h.gw, byte_view(in.data() + first.consumed, in.size() - first.consumed), h.now,
+            [&](const gateway_step& s) { h.record(s); });
+  h.drain();
+  REQUIRE(h.replies[0].size() == 1);
+  CHECK(h.replies[0][0].transaction == 7);
+  CHECK(h.replies[0][0].exception == 0);
+  CHECK(h.replies[0][0].pdu == bytes{0x03, 0x02, 0xAB, 0xCD});
+  CHECK(h.gw.timeouts() == 0);
+}
+
+TEST_CASE(
+    "gateway: a deadline is past from it to under 2^31 us after it (half the clock's range)") {
+  // The deadlines live on half the wrapping clock's range (gateway_options, docs/modbus.md
+  // §12): a time less than 2^31 us after one is at or past it; 2^31 after it is 2^31 before.
+  harness<1, 2> h;
+  h.client(0, mbap(1, 9, fc03(0, 1)), false);  // no device at 9
+  REQUIRE(h.gw.poll(0).action == gateway_action::to_line);
+  const std::uint32_t deadline = 8U * h.options.line.char_us + h.options.response_timeout_us;
+  CHECK(h.gw.wait_us(deadline + 0x80000000U) == 0x80000000U);
+  CHECK(h.gw.poll(deadline + 0x80000000U).action == gateway_action::none);
+  CHECK(h.gw.wait_us(deadline + 0x7FFFFFFFU) == 0);
+  const gateway_step s = h.gw.poll(deadline + 0x7FFFFFFFU);
+  CHECK(s.action == gateway_action::to_client);
+  CHECK(s.exception == 0x0B);
+}
+
+TEST_CASE("gateway: a new gateway's clock just before the wrap; a response its silence ends") {
+  // No quiet period has begun: the next request goes t3.5 after the response's last byte,
+  // wherever the I/O's clock starts (here 0.5 s before it wraps)
+  harness<1, 2> h;
+  h.serve = [](const rtu_frame& f, mutable_byte_view out) {
+    return encode_rtu(f.slave, byte_view(bytes{0x41, 9, 8, 7}.data(), 4), out).value();
+  };
+  h.now = 0U - 500000U;
+  h.earliest = h.now;
+  h.client(0, mbap(1, 1, {0x41, 1}));  // no length rule: the t3.5 silence ends its response
+  CHECK(h.replies[0].empty());
+  h.now += h.gw.wait_us(h.now);
+  h.settle();
+  REQUIRE(h.replies[0].size() == 1);
+  CHECK(h.replies[0][0].pdu == bytes{0x41, 9, 8, 7});
+  h.client(0, mbap(2, 2, fc03(0, 1)));  // and the I/O's poll_all after it
+  REQUIRE(h.line.size() == 2);          // at once: t3.5 of silence is over already
+  CHECK(h.line[1] == rtu(2, fc03(0, 1)));
+}
+
+TEST_CASE("gateway: a line timing with no t3.5: bytes heard do not hold the next request") {
+  gateway_options o;
+  o.line.t35_us = 0;
+  harness<1, 2> h(o);
+  const bytes stray{0x55};
+  CHECK(h.gw.from_line(view(stray), 0).action == gateway_action::none);
+  CHECK(h.gw.discarded() == 1);
+  h.client(0, mbap(1, 1, fc03(0, 1)), false);
+  CHECK(h.gw.wait_us(0) == 0);
+  CHECK(h.gw.poll(0).action == gateway_action::to_line);
 }
