@@ -263,8 +263,8 @@ class basic_gateway {
     const decode_result<rtu_frame> r = framer_.feed(in);
     if (!r.is_complete()) {
       // all taken: the framer (frame_end::silence) holds what it cannot frame until the t3.5
-      // silence, which poll() sees: its failures come from idle() there
-      // coverage-branch: never failed here: a frame_end::silence framer fails only at idle()
+      // silence, which poll() sees: its failures come from idle() there, but for a full
+      // buffer with no frame in it (256 bytes held), which feed() reports as it drops them
       s.consumed = r.is_failed() ? r.consumed() : in.size();
       return s;
     }
@@ -585,7 +585,7 @@ class basic_gateway {
     const std::uint64_t slack = std::uint64_t{options_.response_timeout_us} +
                                 options_.turnaround_us +
                                 2U * std::uint64_t{max_rtu_size} * options_.line.char_us;
-    return left <= quiet_len_ + slack ? left : 0U;
+    return quiet_len_ != 0U && left <= quiet_len_ + slack ? left : 0U;  // 0: none (a new one)
   }
 
   gateway_options options_;
