@@ -649,3 +649,51 @@ TEST_CASE("client decoders: FC18's longest queue, FC2B/0E's header fields and it
   // a response of the MEI type and nothing more is truncated, not passed on as another type
   CHECK(decode_response_unpaired(view({0x2B, 0x0E})).error() == errc::truncated);
 }
+
+TEST_CASE("client: FC14 responses, the head's failures and exception, and each sub-response") {
+  // a request of two sub-requests of different lengths (1 and 2 registers), and its answer
+  const bytes sent = {0x14, 0x0E, 0x06, 0x00, 0x04, 0x00, 0x01, 0x00,
+                      0x01, 0x06, 0x00, 0x03, 0x00, 0x09, 0x00, 0x02};
+  const bytes answer = {0x14, 0x0A, 0x03, 0x06, 0x11, 0x22, 0x05, 0x06, 0x33, 0x44, 0x55, 0x66};
+  const auto ok = decode_read_file_record_response(view(sent), view(answer));
+  REQUIRE(ok.is_complete());
+  CHECK(ok->count == 2);
+  // the head: a failure consumes the whole PDU; a request that is no FC14 request is an
+  // invalid argument; an exception response names the function and is a response
+  const bytes other = {0x03, 0x02, 0x00, 0x00};
+  const auto mismatch = decode_read_file_record_response(view(sent), view(other));
+  CHECK(mismatch.error() == errc::modbus_mismatch);
+  CHECK(mismatch.consumed() == other.size());
+  const bytes not_fc14 = {0x03, 0x00, 0x00, 0x00, 0x01};
+  const auto invalid = decode_read_file_record_response(view(not_fc14), view(answer));
+  CHECK(invalid.error() == errc::invalid_argument);
+  CHECK(invalid.consumed() == answer.size());
+  const auto exception = decode_read_file_record_response(view(sent), view({0x94, 0x02}));
+  REQUIRE(exception.is_complete());
+  CHECK(exception->exception);
+  CHECK(exception->exception_code == 0x02);
+  CHECK(exception->function == 0x14);
+  CHECK(exception->response);
+  // a byte count of 0: no sub-response, fewer than asked (not truncated)
+  CHECK(decode_read_file_record_response(view(sent), view({0x14, 0x00})).error() ==
+        errc::modbus_mismatch);
+  // one sub-response more than asked
+  bytes more = answer;
+  more[1] = 0x0E;
+  more.insert(more.end(), {0x03, 0x06, 0x77, 0x88});
+  CHECK(decode_read_file_record_response(view(sent), view(more)).error() == errc::modbus_mismatch);
+}
+
+TEST_CASE("client: failures without evidence carry expected and received 0") {
+  // evidence (expected, received) is the functions of a mismatch; a failure of the body has
+  // none, paired or not
+  const bytes fc07 = {0x07};
+  const auto paired = decode_response_for(view(fc07), view({0x07, 0x6D, 0x00}));
+  CHECK(paired.error() == errc::modbus_byte_count);
+  CHECK(paired.expected() == 0);
+  CHECK(paired.received() == 0);
+  const auto unpaired = decode_response_unpaired(view({0x07, 0x6D, 0x00}));
+  CHECK(unpaired.error() == errc::modbus_byte_count);
+  CHECK(unpaired.expected() == 0);
+  CHECK(unpaired.received() == 0);
+}
