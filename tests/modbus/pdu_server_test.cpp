@@ -4,7 +4,9 @@
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "../support/bytes.hpp"
@@ -128,4 +130,82 @@ TEST_CASE("server responses: the bounds of each count, and FC2B's more-follows f
   REQUIRE(encode_device_identification_response(1, 0x01, false, 0x00, 1, byte_view(object, 3), out)
               .ok());
   CHECK(out[4] == 0x00);
+}
+
+namespace {
+
+// `encode` into a buffer of 0xA5s: it writes `expected` and not a byte past it; into a buffer
+// of exactly that size it writes the same; one byte less is buffer_too_small.
+void check_encoder(const std::function<result<std::size_t>(mutable_byte_view)>& encode,
+                   const bytes& expected) {
+  bytes big(300, 0xA5);
+  const auto n = encode(mutable_byte_view(big.data(), big.size()));
+  REQUIRE(n.ok());
+  CHECK(bytes(big.begin(), big.begin() + static_cast<std::ptrdiff_t>(n.value())) == expected);
+  CHECK(std::count(big.begin() + static_cast<std::ptrdiff_t>(n.value()), big.end(), 0xA5) ==
+        static_cast<std::ptrdiff_t>(big.size() - n.value()));
+  bytes exact(expected.size(), 0xA5);
+  CHECK(output(encode(mutable_byte_view(exact.data(), exact.size())), exact.data()) == expected);
+  bytes short_by_one(expected.size() - 1U, 0xA5);
+  CHECK(encode(mutable_byte_view(short_by_one.data(), short_by_one.size())).error() ==
+        errc::buffer_too_small);
+}
+
+}  // namespace
+
+TEST_CASE("server encoders: their bytes, exact buffers, nothing past the PDU, the largest counts") {
+  // each encoder's input is the first bytes of a longer array (0xEE after them): a copy one
+  // byte too long would show past the PDU
+  check_encoder([](mutable_byte_view out) { return encode_exception_status_response(0x6D, out); },
+                {0x07, 0x6D});
+  const std::uint8_t events[4] = {0x20, 0x00, 0x40, 0xEE};
+  check_encoder(
+      [&](mutable_byte_view out) {
+        return encode_comm_event_log_response(0x0000, 0x0108, 0x0121, byte_view(events, 3), out);
+      },
+      {0x0C, 0x09, 0x00, 0x00, 0x01, 0x08, 0x01, 0x21, 0x20, 0x00, 0x40});
+  const std::uint16_t fifo[3] = {0x01B8, 0x1284, 0xEEEE};
+  check_encoder(
+      [&](mutable_byte_view out) {
+        return encode_fifo_response(span<const std::uint16_t>(fifo, 2), out);
+      },
+      {0x18, 0x00, 0x06, 0x00, 0x02, 0x01, 0xB8, 0x12, 0x84});
+  const std::uint8_t objects[6] = {0x00, 0x03, 'a', 'b', 'c', 0xEE};
+  check_encoder(
+      [&](mutable_byte_view out) {
+        return encode_device_identification_response(0x01, 0x81, true, 0x02, 1,
+                                                     byte_view(objects, 5), out);
+      },
+      {0x2B, 0x0E, 0x01, 0x81, 0xFF, 0x02, 0x01, 0x00, 0x03, 'a', 'b', 'c'});
+  const std::uint8_t regs[5] = {0x0D, 0xFE, 0x00, 0x20, 0xEE};
+  const file_record read[] = {{byte_view(regs, 4), 4, 1, 2}, {byte_view(regs, 2), 3, 9, 1}};
+  check_encoder([&](mutable_byte_view out) { return encode_read_file_record_response(read, out); },
+                {0x14, 0x0A, 0x05, 0x06, 0x0D, 0xFE, 0x00, 0x20, 0x03, 0x06, 0x0D, 0xFE});
+  const std::uint8_t write_request[16] = {0x15, 0x0D, 0x06, 0x00, 0x04, 0x00, 0x07, 0x00,
+                                          0x03, 0x06, 0xAF, 0x04, 0xBE, 0x10, 0x0D, 0xEE};
+  const auto q = decode_file_record_request(byte_view(write_request, 15));
+  REQUIRE(q.is_complete());
+  check_encoder(
+      [&](mutable_byte_view out) { return encode_write_file_record_response(q.value(), out); },
+      bytes(write_request, write_request + 15));
+  // the largest: 64 events (65 a byte count error), 31 FIFO registers (32 a quantity error),
+  // FC2B/0E objects to 253 bytes (one more a PDU length error)
+  std::uint8_t out[260] = {};
+  const bytes many(65, 0x20);
+  CHECK(encode_comm_event_log_response(0, 0, 0, byte_view(many.data(), 64), out).value() == 72U);
+  CHECK(encode_comm_event_log_response(0, 0, 0, byte_view(many.data(), 65), out).error() ==
+        errc::modbus_byte_count);
+  const std::vector<std::uint16_t> queue(32, 0x1234);
+  CHECK(encode_fifo_response(span<const std::uint16_t>(queue.data(), 31), out).value() == 67U);
+  CHECK(encode_fifo_response(span<const std::uint16_t>(queue.data(), 32), out).error() ==
+        errc::modbus_quantity);
+  bytes object(246, 'x');
+  object[0] = 0x00;
+  object[1] = 244;
+  CHECK(encode_device_identification_response(1, 1, false, 0, 1, view(object), out).value() ==
+        253U);
+  object.push_back('x');
+  object[1] = 245;
+  CHECK(encode_device_identification_response(1, 1, false, 0, 1, view(object), out).error() ==
+        errc::modbus_pdu_length);
 }
