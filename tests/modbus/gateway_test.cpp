@@ -1244,3 +1244,13 @@ TEST_CASE("gateway: a new gateway's first stray bytes hold the line t3.5, wherev
   k.client(0, mbap(2, 2, fc03(0, 1)), false);
   CHECK(k.gw.wait_us(k.now) == 0);  // was 488118, though poll(k.now) sent it
 }
+
+TEST_CASE("gateway_action's numbers are the header's: an I/O may log or export them") {
+  // the numbers the enumeration writes out (the meter's gateway harness exports an action as
+  // its number); a step that closes a connection is 4
+  CHECK(static_cast<unsigned>(gateway_action::none) == 0);
+  CHECK(static_cast<unsigned>(gateway_action::queued) == 1);
+  CHECK(static_cast<unsigned>(gateway_action::to_client) == 2);
+  CHECK(static_cast<unsigned>(gateway_action::to_line) == 3);
+  CHECK(static_cast<unsigned>(gateway_action::close) == 4);
+}

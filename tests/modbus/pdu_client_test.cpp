@@ -682,6 +682,14 @@ TEST_CASE("client: FC14 responses, the head's failures and exception, and each s
   more[1] = 0x0E;
   more.insert(more.end(), {0x03, 0x06, 0x77, 0x88});
   CHECK(decode_read_file_record_response(view(sent), view(more)).error() == errc::modbus_mismatch);
+  // and with the request in a longer buffer (a client's transmit buffer, whose bytes after the
+  // request would read as a sub-request of 1 register): a sub-response past the last one asked
+  // is a mismatch, whatever follows it
+  const std::uint8_t tx[16] = {0x14, 0x07, 0x06, 0x00, 0x01, 0x00, 0x00, 0x00,
+                               0x01, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x01};
+  const bytes extra = {0x14, 0x0A, 0x03, 0x06, 0xAA, 0xBB, 0x03, 0x06, 0xCC, 0xDD, 0x02, 0x06};
+  CHECK(decode_read_file_record_response(byte_view(tx, 9), view(extra)).error() ==
+        errc::modbus_mismatch);
 }
 
 TEST_CASE("client: failures without evidence carry expected and received 0") {

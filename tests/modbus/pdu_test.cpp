@@ -422,3 +422,14 @@ TEST_CASE("requests at the edges of their layouts: no data, FC08's data, FC2B's 
   CHECK(decode_request(view(bytes{0x2B, 0x0E, 0x05, 0x00})).error() == errc::modbus_quantity);
   CHECK(decode_request(view(bytes{0x2B, 0x0E, 0x00, 0x00})).error() == errc::modbus_quantity);
 }
+
+TEST_CASE("FC0F built in place: the coils may already lie where the request puts them") {
+  // a client that lays out its coils in its transmit buffer first, at the request's data
+  // (byte 6 on), then encodes the request around them: the head is written before, and
+  // around, the coils, never over them (the §6.11 example: coils CD 01)
+  std::uint8_t buf[16] = {0, 0, 0, 0, 0, 0, 0xCD, 0x01};
+  const auto n = encode_write_multiple_coils(0x0013, 10, byte_view(buf + 6, 2),
+                                             mutable_byte_view(buf, sizeof buf));
+  REQUIRE(n.ok());
+  CHECK(bytes(buf, buf + n.value()) == bytes{0x0F, 0x00, 0x13, 0x00, 0x0A, 0x02, 0xCD, 0x01});
+}
