@@ -1254,3 +1254,28 @@ TEST_CASE("gateway_action's numbers are the header's: an I/O may log or export t
   CHECK(static_cast<unsigned>(gateway_action::to_line) == 3);
   CHECK(static_cast<unsigned>(gateway_action::close) == 4);
 }
+
+TEST_CASE("gateway: from_line with no bytes is no byte: the silence that ends a response holds") {
+  // an I/O that calls from_line with every read, also those that found nothing: a response
+  // whose function gives no length ends t3.5 after its last byte, not after the last call
+  basic_gateway<1, 2> gw{gateway_options{}};
+  const std::uint32_t t35 = gateway_options{}.line.t35_us;
+  const bytes request = mbap(7, 1, {0x41, 0x01});
+  REQUIRE(gw.from_client(0, view(request)).action == gateway_action::queued);
+  REQUIRE(gw.poll(0).action == gateway_action::to_line);
+  std::uint8_t adu[16] = {};
+  const std::uint8_t pdu[] = {0x41, 0x09, 0x08, 0x07};
+  const auto n = encode_rtu(1, byte_view(pdu, sizeof pdu), mutable_byte_view(adu, sizeof adu));
+  REQUIRE(n.ok());
+  const std::uint32_t last = 10000;
+  CHECK(gw.from_line(byte_view(adu, n.value()), last).action == gateway_action::none);
+  const std::uint8_t nothing[1] = {};
+  for (std::uint32_t at = last + 100U; at < last + t35; at += 100U) {
+    CAPTURE(at);
+    CHECK(gw.from_line(byte_view(nothing, 0), at).consumed == 0U);
+  }
+  CHECK(gw.wait_us(last + t35 - 1U) == 1U);
+  const gateway_step s = gw.poll(last + t35);
+  REQUIRE(s.action == gateway_action::to_client);
+  CHECK(s.transaction == 7);
+}

@@ -259,7 +259,7 @@ class basic_gateway {
       }
       return s;
     }
-    last_byte_us_ = now_us;
+    last_byte_us_ = in.empty() ? last_byte_us_ : now_us;  // a read that found no byte: none
     const decode_result<rtu_frame> r = framer_.feed(in);
     if (!r.is_complete()) {
       // all taken: the framer (frame_end::silence) holds what it cannot frame until the t3.5
