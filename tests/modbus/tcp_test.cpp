@@ -83,3 +83,27 @@ TEST_CASE("tcp_frame: a default frame is transaction 0, Modbus, unit 0, no PDU")
   CHECK(f.unit == 0);
   CHECK(f.pdu.empty());
 }
+
+TEST_CASE("encode_tcp writes the MBAP header and the PDU and nothing past them") {
+  // into a buffer of 0xA5s, the PDU the first bytes of a longer array: the protocol id is
+  // written as 0, and no byte follows the ADU
+  const std::uint8_t pdu[4] = {0x03, 0x00, 0x6B, 0xEE};
+  bytes out(32, 0xA5);
+  const auto n = encode_tcp(0x1234, 0x11, byte_view(pdu, 3), mutable_byte_view(out.data(), 32));
+  REQUIRE(n.ok());
+  CHECK(bytes(out.begin(), out.begin() + static_cast<std::ptrdiff_t>(n.value())) ==
+        bytes{0x12, 0x34, 0x00, 0x00, 0x00, 0x04, 0x11, 0x03, 0x00, 0x6B});
+  CHECK(out[n.value()] == 0xA5);
+}
+
+TEST_CASE("tcp_adu_size consumes nothing; decode_tcp reads the protocol id from bytes 2 and 3") {
+  const bytes adu = {0x00, 0x01, 0x00, 0x00, 0x00, 0x02, 0x01, 0x07};
+  const auto size = tcp_adu_size(view(adu));
+  REQUIRE(size.is_complete());
+  CHECK(size.value() == 8U);
+  CHECK(size.consumed() == 0U);
+  // protocol id 0x0100: not Modbus, though its low byte is 0
+  const bytes other = {0x00, 0x01, 0x01, 0x00, 0x00, 0x02, 0x01, 0x07};
+  CHECK(decode_tcp(view(other)).error() == errc::invalid_argument);
+  CHECK(tcp_adu_size(view(other)).error() == errc::invalid_argument);
+}

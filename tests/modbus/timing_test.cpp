@@ -36,3 +36,10 @@ TEST_CASE("RTU timing: at 19200 baud t1.5 and t3.5 are computed; the fixed value
   CHECK(t15_us(19201) == 750);
   CHECK(t35_us(19201) == 1750);
 }
+
+TEST_CASE("parity's numbers: those the Python package's t15_us and t35_us pass") {
+  // python/src/modbus.cpp casts its `parity` argument (0 none, 1 even, 2 odd) to the enumeration
+  CHECK(static_cast<unsigned>(parity::none) == 0);
+  CHECK(static_cast<unsigned>(parity::even) == 1);
+  CHECK(static_cast<unsigned>(parity::odd) == 2);
+}

@@ -9,6 +9,7 @@
 #include <array>
 #include <cstdint>
 #include <cstring>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -191,4 +192,42 @@ TEST_CASE("values: out_of_range when the value's registers are not all there; no
         errc::out_of_range);
   const response exception_response{};  // no data
   CHECK(value_at<float>(exception_response, 0, word_order::abcd).error() == errc::out_of_range);
+}
+
+TEST_CASE("values at the last registers; put_value writes its registers and no more") {
+  // a 32-bit value in the last two registers of six is there; put_value into big-endian
+  // bytes leaves the registers after it as they were
+  const std::uint16_t regs[6] = {0, 0, 0, 0, 0x1234, 0x5678};
+  CHECK(value_at<std::uint32_t>(span<const std::uint16_t>(regs, 6), 4, word_order::abcd).value() ==
+        0x12345678U);
+  CHECK(value_at<std::uint32_t>(span<const std::uint16_t>(regs, 6), 5, word_order::abcd).error() ==
+        errc::out_of_range);
+  std::uint8_t be[12] = {0xA5, 0xA5, 0xA5, 0xA5, 0xA5, 0xA5, 0xA5, 0xA5, 0xA5, 0xA5, 0xA5, 0xA5};
+  CHECK(put_value<std::uint32_t>(mutable_byte_view(be, 12), 1, 0x12345678U, word_order::abcd)
+            .value() == 2U);
+  CHECK(std::vector<std::uint8_t>(be, be + 12) ==
+        std::vector<std::uint8_t>{0xA5, 0xA5, 0x12, 0x34, 0x56, 0x78, 0xA5, 0xA5, 0xA5, 0xA5, 0xA5,
+                                  0xA5});
+  CHECK(value_at<std::uint32_t>(byte_view(be, 12), 1, word_order::abcd).value() == 0x12345678U);
+  std::uint16_t image[4] = {0xA5A5, 0xA5A5, 0xA5A5, 0xA5A5};
+  CHECK(put_value<std::int32_t>(span<std::uint16_t>(image, 4), 1, -2, word_order::abcd).value() ==
+        2U);
+  CHECK(image[3] == 0xA5A5);
+  CHECK(image[0] == 0xA5A5);
+}
+
+TEST_CASE("signed values at their limits: the largest and the smallest of each width") {
+  // from_bits' two branches meet at the largest value: both sides of it, in each width
+  const std::uint16_t i32max[2] = {0x7FFF, 0xFFFF};
+  const std::uint16_t i32min[2] = {0x8000, 0x0000};
+  CHECK(value_at<std::int32_t>(span<const std::uint16_t>(i32max, 2), 0, word_order::abcd).value() ==
+        std::numeric_limits<std::int32_t>::max());
+  CHECK(value_at<std::int32_t>(span<const std::uint16_t>(i32min, 2), 0, word_order::abcd).value() ==
+        std::numeric_limits<std::int32_t>::min());
+  const std::uint16_t i64max[4] = {0x7FFF, 0xFFFF, 0xFFFF, 0xFFFF};
+  const std::uint16_t i64min[4] = {0x8000, 0, 0, 0};
+  CHECK(value_at<std::int64_t>(span<const std::uint16_t>(i64max, 4), 0, word_order::abcd).value() ==
+        std::numeric_limits<std::int64_t>::max());
+  CHECK(value_at<std::int64_t>(span<const std::uint16_t>(i64min, 4), 0, word_order::abcd).value() ==
+        std::numeric_limits<std::int64_t>::min());
 }
