@@ -302,6 +302,19 @@ struct protected_file_device : file_device {
     return file == 1U && record == 0U ? 0x02 : (record + length <= 16U ? 0 : 0x02);
   }
 };
+// Files written only (FC15 served, not FC14): one file of 16 records.
+struct write_only_files {
+  std::uint16_t records[16] = {};
+  std::uint8_t write_file_record(std::uint16_t file, std::uint16_t record, byte_view data) {
+    if (file != 1U || record + data.size() / 2U > 16U) {
+      return 0x02;
+    }
+    for (std::size_t i = 0; i < data.size() / 2U; ++i) {
+      records[record + i] = register_at(data, i);
+    }
+    return 0;
+  }
+};
 struct read_only_files {
   std::uint8_t read_file_record(std::uint16_t, std::uint16_t, mutable_byte_view out) {
     for (auto& b : out) {
@@ -443,4 +456,17 @@ TEST_CASE("file records: check_file_record is asked for every FC15 sub-request, 
   CHECK(testutil::serve_pdu(dev, 1, swapped) == bytes{0x95, 0x02});
   CHECK(dev.writes == 0);
   CHECK(dev.files[1][15] == 0);
+}
+
+TEST_CASE("file records: a device that only writes them serves FC15, answers FC14 with 01") {
+  static_assert(served_functions<write_only_files>() == functions_of(0x15), "");
+  write_only_files dev;
+  const bytes write = {0x15, 0x09, 0x06, 0x00, 0x01, 0x00, 0x02, 0x00, 0x01, 0xBE, 0xEF};
+  CHECK(testutil::serve_pdu(dev, 1, write) == write);
+  CHECK(dev.records[2] == 0xBEEF);
+  CHECK(testutil::serve_pdu(dev, 1, {0x14, 0x07, 0x06, 0x00, 0x01, 0x00, 0x02, 0x00, 0x01}) ==
+        bytes{0x94, 0x01});
+  CHECK(testutil::serve_pdu(dev, 1,
+                            {0x15, 0x09, 0x06, 0x00, 0x02, 0x00, 0x00, 0x00, 0x01, 0x00, 0x01}) ==
+        bytes{0x95, 0x02});
 }

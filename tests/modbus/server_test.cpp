@@ -937,3 +937,25 @@ TEST_CASE("server: serve_pdu writes a read-bits response and nothing past it") {
     CHECK(std::all_of(out + 4, out + max_pdu_size, [](std::uint8_t b) { return b == 0xEE; }));
   }
 }
+
+namespace {
+
+// FC11 reported by appending to the size it is handed (out[size++] = ...), noting that size.
+struct appending_server_id {
+  std::size_t handed = 99;
+  std::uint8_t report_server_id(mutable_byte_view out, std::size_t& size) {
+    handed = size;
+    out[size++] = 2;  // byte count
+    out[size++] = 0x42;
+    out[size++] = 0xFF;  // run indicator: on
+    return 0;
+  }
+};
+
+}  // namespace
+
+TEST_CASE("server: report_server_id is handed a size of 0, to which it may add its bytes") {
+  appending_server_id id;
+  CHECK(call(id, 0x11, {0x11}) == bytes{0x11, 0x02, 0x42, 0xFF});
+  CHECK(id.handed == 0U);
+}
