@@ -294,6 +294,27 @@ struct checked_file_device : file_device {
     return file >= 1U && file <= 2U && record + length <= 16U ? 0 : 0x02;
   }
 };
+// Record 0 of file 1 is write-protected: the check refuses it, though write_file_record (the
+// plain device's) would take it.
+struct protected_file_device : file_device {
+  std::uint8_t check_file_record(std::uint16_t file, std::uint16_t record,
+                                 std::uint16_t length) const {
+    return file == 1U && record == 0U ? 0x02 : (record + length <= 16U ? 0 : 0x02);
+  }
+};
+// Files written only (FC15 served, not FC14): one file of 16 records.
+struct write_only_files {
+  std::uint16_t records[16] = {};
+  std::uint8_t write_file_record(std::uint16_t file, std::uint16_t record, byte_view data) {
+    if (file != 1U || record + data.size() / 2U > 16U) {
+      return 0x02;
+    }
+    for (std::size_t i = 0; i < data.size() / 2U; ++i) {
+      records[record + i] = register_at(data, i);
+    }
+    return 0;
+  }
+};
 struct read_only_files {
   std::uint8_t read_file_record(std::uint16_t, std::uint16_t, mutable_byte_view out) {
     for (auto& b : out) {
@@ -418,4 +439,34 @@ TEST_CASE("file records: default-constructed ones, and value() of a failure, hol
   const auto past = file_record_at(request.value(), 2);
   CHECK(past.error() == errc::out_of_range);
   CHECK(none(past.value()));
+}
+
+TEST_CASE("file records: check_file_record is asked for every FC15 sub-request, the first too") {
+  // sub-request 1: file 1, record 0 (refused by the check); sub-request 2: file 2, record 15
+  const bytes write = {0x15, 0x12, 0x06, 0x00, 0x01, 0x00, 0x00, 0x00, 0x01, 0x12,
+                       0x34, 0x06, 0x00, 0x02, 0x00, 0x0F, 0x00, 0x01, 0x56, 0x78};
+  protected_file_device dev;
+  CHECK(testutil::serve_pdu(dev, 1, write) == bytes{0x95, 0x02});
+  CHECK(dev.writes == 0);
+  CHECK(dev.files[0][0] == 0);
+  CHECK(dev.files[1][15] == 0);
+  // the same sub-requests the other way round: refused all the same, nothing written
+  const bytes swapped = {0x15, 0x12, 0x06, 0x00, 0x02, 0x00, 0x0F, 0x00, 0x01, 0x56,
+                         0x78, 0x06, 0x00, 0x01, 0x00, 0x00, 0x00, 0x01, 0x12, 0x34};
+  CHECK(testutil::serve_pdu(dev, 1, swapped) == bytes{0x95, 0x02});
+  CHECK(dev.writes == 0);
+  CHECK(dev.files[1][15] == 0);
+}
+
+TEST_CASE("file records: a device that only writes them serves FC15, answers FC14 with 01") {
+  static_assert(served_functions<write_only_files>() == functions_of(0x15), "");
+  write_only_files dev;
+  const bytes write = {0x15, 0x09, 0x06, 0x00, 0x01, 0x00, 0x02, 0x00, 0x01, 0xBE, 0xEF};
+  CHECK(testutil::serve_pdu(dev, 1, write) == write);
+  CHECK(dev.records[2] == 0xBEEF);
+  CHECK(testutil::serve_pdu(dev, 1, {0x14, 0x07, 0x06, 0x00, 0x01, 0x00, 0x02, 0x00, 0x01}) ==
+        bytes{0x94, 0x01});
+  CHECK(testutil::serve_pdu(dev, 1,
+                            {0x15, 0x09, 0x06, 0x00, 0x02, 0x00, 0x00, 0x00, 0x01, 0x00, 0x01}) ==
+        bytes{0x95, 0x02});
 }

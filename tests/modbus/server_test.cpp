@@ -777,3 +777,185 @@ TEST_CASE("server: FC11 answered with the exception its accessor returns") {
   id.code = 0;
   CHECK(call(id, 0x11, {0x11}).size() == 4U);
 }
+
+namespace {
+
+// Holding registers through read_registers that fills every register asked with 0xA5C3, or,
+// when `skip` is set, writes none of them and answers 0.
+struct lazy_reader {
+  bool skip = false;
+  std::uint8_t read_registers(std::uint8_t, std::uint16_t, span<std::uint16_t> out) {
+    if (!skip) {
+      std::fill(out.begin(), out.end(), std::uint16_t{0xA5C3});
+    }
+    return 0;
+  }
+};
+
+}  // namespace
+
+TEST_CASE("server: read_registers gets its registers cleared: one left unwritten reads 0") {
+  // the header: a device that leaves a register unwritten answers 0 for it, never a stale
+  // stack value (the first read leaves 0xA5C3 where the server's buffer lives)
+  lazy_reader dev;
+  std::uint8_t out[max_pdu_size] = {};
+  for (const std::uint8_t f : {std::uint8_t{0x03}, std::uint8_t{0x04}}) {
+    CAPTURE(f);
+    const bytes q = {f, 0x00, 0x00, 0x00, 0x7D};  // 125 registers, the most
+    dev.skip = false;
+    REQUIRE(serve_pdu(dev, view(q), out).value() == 252U);
+    CHECK(out[2] == 0xA5);
+    CHECK(out[251] == 0xC3);
+    dev.skip = true;
+    REQUIRE(serve_pdu(dev, view(q), out).value() == 252U);
+    CHECK(out[0] == f);
+    CHECK(out[1] == 250U);
+    CHECK(std::all_of(out + 2, out + 252, [](std::uint8_t b) { return b == 0U; }));
+  }
+}
+
+namespace {
+
+// Registers read as big-endian bytes, noting the size of the view each read is handed.
+struct be_size_reader {
+  std::size_t out_size = 0;
+  std::uint8_t read_registers_be(std::uint8_t, std::uint16_t address, std::uint16_t quantity,
+                                 mutable_byte_view out) {
+    out_size = out.size();
+    for (std::size_t i = 0; i < quantity; ++i) {
+      store_be16(out, 2U * i, static_cast<std::uint16_t>(address + i));
+    }
+    return 0;
+  }
+};
+
+}  // namespace
+
+TEST_CASE("server: read_registers_be is handed the registers' bytes and no more") {
+  be_size_reader dev;
+  CHECK(call(dev, 0x11, {0x03, 0x00, 0x07, 0x00, 0x01}) == bytes{0x03, 0x02, 0x00, 0x07});
+  CHECK(dev.out_size == 2U);
+  CHECK(call(dev, 0x11, {0x04, 0x01, 0x00, 0x00, 0x03}) ==
+        bytes{0x04, 0x06, 0x01, 0x00, 0x01, 0x01, 0x01, 0x02});
+  CHECK(dev.out_size == 6U);
+  CHECK(call(dev, 0x11, {0x03, 0x00, 0x00, 0x00, 0x7D}).size() == 252U);  // 125 registers
+  CHECK(dev.out_size == 250U);
+}
+
+namespace {
+
+// The array device serving only the functions F of those its accessors allow.
+template <function_set F>
+struct narrowed : array_device {
+  static constexpr function_set functions = F;
+};
+
+// The response to `pdu` from an array device that serves function F alone.
+template <std::uint8_t F>
+bytes served_alone(const bytes& pdu) {
+  static_assert(served_functions<narrowed<functions_of(F)>>() == functions_of(F), "F alone");
+  narrowed<functions_of(F)> dev;
+  return call(dev, 0x11, pdu);
+}
+
+}  // namespace
+
+TEST_CASE("server: a device's functions may name one function of a pair; it is served") {
+  // each function alone, the other of its pair (01/02, 03/04, 05/0F, 06/10, 16/17) not served
+  CHECK(served_alone<0x01>({0x01, 0x00, 0x00, 0x00, 0x08}) == bytes{0x01, 0x01, 0x00});
+  CHECK(served_alone<0x01>({0x02, 0x00, 0x00, 0x00, 0x08}) == bytes{0x82, 0x01});
+  CHECK(served_alone<0x02>({0x02, 0x00, 0x00, 0x00, 0x03}) == bytes{0x02, 0x01, 0x01});
+  CHECK(served_alone<0x03>({0x03, 0x00, 0x05, 0x00, 0x01}) == bytes{0x03, 0x02, 0x00, 0x00});
+  CHECK(served_alone<0x03>({0x04, 0x00, 0x05, 0x00, 0x01}) == bytes{0x84, 0x01});
+  CHECK(served_alone<0x04>({0x04, 0x00, 0x02, 0x00, 0x01}) == bytes{0x04, 0x02, 0x03, 0xEA});
+  CHECK(served_alone<0x05>({0x05, 0x00, 0x03, 0xFF, 0x00}) == bytes{0x05, 0x00, 0x03, 0xFF, 0x00});
+  CHECK(served_alone<0x05>({0x0F, 0x00, 0x00, 0x00, 0x01, 0x01, 0x01}) == bytes{0x8F, 0x01});
+  CHECK(served_alone<0x0F>({0x0F, 0x00, 0x00, 0x00, 0x0A, 0x02, 0xFF, 0x03}) ==
+        bytes{0x0F, 0x00, 0x00, 0x00, 0x0A});
+  CHECK(served_alone<0x06>({0x06, 0x00, 0x06, 0x12, 0x34}) == bytes{0x06, 0x00, 0x06, 0x12, 0x34});
+  CHECK(served_alone<0x06>({0x10, 0x00, 0x01, 0x00, 0x01, 0x02, 0x00, 0x07}) == bytes{0x90, 0x01});
+  CHECK(served_alone<0x10>({0x10, 0x00, 0x01, 0x00, 0x01, 0x02, 0x00, 0x07}) ==
+        bytes{0x10, 0x00, 0x01, 0x00, 0x01});
+  CHECK(served_alone<0x16>({0x16, 0x00, 0x04, 0x00, 0xF2, 0x00, 0x25}) ==
+        bytes{0x16, 0x00, 0x04, 0x00, 0xF2, 0x00, 0x25});
+  CHECK(served_alone<0x16>({0x17, 0x00, 0x01, 0x00, 0x01, 0x00, 0x02, 0x00, 0x01, 0x02, 0x00,
+                            0x03}) == bytes{0x97, 0x01});
+  CHECK(served_alone<0x17>({0x17, 0x00, 0x01, 0x00, 0x01, 0x00, 0x02, 0x00, 0x01, 0x02, 0x00,
+                            0x03}) == bytes{0x17, 0x02, 0x00, 0x00});
+}
+
+namespace {
+
+// FC17's ranges checked by the device, each check noted (function, address, quantity); the
+// register `protected_register` may not be written by FC17, though write_registers takes it.
+struct noted_checks : u16_table {
+  mutable std::vector<std::vector<unsigned>> checks;
+  std::uint16_t protected_register = 0xFFFF;
+  std::uint8_t check_registers(std::uint8_t function, std::uint16_t address,
+                               std::uint16_t quantity) const {
+    checks.push_back({function, address, quantity});
+    if (function == 0x10 && address <= protected_register &&
+        protected_register - address < quantity) {
+      return 0x02;
+    }
+    return fits(address, quantity) ? 0 : 0x02;
+  }
+};
+
+}  // namespace
+
+TEST_CASE("server: FC17 asks check_registers for the read range as 03, the write range as 10") {
+  noted_checks dev;
+  dev.regs[2] = 0x0102;
+  // read 2 from 2, write 3 := 0x1250
+  const bytes q = {0x17, 0x00, 0x02, 0x00, 0x02, 0x00, 0x03, 0x00, 0x01, 0x02, 0x12, 0x50};
+  CHECK(call(dev, 0x11, q) == bytes{0x17, 0x04, 0x01, 0x02, 0x12, 0x50});
+  CHECK(dev.checks == std::vector<std::vector<unsigned>>{{0x03, 2, 2}, {0x10, 3, 1}});
+  // the write range refused by the check: 02 and nothing written, though the write accessor
+  // would have taken it (§6.17: both ranges checked before anything is done)
+  dev.checks.clear();
+  dev.regs[3] = 0;
+  dev.protected_register = 3;
+  CHECK(call(dev, 0x11, q) == bytes{0x97, 0x02});
+  CHECK(dev.regs[3] == 0);
+  CHECK(dev.checks == std::vector<std::vector<unsigned>>{{0x03, 2, 2}, {0x10, 3, 1}});
+}
+
+TEST_CASE("server: serve_pdu writes a read-bits response and nothing past it") {
+  // as the PDU encoders: the bytes returned, none after them (the response is built in place)
+  array_device dev;
+  dev.coils[8] = true;
+  std::uint8_t out[max_pdu_size] = {};
+  for (const std::uint8_t f : {std::uint8_t{0x01}, std::uint8_t{0x02}}) {
+    CAPTURE(f);
+    std::fill(out, out + max_pdu_size, std::uint8_t{0xEE});
+    REQUIRE(serve_pdu(dev, view(bytes{f, 0x00, 0x00, 0x00, 0x09}), out).value() == 4U);
+    CHECK(out[0] == f);
+    CHECK(out[1] == 2U);
+    CHECK(out[2] == (f == 0x01 ? 0x00 : 0x49));  // discrete inputs 0, 3 and 6
+    CHECK(out[3] == (f == 0x01 ? 0x01 : 0x00));  // coil 8
+    CHECK(std::all_of(out + 4, out + max_pdu_size, [](std::uint8_t b) { return b == 0xEE; }));
+  }
+}
+
+namespace {
+
+// FC11 reported by appending to the size it is handed (out[size++] = ...), noting that size.
+struct appending_server_id {
+  std::size_t handed = 99;
+  std::uint8_t report_server_id(mutable_byte_view out, std::size_t& size) {
+    handed = size;
+    out[size++] = 2;  // byte count
+    out[size++] = 0x42;
+    out[size++] = 0xFF;  // run indicator: on
+    return 0;
+  }
+};
+
+}  // namespace
+
+TEST_CASE("server: report_server_id is handed a size of 0, to which it may add its bytes") {
+  appending_server_id id;
+  CHECK(call(id, 0x11, {0x11}) == bytes{0x11, 0x02, 0x42, 0xFF});
+  CHECK(id.handed == 0U);
+}
