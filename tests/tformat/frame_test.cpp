@@ -77,3 +77,14 @@ TEST_CASE("is_known: a code past the 4-bit Data ID field is no Data ID") {
   CHECK_FALSE(is_known(static_cast<data_id>(16)));
   CHECK_FALSE(is_known(static_cast<data_id>(0x13)));  // 3 in its low bits
 }
+
+TEST_CASE("control_fields: the control field of each of the 16 codes, defined or not") {
+  for (unsigned code = 0; code < 16U; ++code) {
+    CAPTURE(code);
+    CHECK(control_fields[code] == control_field(static_cast<std::uint8_t>(code)));
+    CHECK(data_id_code(control_fields[code]) == code);
+    CHECK(sync_ok(control_fields[code]));
+    CHECK(parity_ok(control_fields[code]));
+    CHECK_FALSE(parity_ok(static_cast<std::uint8_t>(control_fields[code] ^ 0x80U)));
+  }
+}
