@@ -88,3 +88,16 @@ TEST_CASE("control_fields: the control field of each of the 16 codes, defined or
     CHECK_FALSE(parity_ok(static_cast<std::uint8_t>(control_fields[code] ^ 0x80U)));
   }
 }
+
+TEST_CASE("valid_control_fields: a defined code's control field, 0x00 for the undefined codes") {
+  for (unsigned code = 0; code < 16U; ++code) {
+    CAPTURE(code);
+    const auto id = static_cast<data_id>(code);
+    CHECK(valid_control_fields[code] == (is_known(id) ? control_field(id) : std::uint8_t{0x00}));
+  }
+  // the undefined codes, by number: 4, 5, 9, A, B, E, F
+  for (const unsigned code : {0x4U, 0x5U, 0x9U, 0xAU, 0xBU, 0xEU, 0xFU}) {
+    CAPTURE(code);
+    CHECK(valid_control_fields[code] == 0x00);
+  }
+}
