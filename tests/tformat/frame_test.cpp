@@ -101,3 +101,17 @@ TEST_CASE("valid_control_fields: a defined code's control field, 0x00 for the un
     CHECK(valid_control_fields[code] == 0x00);
   }
 }
+
+TEST_CASE("ALMC bits: one bit each, d70 to d77 in the order of the specification's Table 3") {
+  const char* const symbols[8] = {"OS", "FS", "CE", "OF", "OH", "ME", "BE", "BA"};
+  for (unsigned bit = 0; bit < 8U; ++bit) {
+    CAPTURE(bit);
+    const almc_bit a = all_alarms[bit];
+    CHECK(static_cast<unsigned>(a) == (1U << bit));
+    CHECK(std::strcmp(symbol(a), symbols[bit]) == 0);
+    CHECK(has_alarm(static_cast<std::uint8_t>(1U << bit), a));
+    CHECK_FALSE(has_alarm(static_cast<std::uint8_t>(~(1U << bit)), a));
+  }
+  CHECK(static_cast<unsigned>(almc_bit::of) == 0x08U);  // counter overflow, d73
+  CHECK(static_cast<unsigned>(almc_bit::oh) == 0x10U);  // over-heat, d74
+}
