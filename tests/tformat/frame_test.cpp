@@ -115,3 +115,28 @@ TEST_CASE("ALMC bits: one bit each, d70 to d77 in the order of the specification
   CHECK(static_cast<unsigned>(almc_bit::of) == 0x08U);  // counter overflow, d73
   CHECK(static_cast<unsigned>(almc_bit::oh) == 0x10U);  // over-heat, d74
 }
+
+TEST_CASE(
+    "resolution_for_enid: each known ENID's bits, 16 multi-turn bits, whatever the fallback") {
+  // Multi-turn data: 16 bits, 0 to 65,535 (the specification): 16 bits for every ENID.
+  const resolution other{20, 12};
+  struct known {
+    std::uint8_t enid;
+    std::uint8_t single_turn_bits;
+  };
+  for (const known k : {known{0x11, 17}, known{0x17, 23}, known{0x0B, 11}}) {
+    CAPTURE(static_cast<int>(k.enid));
+    for (const resolution fallback : {resolution{}, other}) {
+      const resolution r = resolution_for_enid(k.enid, fallback);
+      CHECK(r.single_turn_bits == k.single_turn_bits);
+      CHECK(r.multi_turn_bits == 16);
+    }
+  }
+  // an ENID next to a known one is no known code: the fallback
+  for (const std::uint8_t enid : {std::uint8_t{0x10}, std::uint8_t{0x12}, std::uint8_t{0x16},
+                                  std::uint8_t{0x18}, std::uint8_t{0x0A}, std::uint8_t{0x0C}}) {
+    CAPTURE(static_cast<int>(enid));
+    CHECK(resolution_for_enid(enid, other).single_turn_bits == 20);
+    CHECK(resolution_for_enid(enid, other).multi_turn_bits == 12);
+  }
+}
