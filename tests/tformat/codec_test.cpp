@@ -429,3 +429,25 @@ TEST_CASE("decode_request: with no byte, the CF is needed, one byte") {
   REQUIRE(q.is_incomplete());
   CHECK(q.needed() == 1);
 }
+
+TEST_CASE("decode_request: the fields a request does not carry read 0") {
+  for (const auto& row : table1) {
+    if (request_size(row.id) != 1U) {
+      continue;
+    }
+    CAPTURE(static_cast<int>(row.id));
+    const std::uint8_t cf[1] = {control_field(row.id)};
+    const auto q = decode_request(byte_view(cf, 1));
+    REQUIRE(q.is_complete());
+    CHECK(q->cf == cf[0]);
+    CHECK(q->address == 0);  // no ADF
+    CHECK(q->edf == 0);      // no EDF
+    CHECK(q->crc == 0);      // no CRC
+  }
+  const auto read = with_crc({0xEA, 0x05});  // IDD: CF ADF CRC, no EDF
+  const auto q = decode_request(view(read));
+  REQUIRE(q.is_complete());
+  CHECK(q->address == 5);
+  CHECK(q->edf == 0);
+  CHECK(q->crc == read[2]);
+}

@@ -140,3 +140,29 @@ TEST_CASE(
     CHECK(resolution_for_enid(enid, other).multi_turn_bits == 12);
   }
 }
+
+TEST_CASE("request and response: a default-constructed one is ID0's, every field 0") {
+  const request q;
+  CHECK(q.id == data_id::read_abs);
+  CHECK(q.cf == 0x02);
+  CHECK(q.address == 0);
+  CHECK(q.edf == 0);
+  CHECK(q.crc == 0);
+  const response r;
+  CHECK(r.id == data_id::read_abs);
+  CHECK(r.cf == 0x02);
+  CHECK(r.sf == 0);
+  CHECK(r.enid == 0);
+  CHECK(r.almc == 0);
+  CHECK(r.address == 0);
+  CHECK_FALSE(r.busy);
+  CHECK(r.edf == 0);
+  CHECK(r.crc == 0);
+  CHECK(r.abs == 0);
+  CHECK(r.abm == 0);
+  CHECK_FALSE(r.ea0());
+  CHECK_FALSE(r.ea1());
+  CHECK_FALSE(r.ca0());
+  CHECK_FALSE(r.ca1());
+  CHECK(r.layout().size == 6);
+}
