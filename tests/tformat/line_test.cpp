@@ -213,3 +213,41 @@ TEST_CASE(
     CHECK(r->frame.id == data_id::read_all);
   }
 }
+
+TEST_CASE("encode_line: by default MSB first from the first bit, with no idle before the frame") {
+  const std::vector<std::uint8_t> frame = {0x1A};
+  const auto expected = line_of(frame, 0);  // the frame's bits from bit 0, idle ones after
+  std::vector<std::uint8_t> out(expected.size(), 0xFF);
+  const auto n = encode_line(byte_view(frame.data(), frame.size()),
+                             span<std::uint8_t>(out.data(), out.size()));
+  REQUIRE(n.ok());
+  CHECK(n.value() == field_bits);
+  CHECK(out == expected);
+}
+
+TEST_CASE("encode_line: an empty frame at the end of the words writes nothing and succeeds") {
+  std::uint8_t words[2] = {0xA5, 0x5A};
+  const auto n =
+      encode_line(byte_view{}, span<std::uint8_t>(words, 2), bit_order::msb_first, 16, 0);
+  REQUIRE(n.ok());
+  CHECK(n.value() == 0);
+  CHECK(words[0] == 0xA5);
+  CHECK(words[1] == 0x5A);
+  // one idle bit there is past the words
+  CHECK(
+      encode_line(byte_view{}, span<std::uint8_t>(words, 2), bit_order::msb_first, 16, 1).error() ==
+      errc::buffer_too_small);
+}
+
+TEST_CASE("line_frame: a default one, and a failed decode's value, start at bit 0") {
+  const line_frame<response> f;
+  CHECK(f.start_bit == 0);
+  CHECK(f.frame.abs == 0);
+  const std::uint8_t idle[2] = {0xFF, 0xFF};
+  const auto r = decode_response_line(span<const std::uint8_t>(idle, 2));
+  REQUIRE(r.error() == errc::no_frame);
+  CHECK(r->start_bit == 0);
+  const auto q = decode_request_line(span<const std::uint8_t>(idle, 2));
+  REQUIRE(q.error() == errc::no_frame);
+  CHECK(q->start_bit == 0);
+}
