@@ -288,3 +288,52 @@ TEST_CASE("listener: a request heard whole reports its decoded fields") {
   CHECK(r.address == 0x7F);
   CHECK(r.crc == read[2]);
 }
+
+TEST_CASE("listener: a CF-only request is heard at its byte, new, after garbage, after a silence") {
+  line_listener l;
+  REQUIRE(l.put(0x02));  // a new listener: ID0's request
+  CHECK(l.result()->req.id == data_id::read_abs);
+  CHECK(l.idle().is_incomplete());  // no response: the silence ends the expectation
+  CHECK_FALSE(l.put(0x00));         // no sync code: dropped
+  CHECK(l.dropped() == 1U);
+  REQUIRE(l.put(0x1A));  // the next byte, ID3's request
+  CHECK(l.result()->req.id == data_id::read_all);
+  // a rejected response, the silence that drops its rest, then a request at its byte
+  const bytes bad = {0x1A, 0x00, 0, 0, 0, 0x11, 0, 0, 0, 0, 0x55};  // CRC should be 0x0B
+  const auto r = l.feed(view(bad));
+  REQUIRE(r.is_failed());
+  CHECK(r.error() == errc::crc_mismatch);
+  CHECK(l.idle().is_incomplete());
+  CHECK(l.pending() == 0U);
+  REQUIRE(l.put(0x8A));  // ID1's request
+  CHECK_FALSE(l.result()->is_response);
+  CHECK(l.result()->req.id == data_id::read_abm);
+}
+
+TEST_CASE("listener: feed() of part of a response needs its remaining bytes") {
+  line_listener l;
+  REQUIRE(l.feed(view(bytes{0x1A})).is_complete());   // ID3's request
+  const bytes head = {0x1A, 0x00, 0x01, 0x02, 0x03};  // 5 of the response's 11 bytes
+  const auto r = l.feed(view(head));
+  REQUIRE(r.is_incomplete());
+  CHECK(r.needed() == 6U);
+  const auto r2 = l.feed(view(bytes{0x04, 0x11}));
+  REQUIRE(r2.is_incomplete());
+  CHECK(r2.needed() == 4U);
+}
+
+TEST_CASE("listener: idle() with nothing (more) held is incomplete, needing a frame's first byte") {
+  line_listener l;
+  const auto none = l.idle();
+  REQUIRE(none.is_incomplete());
+  CHECK(none.needed() == 1U);
+  // an IDD request cut short (CF and an ADF of 0x00): truncated, one byte dropped; the ADF
+  // left has no sync code, starts no frame: dropped, and then nothing is held
+  REQUIRE(l.feed(view(bytes{0xEA, 0x00})).is_incomplete());
+  CHECK(l.idle().error() == errc::truncated);
+  const auto rest = l.idle();
+  REQUIRE(rest.is_incomplete());
+  CHECK(rest.needed() == 1U);
+  CHECK(l.pending() == 0U);
+  CHECK(l.dropped() == 2U);
+}
