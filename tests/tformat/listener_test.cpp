@@ -337,3 +337,39 @@ TEST_CASE("listener: idle() with nothing (more) held is incomplete, needing a fr
   CHECK(l.pending() == 0U);
   CHECK(l.dropped() == 2U);
 }
+
+TEST_CASE("listener: ID3 data with ca0 or ca1 answering an ID3 request is its response") {
+  // The encoder flags a request it received with a parity or delimiter error (spec §6.3.2);
+  // the tap heard the request whole: the reply is paired, its SF tells
+  for (const std::uint8_t sf : {std::uint8_t{0x40}, std::uint8_t{0x80}}) {
+    CAPTURE(static_cast<int>(sf));
+    line_listener l;
+    REQUIRE(l.put(0x1A));
+    const auto r = l.feed(view(id3_reply(sf)));
+    REQUIRE(r.is_complete());
+    CHECK(r->is_response);
+    CHECK(r->resp.sf == sf);
+    CHECK_FALSE(r->id3_reply);
+    CHECK_FALSE(l.expecting_response());
+  }
+}
+
+TEST_CASE(
+    "listener: after a response, and after one cut short by the silence, a request at its "
+    "byte") {
+  line_listener l;
+  REQUIRE(l.put(0x02));
+  const auto r = l.feed(view(with_crc({0x02, 0x00, 0x40, 0xE2, 0x01})));
+  REQUIRE(r.is_complete());
+  CHECK(r->is_response);
+  REQUIRE(l.put(0x8A));  // ID1's request, heard at its byte
+  CHECK(l.result()->req.id == data_id::read_abm);
+  CHECK_FALSE(l.put(0x8A));  // the first byte of its response
+  const auto cut = l.idle();
+  CHECK(cut.error() == errc::truncated);
+  CHECK_FALSE(l.expecting_response());  // the silence ends the expectation
+  CHECK(l.pending() == 0U);
+  REQUIRE(l.put(0x8A));  // after the silence: a request, at its byte
+  CHECK_FALSE(l.result()->is_response);
+  CHECK(l.result()->req.id == data_id::read_abm);
+}
