@@ -373,3 +373,29 @@ TEST_CASE(
   CHECK_FALSE(l.result()->is_response);
   CHECK(l.result()->req.id == data_id::read_abm);
 }
+
+TEST_CASE("listener: an abnormal request reports its Data ID and CF as read") {
+  // heard::req: "its fields where request_error is ok; id and cf always"
+  const std::uint8_t id4_cf = control_field(std::uint8_t{4});
+  struct row {
+    bytes frame;
+    errc error;
+    data_id id;
+  };
+  const row rows[] = {
+      {{0x1A ^ 0x80}, errc::tformat_parity, data_id::read_all},
+      {{id4_cf}, errc::tformat_unknown_data_id, static_cast<data_id>(4)},
+      {{0xEA ^ 0x80, 0x05, 0x6F}, errc::tformat_parity, data_id::eeprom_read},
+      {{0xEA, 0x05, 0x00}, errc::crc_mismatch, data_id::eeprom_read},
+  };
+  for (const row& x : rows) {
+    CAPTURE(static_cast<int>(x.frame[0]));
+    line_listener l;
+    const auto r = l.feed(view(x.frame));
+    REQUIRE(r.is_complete());
+    CHECK_FALSE(r->is_response);
+    CHECK(r->request_error == x.error);
+    CHECK(r->req.id == x.id);
+    CHECK(r->req.cf == x.frame[0]);
+  }
+}
