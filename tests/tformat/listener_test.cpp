@@ -399,3 +399,13 @@ TEST_CASE("listener: an abnormal request reports its Data ID and CF as read") {
     CHECK(r->req.cf == x.frame[0]);
   }
 }
+
+TEST_CASE("listener: after a request cut short by the silence, the next request at its byte") {
+  line_listener l;
+  REQUIRE(l.feed(view(bytes{0xEA})).is_incomplete());  // an IDD request's CF alone
+  CHECK(l.idle().error() == errc::truncated);          // its one byte dropped
+  CHECK(l.pending() == 0U);
+  CHECK(l.dropped() == 1U);
+  REQUIRE(l.put(0x02));
+  CHECK(l.result()->req.id == data_id::read_abs);
+}
