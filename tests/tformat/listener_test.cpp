@@ -409,3 +409,47 @@ TEST_CASE("listener: after a request cut short by the silence, the next request 
   REQUIRE(l.put(0x02));
   CHECK(l.result()->req.id == data_id::read_abs);
 }
+
+TEST_CASE("listener: an abnormal EEPROM request reports its fields as read") {
+  // Sized by its Data ID as read (docs/tformat.md: `B2 00 32 12` is one request), its bytes
+  // are its address, data and CRC, even where the request is refused
+  struct row {
+    bytes frame;
+    errc error;
+    std::uint8_t address;
+    std::uint8_t edf;
+  };
+  const row rows[] = {
+      {{0xB2, 0x00, 0x32, 0x12}, errc::tformat_parity, 0x00, 0x32},  // ID6, parity error
+      {{0x32, 0x05, 0x12, 0x00}, errc::crc_mismatch, 0x05, 0x12},    // ID6, bad CRC
+      {{0xEA, 0x05, 0x6C}, errc::crc_mismatch, 0x05, 0x00},          // IDD, bad CRC: no EDF
+      {{0x6A, 0x07, 0x6D}, errc::tformat_parity, 0x07, 0x00},        // IDD, parity error
+  };
+  for (const row& x : rows) {
+    CAPTURE(static_cast<int>(x.frame[0]));
+    line_listener l;
+    const auto r = l.feed(view(x.frame));
+    REQUIRE(r.is_complete());
+    CHECK(r->request_error == x.error);
+    CHECK(r->req.address == x.address);
+    CHECK(r->req.edf == x.edf);
+    CHECK(r->req.crc == x.frame.back());
+    CHECK(r->bytes.size() == x.frame.size());
+  }
+}
+
+TEST_CASE("listener: a response with an abnormal request's CF is not checked against its fields") {
+  // An IDD read whose CRC is wrong: its address is not what the master sent, so a response
+  // with its CF is not compared with it (nothing to compare: only ID3 data is expected)
+  line_listener l;
+  REQUIRE(l.feed(view(with_crc({0xEA, 0x05}))).is_complete());  // a good read of address 5
+  REQUIRE(l.feed(view(with_crc({0xEA, 0x05, 0x42}))).is_complete());
+  const bytes bad = {0xEA, 0x06, 0x00};  // CRC should be 0xEC
+  const auto q = l.feed(view(bad));
+  REQUIRE(q.is_complete());
+  CHECK(q->request_error == errc::crc_mismatch);
+  const auto r = l.feed(view(with_crc({0xEA, 0x05, 0x42})));
+  REQUIRE(r.is_complete());
+  CHECK(r->is_response);
+  CHECK(r->resp.address == 0x05);
+}
