@@ -564,6 +564,7 @@ TEST_CASE("receiver: an echo held whole at the silence is skipped, and the next 
   REQUIRE(rx.result().is_complete());
   CHECK(rx.result()->abs == 123456);
   CHECK(rx.echoes_skipped() == 1U);
+  CHECK_FALSE(rx.echo_missed());  // the echo came; none was awaited for these bytes
 }
 
 TEST_CASE("receiver: a garbage byte after a skipped echo is dropped at once") {
@@ -584,4 +585,31 @@ TEST_CASE("receiver: a garbage byte after a skipped echo is dropped at once") {
   REQUIRE(rx.result().is_complete());
   CHECK(rx.result()->edf == 0x42);
   CHECK(rx.result().consumed() == 1U);
+}
+
+TEST_CASE("receiver put(): a response without the awaited echo, settled at its last byte") {
+  // echo::expected on a line that does not echo: the response's sixth byte tells (an SF, the
+  // CRC matching), and the response is settled by that put(), one byte taken
+  const auto id0 = with_crc({0x02, 0x00, 0x40, 0xE2, 0x01});
+  receiver_options eo;
+  eo.echo_mode = echo::expected;
+  receiver rx(eo);
+  const std::uint8_t req[1] = {0x02};
+  rx.sent(byte_view(req, 1));
+  CHECK(put_all(rx, id0) == 1);
+  REQUIRE(rx.result().is_complete());
+  CHECK(rx.result()->abs == 123456);
+  CHECK(rx.result().consumed() == 1U);
+  CHECK(rx.echo_missed());
+}
+
+TEST_CASE("receiver: a communication alarm compares no field: expected() and received() 0") {
+  receiver rx;
+  const std::uint8_t req[1] = {0x1A};
+  rx.sent(byte_view(req, 1));
+  const auto r = rx.feed(view(with_crc({0x1A, 0x40, 0, 0, 0, 0x11, 0, 0, 0, 0})));
+  CHECK(r.error() == errc::tformat_communication_alarm);
+  CHECK(r.expected() == 0U);
+  CHECK(r.received() == 0U);
+  CHECK(r.consumed() == 11U);
 }
