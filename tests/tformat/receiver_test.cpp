@@ -613,3 +613,50 @@ TEST_CASE("receiver: a communication alarm compares no field: expected() and rec
   CHECK(r.received() == 0U);
   CHECK(r.consumed() == 11U);
 }
+
+TEST_CASE("receiver: a rejected frame's first byte is counted as dropped") {
+  auto bad = with_crc({0x02, 0x00, 0x40, 0xE2, 0x01});
+  bad[5] ^= 0x01;
+  receiver rx;
+  const auto r = rx.feed(view(bad));
+  CHECK(r.error() == errc::crc_mismatch);
+  CHECK(rx.dropped() == 1U);  // the rest is rescanned
+  CHECK(rx.pending() == 5U);
+}
+
+TEST_CASE("receiver: with an echo awaited, a first byte other than the request's is no echo") {
+  // ID3 data (an abnormal request's reply) where the echo of ID0's request was awaited
+  const auto id3 = with_crc({0x1A, 0x40, 0x01, 0x00, 0x00, 0x11, 0x00, 0x00, 0x00, 0x00});
+  receiver_options eo;
+  eo.echo_mode = echo::expected;
+  eo.check_against_request = false;
+  receiver rx(eo);
+  const std::uint8_t req[1] = {0x02};
+  rx.sent(byte_view(req, 1));
+  const auto r = rx.feed(view(id3));
+  REQUIRE(r.is_complete());
+  CHECK(r->id == data_id::read_all);
+  CHECK(r->abs == 1U);
+  CHECK(rx.echoes_skipped() == 0U);
+}
+
+TEST_CASE("receiver: a frame held whole behind a skipped echo is reported at once") {
+  // ID3's request echoed, then an ENID response (another request's, unchecked) and idle ones:
+  // the eleven bytes an ID3 response would be are no response (an echoed CF stands where the
+  // SF is), the echo is skipped and the ENID frame behind it is complete
+  const auto enid = with_crc({0x92, 0x00, 0x11});
+  std::vector<std::uint8_t> line = {0x1A};
+  line.insert(line.end(), enid.begin(), enid.end());
+  line.insert(line.end(), 6, 0xFF);
+  receiver_options eo;
+  eo.echo_mode = echo::expected;
+  eo.check_against_request = false;
+  receiver rx(eo);
+  const std::uint8_t req[1] = {0x1A};
+  rx.sent(byte_view(req, 1));
+  const auto r = rx.feed(view(line));
+  REQUIRE(r.is_complete());
+  CHECK(r->id == data_id::read_enid);
+  CHECK(r->enid == 0x11);
+  CHECK(rx.echoes_skipped() == 1U);
+}
