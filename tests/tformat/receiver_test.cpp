@@ -660,3 +660,18 @@ TEST_CASE("receiver: a frame held whole behind a skipped echo is reported at onc
   CHECK(r->enid == 0x11);
   CHECK(rx.echoes_skipped() == 1U);
 }
+
+TEST_CASE("receiver: an ID6 response that differs from the request is no echo, reported at once") {
+  // echo::expected on a line that does not echo; the EEPROM busy: ADF with bit 7, EDF 00
+  receiver_options eo;
+  eo.echo_mode = echo::expected;
+  receiver rx(eo);
+  const auto req = with_crc({0x32, 0x05, 0x42});
+  rx.sent(view(req));
+  const auto r = rx.feed(view(with_crc({0x32, 0x85, 0x00})));
+  REQUIRE(r.is_complete());
+  CHECK(r->busy);
+  CHECK(r->address == 0x05);
+  CHECK(r.consumed() == 4U);
+  CHECK(rx.echoes_skipped() == 0U);
+}
