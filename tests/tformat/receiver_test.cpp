@@ -675,3 +675,26 @@ TEST_CASE("receiver: an ID6 response that differs from the request is no echo, r
   CHECK(r.consumed() == 4U);
   CHECK(rx.echoes_skipped() == 0U);
 }
+
+TEST_CASE("receiver: the ENID-driven resolution is an option kept and used") {
+  receiver_options o;
+  o.decode.resolution_from_enid = true;
+  receiver rx(o);
+  CHECK(rx.options().decode.resolution_from_enid);
+  // ENID 0x17: 23 single-turn bits, an ABS of 0x7FFFFF in range
+  const auto id3 = with_crc({0x1A, 0x00, 0xFF, 0xFF, 0x7F, 0x17, 0x00, 0x00, 0x00, 0x00});
+  const auto r = rx.feed(view(id3));
+  REQUIRE(r.is_complete());
+  CHECK(r->abs == 0x7FFFFF);
+  CHECK(receiver{}.feed(view(id3)).error() == errc::out_of_range);  // 17 bits by default
+}
+
+TEST_CASE("receiver: a default-constructed receiver has the default options") {
+  const receiver_options o = receiver{}.options();
+  CHECK(o.echo_mode == echo::none);
+  CHECK(o.check_against_request);
+  CHECK(o.decode.res.single_turn_bits == 17);
+  CHECK(o.decode.res.multi_turn_bits == 16);
+  CHECK(o.decode.check_unused_bits);
+  CHECK_FALSE(o.decode.resolution_from_enid);
+}
