@@ -349,3 +349,105 @@ TEST_CASE("encode_response: an ABM above 24 bits is out of range, as an ABS is")
   r.id = data_id::read_abm;  // ABM alone
   CHECK(encode_response(r, out).error() == errc::out_of_range);
 }
+
+TEST_CASE("encode_request: the form without fields asks EEPROM address 0, with data 0") {
+  // encode_request(id, out) is encode_request(id, 0, 0, out): for the EEPROM IDs, a read of
+  // address 0 and a write of 0 at address 0.
+  std::uint8_t out[4] = {0xAA, 0xAA, 0xAA, 0xAA};
+  REQUIRE(encode_request(data_id::eeprom_read, out).value() == 3);
+  CHECK(std::vector<std::uint8_t>(out, out + 3) == with_crc({0xEA, 0x00}));
+  REQUIRE(encode_request(data_id::eeprom_write, out).value() == 4);
+  CHECK(std::vector<std::uint8_t>(out, out + 4) == with_crc({0x32, 0x00, 0x00}));
+}
+
+TEST_CASE("decode_response: the fields a response's layout does not carry read 0") {
+  // ID3 carries SF, ABS, ENID, ABM and ALMC: no EEPROM address, busy bit or data.
+  const auto id3 = with_crc({0x1A, 0x10, 0xFF, 0xFF, 0x01, 0x11, 0xFF, 0xFF, 0x00, 0xD4});
+  const auto r3 = decode_response(view(id3));
+  REQUIRE(r3.is_complete());
+  CHECK(r3->address == 0);
+  CHECK_FALSE(r3->busy);
+  CHECK(r3->edf == 0);
+  // The EEPROM responses carry ADF and EDF: no SF (its bits read 0), ENID, ALMC, ABS or ABM.
+  for (const std::uint8_t cf : {std::uint8_t{0xEA}, std::uint8_t{0x32}}) {
+    CAPTURE(static_cast<int>(cf));
+    const auto e = decode_response(view(with_crc({cf, 0x7F, 0xFF})));
+    REQUIRE(e.is_complete());
+    CHECK(e->address == 0x7F);
+    CHECK_FALSE(e->busy);
+    CHECK(e->edf == 0xFF);
+    CHECK(e->sf == 0);
+    CHECK_FALSE(e->ea0());
+    CHECK_FALSE(e->ca1());
+    CHECK(e->enid == 0);
+    CHECK(e->almc == 0);
+    CHECK(e->abs == 0);
+    CHECK(e->abm == 0);
+  }
+}
+
+TEST_CASE("check_response: the request's and the response's field as expected() and received()") {
+  std::uint8_t req[4] = {};
+  REQUIRE(encode_request(data_id::eeprom_read, 9, 0, req).ok());
+  const auto address = decode_response_for(byte_view(req, 3), view(with_crc({0xEA, 0x08, 0x42})));
+  CHECK(address.error() == errc::tformat_address_mismatch);
+  CHECK(address.expected() == 9);
+  CHECK(address.received() == 8);
+  CHECK(address.consumed() == 4);
+
+  REQUIRE(encode_request(data_id::eeprom_write, 9, 0x55, req).ok());
+  const auto data = decode_response_for(byte_view(req, 4), view(with_crc({0x32, 0x09, 0x54})));
+  CHECK(data.error() == errc::tformat_data_mismatch);
+  CHECK(data.expected() == 0x55);
+  CHECK(data.received() == 0x54);
+
+  // A communication alarm compares no field: no evidence, expected() and received() 0.
+  REQUIRE(encode_request(data_id::read_all, req).ok());
+  const auto alarm = decode_response_for(byte_view(req, 1),
+                                         view(with_crc({0x1A, 0xC0, 0, 0, 0, 0x11, 0, 0, 0, 0})));
+  CHECK(alarm.error() == errc::tformat_communication_alarm);
+  CHECK(alarm.expected() == 0);
+  CHECK(alarm.received() == 0);
+  CHECK(alarm.consumed() == 11);
+}
+
+TEST_CASE("check_response: a malformed request frame is invalid_argument, consuming nothing") {
+  const auto id0 = with_crc({0x02, 0x00, 0x40, 0xE2, 0x01});
+  const decode_result<response> r = decode_response(view(id0));
+  REQUIRE(r.is_complete());
+  const auto none = check_response(byte_view{}, r);
+  CHECK(none.error() == errc::invalid_argument);
+  CHECK(none.consumed() == 0);
+  const std::uint8_t short_read[2] = {0xEA, 0x05};  // IDD without its CRC
+  const auto part = check_response(byte_view(short_read, 2), r);
+  CHECK(part.error() == errc::invalid_argument);
+  CHECK(part.consumed() == 0);
+}
+
+TEST_CASE("decode_request: with no byte, the CF is needed, one byte") {
+  const auto q = decode_request(byte_view{});
+  REQUIRE(q.is_incomplete());
+  CHECK(q.needed() == 1);
+}
+
+TEST_CASE("decode_request: the fields a request does not carry read 0") {
+  for (const auto& row : table1) {
+    if (request_size(row.id) != 1U) {
+      continue;
+    }
+    CAPTURE(static_cast<int>(row.id));
+    const std::uint8_t cf[1] = {control_field(row.id)};
+    const auto q = decode_request(byte_view(cf, 1));
+    REQUIRE(q.is_complete());
+    CHECK(q->cf == cf[0]);
+    CHECK(q->address == 0);  // no ADF
+    CHECK(q->edf == 0);      // no EDF
+    CHECK(q->crc == 0);      // no CRC
+  }
+  const auto read = with_crc({0xEA, 0x05});  // IDD: CF ADF CRC, no EDF
+  const auto q = decode_request(view(read));
+  REQUIRE(q.is_complete());
+  CHECK(q->address == 5);
+  CHECK(q->edf == 0);
+  CHECK(q->crc == read[2]);
+}

@@ -77,3 +77,92 @@ TEST_CASE("is_known: a code past the 4-bit Data ID field is no Data ID") {
   CHECK_FALSE(is_known(static_cast<data_id>(16)));
   CHECK_FALSE(is_known(static_cast<data_id>(0x13)));  // 3 in its low bits
 }
+
+TEST_CASE("control_fields: the control field of each of the 16 codes, defined or not") {
+  for (unsigned code = 0; code < 16U; ++code) {
+    CAPTURE(code);
+    CHECK(control_fields[code] == control_field(static_cast<std::uint8_t>(code)));
+    CHECK(data_id_code(control_fields[code]) == code);
+    CHECK(sync_ok(control_fields[code]));
+    CHECK(parity_ok(control_fields[code]));
+    CHECK_FALSE(parity_ok(static_cast<std::uint8_t>(control_fields[code] ^ 0x80U)));
+  }
+}
+
+TEST_CASE("valid_control_fields: a defined code's control field, 0x00 for the undefined codes") {
+  for (unsigned code = 0; code < 16U; ++code) {
+    CAPTURE(code);
+    const auto id = static_cast<data_id>(code);
+    CHECK(valid_control_fields[code] == (is_known(id) ? control_field(id) : std::uint8_t{0x00}));
+  }
+  // the undefined codes, by number: 4, 5, 9, A, B, E, F
+  for (const unsigned code : {0x4U, 0x5U, 0x9U, 0xAU, 0xBU, 0xEU, 0xFU}) {
+    CAPTURE(code);
+    CHECK(valid_control_fields[code] == 0x00);
+  }
+}
+
+TEST_CASE("ALMC bits: one bit each, d70 to d77 in the order of the specification's Table 3") {
+  const char* const symbols[8] = {"OS", "FS", "CE", "OF", "OH", "ME", "BE", "BA"};
+  for (unsigned bit = 0; bit < 8U; ++bit) {
+    CAPTURE(bit);
+    const almc_bit a = all_alarms[bit];
+    CHECK(static_cast<unsigned>(a) == (1U << bit));
+    CHECK(std::strcmp(symbol(a), symbols[bit]) == 0);
+    CHECK(has_alarm(static_cast<std::uint8_t>(1U << bit), a));
+    CHECK_FALSE(has_alarm(static_cast<std::uint8_t>(~(1U << bit)), a));
+  }
+  CHECK(static_cast<unsigned>(almc_bit::of) == 0x08U);  // counter overflow, d73
+  CHECK(static_cast<unsigned>(almc_bit::oh) == 0x10U);  // over-heat, d74
+}
+
+TEST_CASE(
+    "resolution_for_enid: each known ENID's bits, 16 multi-turn bits, whatever the fallback") {
+  // Multi-turn data: 16 bits, 0 to 65,535 (the specification): 16 bits for every ENID.
+  const resolution other{20, 12};
+  struct known {
+    std::uint8_t enid;
+    std::uint8_t single_turn_bits;
+  };
+  for (const known k : {known{0x11, 17}, known{0x17, 23}, known{0x0B, 11}}) {
+    CAPTURE(static_cast<int>(k.enid));
+    for (const resolution fallback : {resolution{}, other}) {
+      const resolution r = resolution_for_enid(k.enid, fallback);
+      CHECK(r.single_turn_bits == k.single_turn_bits);
+      CHECK(r.multi_turn_bits == 16);
+    }
+  }
+  // an ENID next to a known one is no known code: the fallback
+  for (const std::uint8_t enid : {std::uint8_t{0x10}, std::uint8_t{0x12}, std::uint8_t{0x16},
+                                  std::uint8_t{0x18}, std::uint8_t{0x0A}, std::uint8_t{0x0C}}) {
+    CAPTURE(static_cast<int>(enid));
+    CHECK(resolution_for_enid(enid, other).single_turn_bits == 20);
+    CHECK(resolution_for_enid(enid, other).multi_turn_bits == 12);
+  }
+}
+
+TEST_CASE("request and response: a default-constructed one is ID0's, every field 0") {
+  const request q;
+  CHECK(q.id == data_id::read_abs);
+  CHECK(q.cf == 0x02);
+  CHECK(q.address == 0);
+  CHECK(q.edf == 0);
+  CHECK(q.crc == 0);
+  const response r;
+  CHECK(r.id == data_id::read_abs);
+  CHECK(r.cf == 0x02);
+  CHECK(r.sf == 0);
+  CHECK(r.enid == 0);
+  CHECK(r.almc == 0);
+  CHECK(r.address == 0);
+  CHECK_FALSE(r.busy);
+  CHECK(r.edf == 0);
+  CHECK(r.crc == 0);
+  CHECK(r.abs == 0);
+  CHECK(r.abm == 0);
+  CHECK_FALSE(r.ea0());
+  CHECK_FALSE(r.ea1());
+  CHECK_FALSE(r.ca0());
+  CHECK_FALSE(r.ca1());
+  CHECK(r.layout().size == 6);
+}

@@ -213,3 +213,78 @@ TEST_CASE(
     CHECK(r->frame.id == data_id::read_all);
   }
 }
+
+TEST_CASE("encode_line: by default MSB first from the first bit, with no idle before the frame") {
+  const std::vector<std::uint8_t> frame = {0x1A};
+  const auto expected = line_of(frame, 0);  // the frame's bits from bit 0, idle ones after
+  std::vector<std::uint8_t> out(expected.size(), 0xFF);
+  const auto n = encode_line(byte_view(frame.data(), frame.size()),
+                             span<std::uint8_t>(out.data(), out.size()));
+  REQUIRE(n.ok());
+  CHECK(n.value() == field_bits);
+  CHECK(out == expected);
+}
+
+TEST_CASE("encode_line: an empty frame at the end of the words writes nothing and succeeds") {
+  std::uint8_t words[2] = {0xA5, 0x5A};
+  const auto n =
+      encode_line(byte_view{}, span<std::uint8_t>(words, 2), bit_order::msb_first, 16, 0);
+  REQUIRE(n.ok());
+  CHECK(n.value() == 0);
+  CHECK(words[0] == 0xA5);
+  CHECK(words[1] == 0x5A);
+  // one idle bit there is past the words
+  CHECK(
+      encode_line(byte_view{}, span<std::uint8_t>(words, 2), bit_order::msb_first, 16, 1).error() ==
+      errc::buffer_too_small);
+}
+
+TEST_CASE("line_frame: a default one, and a failed decode's value, start at bit 0") {
+  const line_frame<response> f;
+  CHECK(f.start_bit == 0);
+  CHECK(f.frame.abs == 0);
+  const std::uint8_t idle[2] = {0xFF, 0xFF};
+  const auto r = decode_response_line(span<const std::uint8_t>(idle, 2));
+  REQUIRE(r.error() == errc::no_frame);
+  CHECK(r->start_bit == 0);
+  const auto q = decode_request_line(span<const std::uint8_t>(idle, 2));
+  REQUIRE(q.error() == errc::no_frame);
+  CHECK(q->start_bit == 0);
+}
+
+TEST_CASE("line: a start bit and the sync code with nothing after need the rest of the CF field") {
+  // 1111 0010: idle, the start bit at sample 4, the sync code 010 in samples 5 to 7: the CF's
+  // field (10 bits from its start bit) needs 6 more
+  const std::uint8_t head[1] = {0xF2};
+  const auto r = decode_response_line(span<const std::uint8_t>(head, 1));
+  REQUIRE(r.is_incomplete());
+  CHECK(r.needed_bits() == 6);
+  const auto q = decode_request_line(span<const std::uint8_t>(head, 1));
+  REQUIRE(q.is_incomplete());
+  CHECK(q.needed_bits() == 6);
+}
+
+TEST_CASE("line: a CF with bad parity or an unknown Data ID is one field: consumed to its end") {
+  const std::uint8_t id4_cf = control_field(std::uint8_t{4});
+  for (const std::uint8_t cf : {std::uint8_t{0x1A ^ 0x80}, id4_cf}) {
+    CAPTURE(static_cast<int>(cf));
+    const auto bits = line_of({cf}, 3);
+    const auto r = decode_response_line(span<const std::uint8_t>(bits.data(), bits.size()));
+    REQUIRE(r.is_failed());
+    CHECK(r.error() == (cf == id4_cf ? errc::tformat_unknown_data_id : errc::tformat_parity));
+    CHECK(r.consumed_bits() == 3U + field_bits);
+    const auto q = decode_request_line(span<const std::uint8_t>(bits.data(), bits.size()));
+    REQUIRE(q.is_failed());
+    CHECK(q.error() == r.error());
+    CHECK(q.consumed_bits() == 3U + field_bits);
+  }
+}
+
+TEST_CASE("request line: a request from the very first sample is found (no idle before it)") {
+  const auto bits = line_of({0x1A}, 0);
+  const auto q = decode_request_line(span<const std::uint8_t>(bits.data(), bits.size()));
+  REQUIRE(q.is_complete());
+  CHECK(q->frame.id == data_id::read_all);
+  CHECK(q->start_bit == 0);
+  CHECK(q.consumed_bits() == field_bits);
+}

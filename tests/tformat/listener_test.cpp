@@ -288,3 +288,168 @@ TEST_CASE("listener: a request heard whole reports its decoded fields") {
   CHECK(r.address == 0x7F);
   CHECK(r.crc == read[2]);
 }
+
+TEST_CASE("listener: a CF-only request is heard at its byte, new, after garbage, after a silence") {
+  line_listener l;
+  REQUIRE(l.put(0x02));  // a new listener: ID0's request
+  CHECK(l.result()->req.id == data_id::read_abs);
+  CHECK(l.idle().is_incomplete());  // no response: the silence ends the expectation
+  CHECK_FALSE(l.put(0x00));         // no sync code: dropped
+  CHECK(l.dropped() == 1U);
+  REQUIRE(l.put(0x1A));  // the next byte, ID3's request
+  CHECK(l.result()->req.id == data_id::read_all);
+  // a rejected response, the silence that drops its rest, then a request at its byte
+  const bytes bad = {0x1A, 0x00, 0, 0, 0, 0x11, 0, 0, 0, 0, 0x55};  // CRC should be 0x0B
+  const auto r = l.feed(view(bad));
+  REQUIRE(r.is_failed());
+  CHECK(r.error() == errc::crc_mismatch);
+  CHECK(l.idle().is_incomplete());
+  CHECK(l.pending() == 0U);
+  REQUIRE(l.put(0x8A));  // ID1's request
+  CHECK_FALSE(l.result()->is_response);
+  CHECK(l.result()->req.id == data_id::read_abm);
+}
+
+TEST_CASE("listener: feed() of part of a response needs its remaining bytes") {
+  line_listener l;
+  REQUIRE(l.feed(view(bytes{0x1A})).is_complete());   // ID3's request
+  const bytes head = {0x1A, 0x00, 0x01, 0x02, 0x03};  // 5 of the response's 11 bytes
+  const auto r = l.feed(view(head));
+  REQUIRE(r.is_incomplete());
+  CHECK(r.needed() == 6U);
+  const auto r2 = l.feed(view(bytes{0x04, 0x11}));
+  REQUIRE(r2.is_incomplete());
+  CHECK(r2.needed() == 4U);
+}
+
+TEST_CASE("listener: idle() with nothing (more) held is incomplete, needing a frame's first byte") {
+  line_listener l;
+  const auto none = l.idle();
+  REQUIRE(none.is_incomplete());
+  CHECK(none.needed() == 1U);
+  // an IDD request cut short (CF and an ADF of 0x00): truncated, one byte dropped; the ADF
+  // left has no sync code, starts no frame: dropped, and then nothing is held
+  REQUIRE(l.feed(view(bytes{0xEA, 0x00})).is_incomplete());
+  CHECK(l.idle().error() == errc::truncated);
+  const auto rest = l.idle();
+  REQUIRE(rest.is_incomplete());
+  CHECK(rest.needed() == 1U);
+  CHECK(l.pending() == 0U);
+  CHECK(l.dropped() == 2U);
+}
+
+TEST_CASE("listener: ID3 data with ca0 or ca1 answering an ID3 request is its response") {
+  // The encoder flags a request it received with a parity or delimiter error (spec §6.3.2);
+  // the tap heard the request whole: the reply is paired, its SF tells
+  for (const std::uint8_t sf : {std::uint8_t{0x40}, std::uint8_t{0x80}}) {
+    CAPTURE(static_cast<int>(sf));
+    line_listener l;
+    REQUIRE(l.put(0x1A));
+    const auto r = l.feed(view(id3_reply(sf)));
+    REQUIRE(r.is_complete());
+    CHECK(r->is_response);
+    CHECK(r->resp.sf == sf);
+    CHECK_FALSE(r->id3_reply);
+    CHECK_FALSE(l.expecting_response());
+  }
+}
+
+TEST_CASE(
+    "listener: after a response, and after one cut short by the silence, a request at its "
+    "byte") {
+  line_listener l;
+  REQUIRE(l.put(0x02));
+  const auto r = l.feed(view(with_crc({0x02, 0x00, 0x40, 0xE2, 0x01})));
+  REQUIRE(r.is_complete());
+  CHECK(r->is_response);
+  REQUIRE(l.put(0x8A));  // ID1's request, heard at its byte
+  CHECK(l.result()->req.id == data_id::read_abm);
+  CHECK_FALSE(l.put(0x8A));  // the first byte of its response
+  const auto cut = l.idle();
+  CHECK(cut.error() == errc::truncated);
+  CHECK_FALSE(l.expecting_response());  // the silence ends the expectation
+  CHECK(l.pending() == 0U);
+  REQUIRE(l.put(0x8A));  // after the silence: a request, at its byte
+  CHECK_FALSE(l.result()->is_response);
+  CHECK(l.result()->req.id == data_id::read_abm);
+}
+
+TEST_CASE("listener: an abnormal request reports its Data ID and CF as read") {
+  // heard::req: "its fields where request_error is ok; id and cf always"
+  const std::uint8_t id4_cf = control_field(std::uint8_t{4});
+  struct row {
+    bytes frame;
+    errc error;
+    data_id id;
+  };
+  const row rows[] = {
+      {{0x1A ^ 0x80}, errc::tformat_parity, data_id::read_all},
+      {{id4_cf}, errc::tformat_unknown_data_id, static_cast<data_id>(4)},
+      {{0xEA ^ 0x80, 0x05, 0x6F}, errc::tformat_parity, data_id::eeprom_read},
+      {{0xEA, 0x05, 0x00}, errc::crc_mismatch, data_id::eeprom_read},
+  };
+  for (const row& x : rows) {
+    CAPTURE(static_cast<int>(x.frame[0]));
+    line_listener l;
+    const auto r = l.feed(view(x.frame));
+    REQUIRE(r.is_complete());
+    CHECK_FALSE(r->is_response);
+    CHECK(r->request_error == x.error);
+    CHECK(r->req.id == x.id);
+    CHECK(r->req.cf == x.frame[0]);
+  }
+}
+
+TEST_CASE("listener: after a request cut short by the silence, the next request at its byte") {
+  line_listener l;
+  REQUIRE(l.feed(view(bytes{0xEA})).is_incomplete());  // an IDD request's CF alone
+  CHECK(l.idle().error() == errc::truncated);          // its one byte dropped
+  CHECK(l.pending() == 0U);
+  CHECK(l.dropped() == 1U);
+  REQUIRE(l.put(0x02));
+  CHECK(l.result()->req.id == data_id::read_abs);
+}
+
+TEST_CASE("listener: an abnormal EEPROM request reports its fields as read") {
+  // Sized by its Data ID as read (docs/tformat.md: `B2 00 32 12` is one request), its bytes
+  // are its address, data and CRC, even where the request is refused
+  struct row {
+    bytes frame;
+    errc error;
+    std::uint8_t address;
+    std::uint8_t edf;
+  };
+  const row rows[] = {
+      {{0xB2, 0x00, 0x32, 0x12}, errc::tformat_parity, 0x00, 0x32},  // ID6, parity error
+      {{0x32, 0x05, 0x12, 0x00}, errc::crc_mismatch, 0x05, 0x12},    // ID6, bad CRC
+      {{0xEA, 0x05, 0x6C}, errc::crc_mismatch, 0x05, 0x00},          // IDD, bad CRC: no EDF
+      {{0x6A, 0x07, 0x6D}, errc::tformat_parity, 0x07, 0x00},        // IDD, parity error
+  };
+  for (const row& x : rows) {
+    CAPTURE(static_cast<int>(x.frame[0]));
+    line_listener l;
+    const auto r = l.feed(view(x.frame));
+    REQUIRE(r.is_complete());
+    CHECK(r->request_error == x.error);
+    CHECK(r->req.address == x.address);
+    CHECK(r->req.edf == x.edf);
+    CHECK(r->req.crc == x.frame.back());
+    CHECK(r->bytes.size() == x.frame.size());
+  }
+}
+
+TEST_CASE("listener: a response with an abnormal request's CF is not checked against its fields") {
+  // An IDD read whose CRC is wrong: its address is not what the master sent, so a response
+  // with its CF is not compared with it (nothing to compare: only ID3 data is expected)
+  line_listener l;
+  REQUIRE(l.feed(view(with_crc({0xEA, 0x05}))).is_complete());  // a good read of address 5
+  REQUIRE(l.feed(view(with_crc({0xEA, 0x05, 0x42}))).is_complete());
+  const bytes bad = {0xEA, 0x06, 0x00};  // CRC should be 0xEC
+  const auto q = l.feed(view(bad));
+  REQUIRE(q.is_complete());
+  CHECK(q->request_error == errc::crc_mismatch);
+  const auto r = l.feed(view(with_crc({0xEA, 0x05, 0x42})));
+  REQUIRE(r.is_complete());
+  CHECK(r->is_response);
+  CHECK(r->resp.address == 0x05);
+}

@@ -267,3 +267,35 @@ TEST_CASE("outcome_of: an EEPROM response carries no SF: no alarm is read from i
   a.sf = sf::ea1;
   CHECK(outcome_of(decode_result<response>::complete(a, 6)) == link_outcome::alarm);
 }
+
+TEST_CASE("position_config_for: 24 bits in either field is valid; max_step 0 by default") {
+  const auto c = position_config_for(resolution{24, 24}, data_id::read_all);
+  CHECK(c.valid());
+  CHECK(c.counts_per_turn == (std::uint64_t{1} << 24U));
+  CHECK(c.turns == (std::uint64_t{1} << 24U));
+  CHECK(c.max_step == 0U);  // 0: the largest step unwrapping can tell (core/position.hpp)
+  CHECK(position_config_for(resolution{24, 16}, data_id::read_abs).counts_per_turn ==
+        (std::uint64_t{1} << 24U));
+  CHECK(position_config_for(resolution{17, 24}, data_id::read_abm).turns ==
+        (std::uint64_t{1} << 24U));
+  CHECK(position_config_for(resolution{}, data_id::read_abm).max_step == 0U);
+}
+
+TEST_CASE("update_position: a response's fields outside its layout are not read") {
+  // ID0 carries ABS alone, ID1 ABM alone: an ABM (or ABS) in the struct is no reading
+  position_tracker abs_only(position_config_for(resolution{}, data_id::read_abs));
+  response a;
+  a.id = data_id::read_abs;
+  a.abs = 100;
+  a.abm = 7;
+  CHECK(update_position(abs_only, decode_result<response>::complete(a, 6)) ==
+        position_status::seeded);
+  CHECK(abs_only.counts() == 100);
+  position_tracker turns(position_config_for(resolution{}, data_id::read_abm));
+  response m;
+  m.id = data_id::read_abm;
+  m.abs = 100;
+  m.abm = 7;
+  CHECK(update_position(turns, decode_result<response>::complete(m, 6)) == position_status::seeded);
+  CHECK(turns.counts() == 7);
+}

@@ -434,3 +434,267 @@ TEST_CASE("receiver: echo expected, no echo, an IDD response whose EDF is the re
   CHECK(rx.echo_missed());
   CHECK(rx.echoes_skipped() == 0);
 }
+
+namespace {
+// put() of every byte of `bytes`; the number of put()s that returned true.
+int put_all(receiver& rx, const std::vector<std::uint8_t>& bytes) {
+  int settled = 0;
+  for (const std::uint8_t b : bytes) {
+    settled += rx.put(b) ? 1 : 0;
+  }
+  return settled;
+}
+}  // namespace
+
+TEST_CASE("receiver: echo's numbers are interface (the Python binding casts an int)") {
+  CHECK(static_cast<int>(echo::none) == 0);
+  CHECK(static_cast<int>(echo::expected) == 1);
+  receiver_options o;
+  o.echo_mode = static_cast<echo>(1);
+  CHECK(receiver(o).options().echo_mode == echo::expected);
+}
+
+TEST_CASE("receiver: a resolution other than the default in one field alone is used") {
+  // ABS of 23 bits (0x7FFFFF) with single_turn_bits 23; ABM of 20 bits with multi_turn_bits 20
+  const auto id3 = with_crc({0x1A, 0x00, 0xFF, 0xFF, 0x7F, 0x17, 0xFF, 0xFF, 0x0F, 0x00});
+  receiver_options st;
+  st.decode.res.single_turn_bits = 23;
+  st.decode.res.multi_turn_bits = 20;
+  receiver rx(st);
+  const auto r = rx.feed(view(id3));
+  REQUIRE(r.is_complete());
+  CHECK(r->abs == 0x7FFFFF);
+  CHECK(r->abm == 0xFFFFF);
+  const auto id0 = with_crc({0x02, 0x00, 0xFF, 0xFF, 0x7F});
+  receiver_options only_st;
+  only_st.decode.res.single_turn_bits = 23;  // the multi-turn bits the default
+  receiver a(only_st);
+  REQUIRE(a.feed(view(id0)).is_complete());
+  const auto id1 = with_crc({0x8A, 0x00, 0xFF, 0xFF, 0x0F});
+  receiver_options only_mt;
+  only_mt.decode.res.multi_turn_bits = 20;  // the single-turn bits the default
+  receiver b(only_mt);
+  REQUIRE(b.feed(view(id1)).is_complete());
+  CHECK(receiver{}.feed(view(id1)).error() == errc::out_of_range);  // 16 bits by default
+}
+
+TEST_CASE("receiver: sent() drops a partial frame and clears the missed echo") {
+  const auto id0 = with_crc({0x02, 0x00, 0x40, 0xE2, 0x01});
+  receiver rx;
+  const std::uint8_t req[1] = {0x02};
+  rx.sent(byte_view(req, 1));
+  CHECK(put_all(rx, {0x02, 0x00, 0x40}) == 0);  // part of a response
+  CHECK(rx.pending() == 3U);
+  rx.sent(byte_view(req, 1));  // sent again: what was held is dropped
+  CHECK(rx.pending() == 0U);
+  CHECK(put_all(rx, id0) == 1);
+  REQUIRE(rx.result().is_complete());
+  CHECK(rx.result()->abs == 123456);
+  CHECK(rx.result().consumed() == 1U);  // put(): one byte taken
+
+  receiver_options eo;
+  eo.echo_mode = echo::expected;
+  receiver e(eo);
+  e.sent(byte_view(req, 1));
+  REQUIRE(e.feed(view(id0)).is_complete());  // the response without the echo
+  CHECK(e.echo_missed());
+  e.sent(byte_view(req, 1));
+  CHECK_FALSE(e.echo_missed());  // "until the next sent()"
+}
+
+TEST_CASE("receiver: echo::none skips no echo and misses none") {
+  const auto id0 = with_crc({0x02, 0x00, 0x40, 0xE2, 0x01});
+  receiver rx;
+  const std::uint8_t req[1] = {0x02};
+  rx.sent(byte_view(req, 1));
+  const auto r = rx.feed(view(id0));
+  REQUIRE(r.is_complete());
+  CHECK(r.consumed() == id0.size());
+  CHECK_FALSE(rx.echo_missed());
+  CHECK(rx.echoes_skipped() == 0U);
+  // an empty request frame: nothing to echo, nothing to check
+  receiver_options eo;
+  eo.echo_mode = echo::expected;
+  receiver e(eo);
+  e.sent(byte_view{});
+  REQUIRE(e.feed(view(id0)).is_complete());
+  CHECK_FALSE(e.echo_missed());
+  CHECK(e.echoes_skipped() == 0U);
+}
+
+TEST_CASE("receiver: feed() of part of a response needs its remaining bytes") {
+  receiver rx;
+  const auto id3 = with_crc({0x1A, 0x00, 0x01, 0x02, 0x01, 0x11, 0x05, 0x00, 0x00, 0x00});
+  const auto r = rx.feed(view(id3).first(5));
+  REQUIRE(r.is_incomplete());
+  CHECK(r.needed() == 6U);
+  const auto r2 = rx.feed(view(id3).subspan(5, 2));
+  REQUIRE(r2.is_incomplete());
+  CHECK(r2.needed() == 4U);
+}
+
+TEST_CASE("receiver: idle() counts what it drops, and a frame after it starts afresh") {
+  const auto id0 = with_crc({0x02, 0x00, 0x40, 0xE2, 0x01});
+  receiver rx;
+  const auto none = rx.idle();
+  REQUIRE(none.is_incomplete());
+  CHECK(none.needed() == 1U);
+  CHECK(put_all(rx, {0x02, 0x00, 0x40}) == 0);
+  const auto cut = rx.idle();
+  CHECK(cut.error() == errc::truncated);
+  CHECK(cut.consumed() == 3U);
+  CHECK(rx.dropped() == 3U);
+  CHECK(rx.pending() == 0U);
+  CHECK(put_all(rx, id0) == 1);  // byte by byte after the silence
+  REQUIRE(rx.result().is_complete());
+  CHECK(rx.result()->abs == 123456);
+}
+
+TEST_CASE("receiver: an echo held whole at the silence is skipped, and the next bytes are read") {
+  const auto id0 = with_crc({0x02, 0x00, 0x40, 0xE2, 0x01});
+  receiver_options eo;
+  eo.echo_mode = echo::expected;
+  receiver rx(eo);
+  const std::uint8_t req[1] = {0x02};
+  rx.sent(byte_view(req, 1));
+  CHECK_FALSE(rx.put(0x02));  // the echo
+  CHECK(rx.idle().is_incomplete());
+  CHECK(rx.echoes_skipped() == 1U);
+  CHECK(put_all(rx, id0) == 1);  // a response after the silence: read, no echo awaited
+  REQUIRE(rx.result().is_complete());
+  CHECK(rx.result()->abs == 123456);
+  CHECK(rx.echoes_skipped() == 1U);
+  CHECK_FALSE(rx.echo_missed());  // the echo came; none was awaited for these bytes
+}
+
+TEST_CASE("receiver: a garbage byte after a skipped echo is dropped at once") {
+  // An ID6 request's echo is told at its fourth byte (its response is as long: the echo is
+  // assumed), then nothing is held
+  receiver_options eo;
+  eo.echo_mode = echo::expected;
+  receiver rx(eo);
+  const auto req = with_crc({0x32, 0x05, 0x42});
+  rx.sent(view(req));
+  CHECK(put_all(rx, req) == 0);  // the echo, skipped
+  CHECK(rx.echoes_skipped() == 4U);
+  CHECK(rx.pending() == 0U);
+  CHECK_FALSE(rx.put(0xFF));  // no CF
+  CHECK(rx.dropped() == 1U);
+  CHECK(rx.pending() == 0U);
+  CHECK(put_all(rx, req) == 1);  // the response, which repeats the request
+  REQUIRE(rx.result().is_complete());
+  CHECK(rx.result()->edf == 0x42);
+  CHECK(rx.result().consumed() == 1U);
+}
+
+TEST_CASE("receiver put(): a response without the awaited echo, settled at its last byte") {
+  // echo::expected on a line that does not echo: the response's sixth byte tells (an SF, the
+  // CRC matching), and the response is settled by that put(), one byte taken
+  const auto id0 = with_crc({0x02, 0x00, 0x40, 0xE2, 0x01});
+  receiver_options eo;
+  eo.echo_mode = echo::expected;
+  receiver rx(eo);
+  const std::uint8_t req[1] = {0x02};
+  rx.sent(byte_view(req, 1));
+  CHECK(put_all(rx, id0) == 1);
+  REQUIRE(rx.result().is_complete());
+  CHECK(rx.result()->abs == 123456);
+  CHECK(rx.result().consumed() == 1U);
+  CHECK(rx.echo_missed());
+}
+
+TEST_CASE("receiver: a communication alarm compares no field: expected() and received() 0") {
+  receiver rx;
+  const std::uint8_t req[1] = {0x1A};
+  rx.sent(byte_view(req, 1));
+  const auto r = rx.feed(view(with_crc({0x1A, 0x40, 0, 0, 0, 0x11, 0, 0, 0, 0})));
+  CHECK(r.error() == errc::tformat_communication_alarm);
+  CHECK(r.expected() == 0U);
+  CHECK(r.received() == 0U);
+  CHECK(r.consumed() == 11U);
+}
+
+TEST_CASE("receiver: a rejected frame's first byte is counted as dropped") {
+  auto bad = with_crc({0x02, 0x00, 0x40, 0xE2, 0x01});
+  bad[5] ^= 0x01;
+  receiver rx;
+  const auto r = rx.feed(view(bad));
+  CHECK(r.error() == errc::crc_mismatch);
+  CHECK(rx.dropped() == 1U);  // the rest is rescanned
+  CHECK(rx.pending() == 5U);
+}
+
+TEST_CASE("receiver: with an echo awaited, a first byte other than the request's is no echo") {
+  // ID3 data (an abnormal request's reply) where the echo of ID0's request was awaited
+  const auto id3 = with_crc({0x1A, 0x40, 0x01, 0x00, 0x00, 0x11, 0x00, 0x00, 0x00, 0x00});
+  receiver_options eo;
+  eo.echo_mode = echo::expected;
+  eo.check_against_request = false;
+  receiver rx(eo);
+  const std::uint8_t req[1] = {0x02};
+  rx.sent(byte_view(req, 1));
+  const auto r = rx.feed(view(id3));
+  REQUIRE(r.is_complete());
+  CHECK(r->id == data_id::read_all);
+  CHECK(r->abs == 1U);
+  CHECK(rx.echoes_skipped() == 0U);
+}
+
+TEST_CASE("receiver: a frame held whole behind a skipped echo is reported at once") {
+  // ID3's request echoed, then an ENID response (another request's, unchecked) and idle ones:
+  // the eleven bytes an ID3 response would be are no response (an echoed CF stands where the
+  // SF is), the echo is skipped and the ENID frame behind it is complete
+  const auto enid = with_crc({0x92, 0x00, 0x11});
+  std::vector<std::uint8_t> line = {0x1A};
+  line.insert(line.end(), enid.begin(), enid.end());
+  line.insert(line.end(), 6, 0xFF);
+  receiver_options eo;
+  eo.echo_mode = echo::expected;
+  eo.check_against_request = false;
+  receiver rx(eo);
+  const std::uint8_t req[1] = {0x1A};
+  rx.sent(byte_view(req, 1));
+  const auto r = rx.feed(view(line));
+  REQUIRE(r.is_complete());
+  CHECK(r->id == data_id::read_enid);
+  CHECK(r->enid == 0x11);
+  CHECK(rx.echoes_skipped() == 1U);
+}
+
+TEST_CASE("receiver: an ID6 response that differs from the request is no echo, reported at once") {
+  // echo::expected on a line that does not echo; the EEPROM busy: ADF with bit 7, EDF 00
+  receiver_options eo;
+  eo.echo_mode = echo::expected;
+  receiver rx(eo);
+  const auto req = with_crc({0x32, 0x05, 0x42});
+  rx.sent(view(req));
+  const auto r = rx.feed(view(with_crc({0x32, 0x85, 0x00})));
+  REQUIRE(r.is_complete());
+  CHECK(r->busy);
+  CHECK(r->address == 0x05);
+  CHECK(r.consumed() == 4U);
+  CHECK(rx.echoes_skipped() == 0U);
+}
+
+TEST_CASE("receiver: the ENID-driven resolution is an option kept and used") {
+  receiver_options o;
+  o.decode.resolution_from_enid = true;
+  receiver rx(o);
+  CHECK(rx.options().decode.resolution_from_enid);
+  // ENID 0x17: 23 single-turn bits, an ABS of 0x7FFFFF in range
+  const auto id3 = with_crc({0x1A, 0x00, 0xFF, 0xFF, 0x7F, 0x17, 0x00, 0x00, 0x00, 0x00});
+  const auto r = rx.feed(view(id3));
+  REQUIRE(r.is_complete());
+  CHECK(r->abs == 0x7FFFFF);
+  CHECK(receiver{}.feed(view(id3)).error() == errc::out_of_range);  // 17 bits by default
+}
+
+TEST_CASE("receiver: a default-constructed receiver has the default options") {
+  const receiver_options o = receiver{}.options();
+  CHECK(o.echo_mode == echo::none);
+  CHECK(o.check_against_request);
+  CHECK(o.decode.res.single_turn_bits == 17);
+  CHECK(o.decode.res.multi_turn_bits == 16);
+  CHECK(o.decode.check_unused_bits);
+  CHECK_FALSE(o.decode.resolution_from_enid);
+}
