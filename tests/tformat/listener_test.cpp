@@ -330,7 +330,10 @@ TEST_CASE("listener: idle() with nothing (more) held is incomplete, needing a fr
   // an IDD request cut short (CF and an ADF of 0x00): truncated, one byte dropped; the ADF
   // left has no sync code, starts no frame: dropped, and then nothing is held
   REQUIRE(l.feed(view(bytes{0xEA, 0x00})).is_incomplete());
-  CHECK(l.idle().error() == errc::truncated);
+  const auto cut = l.idle();
+  CHECK(cut.error() == errc::truncated);
+  CHECK(cut.consumed() == 0U);  // consumed(): bytes of the call's input taken; idle() has none
+  CHECK(l.dropped() == 1U);     // the one byte dropped
   const auto rest = l.idle();
   REQUIRE(rest.is_incomplete());
   CHECK(rest.needed() == 1U);
