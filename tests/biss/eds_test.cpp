@@ -12,7 +12,10 @@ using namespace motionbus;
 using namespace motionbus::biss;
 
 TEST_CASE("EDS common part: a checksum that does not match, when asked to verify; a short bank") {
-  std::uint8_t bank[bank_size] = {};
+  // the bank is the first 64 bytes of a longer array (a byte 0xEE after it): the evidence is
+  // the bank's own checksum byte, 0x3F, not what follows it
+  std::uint8_t bank[bank_size + 1U] = {};
+  bank[bank_size] = 0xEE;
   REQUIRE(encode_eds_common(eds_common{}, mutable_byte_view(bank, bank_size)) == errc::ok);
   eds_options verify;
   verify.verify_checksum = true;
