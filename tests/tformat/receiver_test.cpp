@@ -624,15 +624,26 @@ TEST_CASE("receiver: a rejected frame's first byte is counted as dropped") {
   CHECK(rx.pending() == 5U);
 }
 
-TEST_CASE("receiver: with an echo awaited, a first byte other than the request's is no echo") {
-  // ID3 data (an abnormal request's reply) where the echo of ID0's request was awaited
-  const auto id3 = with_crc({0x1A, 0x40, 0x01, 0x00, 0x00, 0x11, 0x00, 0x00, 0x00, 0x00});
+namespace {
+
+// A receiver that awaits the echo of the one-byte request `cf` it has just sent, with the
+// checks against the request off (what follows is another request's response).
+receiver echoing_after(std::uint8_t cf) {
   receiver_options eo;
   eo.echo_mode = echo::expected;
   eo.check_against_request = false;
   receiver rx(eo);
-  const std::uint8_t req[1] = {0x02};
+  const std::uint8_t req[1] = {cf};
   rx.sent(byte_view(req, 1));
+  return rx;
+}
+
+}  // namespace
+
+TEST_CASE("receiver: with an echo awaited, a first byte other than the request's is no echo") {
+  // ID3 data (an abnormal request's reply) where the echo of ID0's request was awaited
+  const auto id3 = with_crc({0x1A, 0x40, 0x01, 0x00, 0x00, 0x11, 0x00, 0x00, 0x00, 0x00});
+  receiver rx = echoing_after(0x02);
   const auto r = rx.feed(view(id3));
   REQUIRE(r.is_complete());
   CHECK(r->id == data_id::read_all);
@@ -648,12 +659,7 @@ TEST_CASE("receiver: a frame held whole behind a skipped echo is reported at onc
   std::vector<std::uint8_t> line = {0x1A};
   line.insert(line.end(), enid.begin(), enid.end());
   line.insert(line.end(), 6, 0xFF);
-  receiver_options eo;
-  eo.echo_mode = echo::expected;
-  eo.check_against_request = false;
-  receiver rx(eo);
-  const std::uint8_t req[1] = {0x1A};
-  rx.sent(byte_view(req, 1));
+  receiver rx = echoing_after(0x1A);
   const auto r = rx.feed(view(line));
   REQUIRE(r.is_complete());
   CHECK(r->id == data_id::read_enid);

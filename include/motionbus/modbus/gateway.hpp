@@ -585,7 +585,7 @@ class basic_gateway {
     const std::uint64_t slack = std::uint64_t{options_.response_timeout_us} +
                                 options_.turnaround_us +
                                 2U * std::uint64_t{max_rtu_size} * options_.line.char_us;
-    return quiet_len_ != 0U && left <= quiet_len_ + slack ? left : 0U;  // 0: none (a new one)
+    return quiet_len_ != 0U && left <= quiet_len_ + slack ? left : 0U;  // 0: none (as at the start)
   }
 
   gateway_options options_;
